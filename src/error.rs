@@ -1,0 +1,69 @@
+//! Input errors: every problem with a user's file names the file, the line, the key and the reason.
+//!
+//! In: a path, an optional 1-based line, an optional dotted key, and a reason.
+//! Out: an error whose `Display` reads `FILE:LINE: key `KEY`: REASON`, ready for the CLI.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A problem with an input file (scene, study, thickness map): where it is and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputError {
+    /// The file the problem is in (or `<command line>` for `--set` values).
+    pub file: PathBuf,
+    /// 1-based line number, when the problem can be pinned to a line.
+    pub line: Option<usize>,
+    /// Dotted key of the offending value (`roll.shell.wall_thickness_mm`), when there is one.
+    pub key: Option<String>,
+    /// What is wrong, in words a user can act on.
+    pub reason: String,
+}
+
+impl InputError {
+    /// An error in `file` with a reason and no location yet.
+    pub fn new(file: &Path, reason: impl Into<String>) -> Self {
+        Self {
+            file: file.to_path_buf(),
+            line: None,
+            key: None,
+            reason: reason.into(),
+        }
+    }
+
+    /// The same error pinned to a 1-based line.
+    pub fn at_line(mut self, line: usize) -> Self {
+        self.line = Some(line);
+        self
+    }
+
+    /// The same error attributed to a dotted key.
+    pub fn with_key(mut self, key: impl Into<String>) -> Self {
+        self.key = Some(key.into());
+        self
+    }
+}
+
+impl fmt::Display for InputError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        write!(f, ":")?;
+        if let Some(key) = &self.key {
+            write!(f, " key `{key}`:")?;
+        }
+        write!(f, " {}", self.reason)
+    }
+}
+
+impl std::error::Error for InputError {}
+
+/// 1-based line number of a byte offset in `text`.
+pub fn line_of_offset(text: &str, offset: usize) -> usize {
+    text.as_bytes()[..offset.min(text.len())]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
+}

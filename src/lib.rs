@@ -1,0 +1,15 @@
+//! rotorsweep: overnight parameter studies of flexible-rotor dynamics.
+//!
+//! The pipeline, one way: [`scene`] file → rotor FE ([`section`], [`fe`]) → reduced
+//! Craig–Bampton model ([`reduction`], [`model`]) → [`dynamics`] → integrators → study → store →
+//! analysis.
+
+pub mod dynamics;
+pub mod eigen;
+pub mod error;
+pub mod fe;
+pub mod model;
+pub mod reduction;
+pub mod scene;
+pub mod section;
+pub mod thickness;

@@ -1,0 +1,895 @@
+//! Scene files: one rotor on its supports, in TOML, parsed strictly into SI values.
+//!
+//! In: a `.toml` scene (the commented `studies/scenes/reference-roll.toml` is the documentation's
+//! spine) and optional dotted-key overrides (`--set roll.shell.elements=60`).
+//! Out: a validated [`Scene`] in SI units (m, kg, N, s, rad), or an [`InputError`] naming the file,
+//! the line, the key and the reason. Units live in key names (`length_mm`, `mass_kg`) and are
+//! converted here, once.
+//!
+//! Unknown keys, missing keys, wrong types, out-of-range values and inconsistent geometry are all
+//! errors; nothing panics on bad input.
+
+mod file;
+pub mod locate;
+
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::error::{line_of_offset, InputError};
+use crate::fe::{DiskSpec, Material, PointMassSpec, RotorSpec, SectionSpec, SegmentSpec};
+use crate::reduction::ModeSelection;
+use crate::thickness::{AxialShape, HarmonicSpec, SyntheticSpec, ThicknessMap};
+
+use file::*;
+
+/// Standard gravity [m/s²] (physics.md §1).
+pub const GRAVITY: f64 = 9.81;
+
+/// A validated scene in SI units.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// Scene name.
+    pub name: String,
+    /// Free text from the scene file.
+    pub description: String,
+    /// The file it came from.
+    pub source: PathBuf,
+    /// The rotor to mesh.
+    pub rotor: RotorSpec,
+    /// Thickness map of the shell, if the rotor is a roll with a map.
+    pub thickness_map: Option<Arc<ThicknessMap>>,
+    /// Names of the Craig–Bampton boundary (journal) nodes.
+    pub boundary: Vec<String>,
+    /// Modes to keep.
+    pub modes: ModeSelection,
+    /// Sensor planes: (name, named node).
+    pub sensors: Vec<String>,
+    /// Supports.
+    pub supports: Vec<Support>,
+    /// Axial drive spring.
+    pub drive: Option<Drive>,
+}
+
+/// A support at a named node.
+#[derive(Debug, Clone)]
+pub struct Support {
+    /// Named node of the rotor.
+    pub node: String,
+    /// The support's model.
+    pub model: SupportModel,
+}
+
+/// Support models.
+#[derive(Debug, Clone)]
+pub enum SupportModel {
+    /// Linear spring–dampers per direction, optionally through a support mass.
+    Linear(LinearSupport),
+    /// The journal on two rollers on a stand (contact, roundness).
+    Rollers(RollerSupport),
+}
+
+/// Stiffness and damping per inertial direction [N/m, Ns/m].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpringDamper {
+    /// Horizontal stiffness.
+    pub kx: f64,
+    /// Vertical stiffness.
+    pub ky: f64,
+    /// Horizontal damping.
+    pub cx: f64,
+    /// Vertical damping.
+    pub cy: f64,
+}
+
+/// A linear support: rotor node —(spring)— [support mass —(ground spring)—] ground.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearSupport {
+    /// Between the rotor node and the support mass (or the ground).
+    pub spring: SpringDamper,
+    /// Optional support mass [kg] with its spring to the ground.
+    pub mass: Option<(f64, SpringDamper)>,
+}
+
+/// A stand: rigid upper part on springs to the ground.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stand {
+    /// Mass of the moving upper part [kg].
+    pub mass: f64,
+    /// Its springs and dampers to the ground.
+    pub spring: SpringDamper,
+}
+
+/// The IMPACT contact law of `thesis-data.md` §3 in SI: F = k δ^e − step(δ; 0, d) c_max δ̇.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactLaw {
+    /// k [N/m^e].
+    pub k: f64,
+    /// Exponent e [-].
+    pub exponent: f64,
+    /// Full damping c_max [Ns/m].
+    pub c_max: f64,
+    /// Penetration at which the damping reaches c_max [m].
+    pub d: f64,
+}
+
+impl ContactLaw {
+    /// Elastic force [N] at penetration δ [m] (0 when δ ≤ 0).
+    pub fn force(&self, delta: f64) -> f64 {
+        if delta <= 0.0 {
+            0.0
+        } else {
+            self.k * delta.powf(self.exponent)
+        }
+    }
+
+    /// Penetration [m] that carries the force `f` [N] statically.
+    pub fn penetration(&self, f: f64) -> f64 {
+        (f.max(0.0) / self.k).powf(1.0 / self.exponent)
+    }
+
+    /// Tangent stiffness dF/dδ [N/m] at penetration δ.
+    pub fn tangent(&self, delta: f64) -> f64 {
+        if delta <= 0.0 {
+            0.0
+        } else {
+            self.exponent * self.k * delta.powf(self.exponent - 1.0)
+        }
+    }
+}
+
+/// One roundness harmonic H = c cos(k α + φ).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Harmonic {
+    /// Order k.
+    pub order: u32,
+    /// Amplitude c [m].
+    pub amplitude: f64,
+    /// Phase φ [rad].
+    pub phase: f64,
+}
+
+/// A support roller.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Roller {
+    /// Name (front, rear).
+    pub name: String,
+    /// Angle of the roller centre from straight below the journal, positive toward +x [rad].
+    pub angle: f64,
+    /// Diameter [m].
+    pub diameter: f64,
+    /// Roundness harmonics.
+    pub roundness: Vec<Harmonic>,
+}
+
+/// How roller roundness is driven.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RollerPhase {
+    /// H_r as a function of the roller's own angle (roll angle × R_j/R_r).
+    RollerAngle,
+    /// As the source did: H_r as a function of the roll angle, no phase.
+    RollAngle,
+}
+
+/// A journal on two rollers on a stand.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RollerSupport {
+    /// Journal diameter [m].
+    pub journal_diameter: f64,
+    /// Journal roundness H_j(α).
+    pub journal_roundness: Vec<Harmonic>,
+    /// The rollers.
+    pub rollers: Vec<Roller>,
+    /// Roller roundness drive.
+    pub roller_phase: RollerPhase,
+    /// Contact law.
+    pub contact: ContactLaw,
+    /// The stand.
+    pub stand: Stand,
+}
+
+/// The drive's axial spring on the rotor.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Drive {
+    /// Named node it acts on.
+    pub node: String,
+    /// Axial stiffness [N/m].
+    pub axial_stiffness: f64,
+    /// Axial damping [Ns/m].
+    pub axial_damping: f64,
+}
+
+/// Checks values and reports errors at their key and line.
+struct Check<'a> {
+    file: &'a Path,
+    text: &'a str,
+    overridden: &'a [String],
+}
+
+impl Check<'_> {
+    fn err(&self, key: &str, reason: impl Into<String>) -> InputError {
+        if self.overridden.iter().any(|k| key.starts_with(k.as_str())) {
+            return InputError::new(Path::new("<command line --set>"), reason).with_key(key);
+        }
+        let e = InputError::new(self.file, reason).with_key(key);
+        match locate::line_of(self.text, key) {
+            Some(l) => e.at_line(l),
+            None => e,
+        }
+    }
+
+    fn positive(&self, key: &str, v: f64) -> Result<f64, InputError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be a positive number, got {v}")))
+        }
+    }
+
+    fn non_negative(&self, key: &str, v: f64) -> Result<f64, InputError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be zero or positive, got {v}")))
+        }
+    }
+
+    fn finite(&self, key: &str, v: f64) -> Result<f64, InputError> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be a finite number, got {v}")))
+        }
+    }
+
+    fn range(&self, key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, InputError> {
+        if v.is_finite() && v >= lo && v <= hi {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must lie in [{lo}, {hi}], got {v}")))
+        }
+    }
+
+    fn count(&self, key: &str, v: usize, lo: usize, hi: usize) -> Result<usize, InputError> {
+        if (lo..=hi).contains(&v) {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be an integer in [{lo}, {hi}], got {v}")))
+        }
+    }
+}
+
+/// Parses `key=value` of `--set`: the value as a TOML value, or as a string if it is not one.
+pub fn parse_override(s: &str) -> Result<(String, toml::Value), String> {
+    let (k, v) = s
+        .split_once('=')
+        .ok_or_else(|| format!("`{s}`: expected key=value"))?;
+    let k = k.trim().to_string();
+    let v = v.trim();
+    let value = toml::from_str::<toml::Table>(&format!("v = {v}"))
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(v.to_string()));
+    Ok((k, value))
+}
+
+/// Sets a dotted key (with `[i]` indices) in a TOML value, creating tables on the way.
+pub fn set_path(root: &mut toml::Value, key: &str, value: toml::Value) -> Result<(), String> {
+    fn set_in(
+        v: &mut toml::Value,
+        steps: &[locate::Step],
+        value: toml::Value,
+        key: &str,
+    ) -> Result<(), String> {
+        use locate::Step;
+        let Some((first, rest)) = steps.split_first() else {
+            *v = value;
+            return Ok(());
+        };
+        let child = match (first, v) {
+            (Step::Key(k), toml::Value::Table(t)) => t
+                .entry(k.clone())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new())),
+            (Step::Index(i), toml::Value::Array(a)) => {
+                let len = a.len();
+                a.get_mut(*i)
+                    .ok_or_else(|| format!("`{key}`: index {i} out of range (length {len})"))?
+            }
+            _ => {
+                return Err(format!(
+                    "`{key}`: the path does not match the file's structure"
+                ))
+            }
+        };
+        set_in(child, rest, value, key)
+    }
+    let steps = locate::parse_path(key);
+    if steps.is_empty() {
+        return Err("empty key".into());
+    }
+    set_in(root, &steps, value, key)
+}
+
+fn de_error(file: &Path, text: &str, e: toml::de::Error) -> InputError {
+    let mut err = InputError::new(file, e.message().to_string());
+    if let Some(span) = e.span() {
+        err = err.at_line(line_of_offset(text, span.start));
+        let key = text[span.clone()].trim();
+        if !key.is_empty() && key.len() < 60 && !key.contains('\n') {
+            err = err.with_key(key.trim_matches(['[', ']', ' ']));
+        }
+    }
+    err
+}
+
+impl Scene {
+    /// Reads, overrides (`key=value`) and validates a scene file.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, InputError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| InputError::new(path, format!("cannot read the scene file: {e}")))?;
+        Self::from_text(path, &text, overrides)
+    }
+
+    /// Validates a scene given as text (`path` names it in errors and anchors relative paths).
+    pub fn from_text(path: &Path, text: &str, overrides: &[String]) -> Result<Scene, InputError> {
+        let mut raw: SceneFile = toml::from_str(text).map_err(|e| de_error(path, text, e))?;
+        let mut keys = Vec::new();
+        if !overrides.is_empty() {
+            let cli = Path::new("<command line --set>");
+            let mut table =
+                toml::Value::Table(toml::from_str(text).map_err(|e| de_error(path, text, e))?);
+            for o in overrides {
+                let (k, v) = parse_override(o).map_err(|r| InputError::new(cli, r))?;
+                set_path(&mut table, &k, v)
+                    .map_err(|r| InputError::new(cli, r).with_key(k.clone()))?;
+                keys.push(k);
+            }
+            raw = table
+                .try_into()
+                .map_err(|e: toml::de::Error| InputError::new(cli, e.message().to_string()))?;
+        }
+        let check = Check {
+            file: path,
+            text,
+            overridden: &keys,
+        };
+        build(&check, raw)
+    }
+}
+
+fn material(c: &Check, key: &str, m: &MaterialFile) -> Result<Material, InputError> {
+    let nu = c.range(&format!("{key}.poisson"), m.poisson, -0.99, 0.499)?;
+    Ok(Material {
+        youngs_modulus: 1e9
+            * c.positive(&format!("{key}.youngs_modulus_gpa"), m.youngs_modulus_gpa)?,
+        poisson: nu,
+        density: c.positive(&format!("{key}.density_kg_m3"), m.density_kg_m3)?,
+    })
+}
+
+fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
+    let mut materials = BTreeMap::new();
+    for (name, m) in &raw.materials {
+        materials.insert(name.clone(), material(c, &format!("materials.{name}"), m)?);
+    }
+    let find_mat = |key: &str, name: &str| {
+        materials.get(name).copied().ok_or_else(|| {
+            c.err(
+                key,
+                format!(
+                    "unknown material `{name}` (defined: {})",
+                    materials.keys().cloned().collect::<Vec<_>>().join(", ")
+                ),
+            )
+        })
+    };
+    let (rotor, map, sensors, default_boundary) = match (&raw.roll, &raw.rotor) {
+        (Some(roll), None) => build_roll(c, roll, &find_mat)?,
+        (None, Some(rotor)) => build_rotor(c, rotor, &find_mat)?,
+        _ => return Err(c.err(
+            "roll",
+            "a scene needs exactly one of [roll] (the roll builder) or [rotor] (a general rotor)",
+        )),
+    };
+    let named: Vec<&str> = rotor.named_points.iter().map(|(n, _)| n.as_str()).collect();
+    let node_exists = |key: &str, n: &str| {
+        if named.contains(&n) {
+            Ok(n.to_string())
+        } else {
+            Err(c.err(
+                key,
+                format!("unknown node `{n}` (named nodes: {})", named.join(", ")),
+            ))
+        }
+    };
+    let mut supports = Vec::new();
+    for (i, s) in raw.supports.iter().enumerate() {
+        let key = format!("supports[{i}]");
+        let node = node_exists(&format!("{key}.node"), &s.node)?;
+        let model = support_model(c, &key, s, roll_journal(&raw))?;
+        supports.push(Support { node, model });
+    }
+    let drive = match &raw.drive {
+        Some(d) => Some(Drive {
+            node: node_exists("drive.node", &d.node)?,
+            axial_stiffness: c
+                .positive("drive.axial_stiffness_n_per_m", d.axial_stiffness_n_per_m)?,
+            axial_damping: c
+                .non_negative("drive.axial_damping_ns_per_m", d.axial_damping_ns_per_m)?,
+        }),
+        None => None,
+    };
+    let boundary = match &raw.reduction.boundary {
+        Some(b) => b
+            .iter()
+            .enumerate()
+            .map(|(i, n)| node_exists(&format!("reduction.boundary[{i}]"), n))
+            .collect::<Result<Vec<_>, _>>()?,
+        None if !default_boundary.is_empty() => default_boundary,
+        None => supports.iter().map(|s| s.node.clone()).collect(),
+    };
+    if boundary.is_empty() {
+        return Err(c.err(
+            "reduction.boundary",
+            "no boundary nodes: name them here or add supports",
+        ));
+    }
+    let modes =
+        ModeSelection::parse(&raw.reduction.modes).map_err(|r| c.err("reduction.modes", r))?;
+    Ok(Scene {
+        name: raw.name.clone().unwrap_or_else(|| {
+            c.file
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        }),
+        description: raw.description.clone().unwrap_or_default(),
+        source: c.file.to_path_buf(),
+        rotor,
+        thickness_map: map,
+        boundary,
+        modes,
+        sensors,
+        supports,
+        drive,
+    })
+}
+
+fn roll_journal(raw: &SceneFile) -> Option<f64> {
+    raw.roll.as_ref().map(|r| r.journal.diameter_mm * 1e-3)
+}
+
+type Built = (
+    RotorSpec,
+    Option<Arc<ThicknessMap>>,
+    Vec<String>,
+    Vec<String>,
+);
+
+fn build_roll(
+    c: &Check,
+    roll: &RollFile,
+    find_mat: &dyn Fn(&str, &str) -> Result<Material, InputError>,
+) -> Result<Built, InputError> {
+    let mat = find_mat("roll.material", &roll.material)?;
+    let sh = &roll.shell;
+    let outer = 1e-3 * c.positive("roll.shell.outer_diameter_mm", sh.outer_diameter_mm)?;
+    let length = 1e-3 * c.positive("roll.shell.length_mm", sh.length_mm)?;
+    let wall = 1e-3 * c.positive("roll.shell.wall_thickness_mm", sh.wall_thickness_mm)?;
+    if 2.0 * wall >= outer {
+        return Err(c.err(
+            "roll.shell.wall_thickness_mm",
+            format!(
+                "a wall of {} mm does not fit in a {} mm tube",
+                wall * 1e3,
+                outer * 1e3
+            ),
+        ));
+    }
+    let elements = c.count("roll.shell.elements", sh.elements, 1, 2000)?;
+    let map = match (&sh.thickness_map, &sh.synthetic_map) {
+        (Some(_), Some(_)) => {
+            return Err(c.err(
+                "roll.shell.synthetic_map",
+                "give either thickness_map (a CSV file) or synthetic_map, not both",
+            ))
+        }
+        (Some(csv), None) => {
+            let p = c.file.parent().unwrap_or(Path::new(".")).join(csv);
+            Some(ThicknessMap::from_csv(&p, length)?)
+        }
+        (None, Some(s)) => {
+            let spec = synthetic_spec(c, s)?;
+            spec.validate(length)
+                .map_err(|r| c.err("roll.shell.synthetic_map", r))?;
+            Some(ThicknessMap::synthetic(&spec, length))
+        }
+        (None, None) => None,
+    };
+    if let Some(m) = &map {
+        let st = m.stats();
+        if st.min_m <= 0.0 || st.max_m >= 0.5 * outer {
+            return Err(c.err(
+                "roll.shell.thickness_map",
+                format!(
+                    "map thickness {:.3}..{:.3} mm does not fit a {} mm tube",
+                    st.min_m * 1e3,
+                    st.max_m * 1e3,
+                    outer * 1e3
+                ),
+            ));
+        }
+    }
+    let map = map.map(Arc::new);
+    let head_t = 1e-3 * c.positive("roll.heads.thickness_mm", roll.heads.thickness_mm)?;
+    let head_mat = match &roll.heads.material {
+        Some(m) => find_mat("roll.heads.material", m)?,
+        None => mat,
+    };
+    let head_el = c.count("roll.heads.elements", roll.heads.elements, 1, 100)?;
+    let mut shafts = Vec::new();
+    for (i, s) in roll.shafts.iter().enumerate() {
+        shafts.push(shaft(c, &format!("roll.shafts[{i}]"), s, outer, mat)?);
+    }
+    let journal = shaft(c, "roll.journal", &roll.journal, outer, mat)?;
+    let outboard: f64 = head_t + shafts.iter().map(|s| s.length).sum::<f64>() + journal.length;
+    let z_start = -outboard;
+    let head = SegmentSpec {
+        length: head_t,
+        section: SectionSpec::Tube { outer, inner: 0.0 },
+        elements: head_el,
+        material: head_mat,
+    };
+    let shell = SegmentSpec {
+        length,
+        section: match &map {
+            Some(m) => SectionSpec::Mapped {
+                outer,
+                map: Arc::clone(m),
+                map_z0: 0.0,
+            },
+            None => SectionSpec::Tube {
+                outer,
+                inner: outer - 2.0 * wall,
+            },
+        },
+        elements,
+        material: mat,
+    };
+    let mut segments = vec![journal.clone()];
+    segments.extend(shafts.iter().rev().cloned());
+    segments.push(head.clone());
+    segments.push(shell);
+    segments.push(head);
+    segments.extend(shafts.iter().cloned());
+    segments.push(journal.clone());
+    let mut named_points = vec![
+        (
+            "journal_tending".to_string(),
+            z_start + 0.5 * journal.length,
+        ),
+        (
+            "journal_drive".to_string(),
+            length + outboard - 0.5 * journal.length,
+        ),
+        ("shell_tending_end".to_string(), 0.0),
+        ("shell_drive_end".to_string(), length),
+    ];
+    let mut sensors = Vec::new();
+    for (i, s) in roll.sensors.iter().enumerate() {
+        let key = format!("roll.sensors[{i}]");
+        let z = 1e-3 * c.range(&format!("{key}.z_mm"), s.z_mm, 0.0, length * 1e3)?;
+        if named_points.iter().any(|(n, _)| n == &s.name) {
+            return Err(c.err(
+                &format!("{key}.name"),
+                format!("duplicate node name `{}`", s.name),
+            ));
+        }
+        named_points.push((s.name.clone(), z));
+        sensors.push(s.name.clone());
+    }
+    let point_masses = masses(c, "roll.masses", &roll.masses, (z_start, length + outboard))?;
+    let rotor = RotorSpec {
+        z_start,
+        segments,
+        disks: Vec::new(),
+        point_masses,
+        named_points,
+    };
+    let boundary = vec!["journal_tending".to_string(), "journal_drive".to_string()];
+    Ok((rotor, map, sensors, boundary))
+}
+
+fn shaft(
+    c: &Check,
+    key: &str,
+    s: &ShaftFile,
+    shell_outer: f64,
+    mat: Material,
+) -> Result<SegmentSpec, InputError> {
+    let d = 1e-3 * c.positive(&format!("{key}.diameter_mm"), s.diameter_mm)?;
+    if d > shell_outer {
+        return Err(c.err(
+            &format!("{key}.diameter_mm"),
+            "a shaft cannot be thicker than the shell",
+        ));
+    }
+    Ok(SegmentSpec {
+        length: 1e-3 * c.positive(&format!("{key}.length_mm"), s.length_mm)?,
+        section: SectionSpec::Tube {
+            outer: d,
+            inner: 0.0,
+        },
+        elements: c.count(&format!("{key}.elements"), s.elements, 1, 1000)?,
+        material: mat,
+    })
+}
+
+fn masses(
+    c: &Check,
+    key: &str,
+    list: &[MassFile],
+    (z0, z1): (f64, f64),
+) -> Result<Vec<PointMassSpec>, InputError> {
+    list.iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let k = format!("{key}[{i}]");
+            Ok(PointMassSpec {
+                z: 1e-3 * c.range(&format!("{k}.z_mm"), m.z_mm, z0 * 1e3, z1 * 1e3)?,
+                radius: 1e-3 * c.non_negative(&format!("{k}.radius_mm"), m.radius_mm)?,
+                angle: c.finite(&format!("{k}.angle_deg"), m.angle_deg)? * PI / 180.0,
+                mass: 1e-3 * c.positive(&format!("{k}.mass_g"), m.mass_g)?,
+            })
+        })
+        .collect()
+}
+
+fn synthetic_spec(c: &Check, s: &SyntheticMapFile) -> Result<SyntheticSpec, InputError> {
+    let k = "roll.shell.synthetic_map";
+    let mean = c.positive(&format!("{k}.mean_mm"), s.mean_mm)?;
+    let min = c.positive(&format!("{k}.min_mm"), s.min_mm)?;
+    let max = c.positive(&format!("{k}.max_mm"), s.max_mm)?;
+    let std = c.positive(&format!("{k}.std_mm"), s.std_mm)?;
+    if !(min < mean && mean < max) {
+        return Err(c.err(k, "needs min_mm < mean_mm < max_mm"));
+    }
+    let mut harmonics = Vec::new();
+    for (i, h) in s.harmonics.iter().enumerate() {
+        let hk = format!("{k}.harmonics[{i}]");
+        harmonics.push(HarmonicSpec {
+            order: c.count(&format!("{hk}.order"), h.order as usize, 1, 64)? as u32,
+            weight: c.non_negative(&format!("{hk}.weight"), h.weight)?,
+            phase_rad: c.finite(&format!("{hk}.phase_deg"), h.phase_deg)? * PI / 180.0,
+            phase_twist_rad: c.finite(&format!("{hk}.twist_deg"), h.twist_deg)? * PI / 180.0,
+            axial_shape: match h.axial_shape.as_str() {
+                "constant" => AxialShape::Constant,
+                "half-sine" => AxialShape::HalfSine,
+                "linear" => AxialShape::Linear,
+                other => {
+                    return Err(c.err(
+                        &format!("{hk}.axial_shape"),
+                        format!("`{other}`: expected constant, half-sine or linear"),
+                    ))
+                }
+            },
+        });
+    }
+    Ok(SyntheticSpec {
+        seed: s.seed,
+        mean_m: mean * 1e-3,
+        std_m: std * 1e-3,
+        min_m: min * 1e-3,
+        max_m: max * 1e-3,
+        harmonics,
+        random_share: c.range(&format!("{k}.random_share"), s.random_share, 0.0, 1.0)?,
+        correlation_length_m: 1e-3
+            * c.positive(
+                &format!("{k}.correlation_length_mm"),
+                s.correlation_length_mm,
+            )?,
+        n_angles: c.count(&format!("{k}.angles"), s.angles, 8, 4096)?,
+        n_stations: c.count(&format!("{k}.stations"), s.stations, 2, 4096)?,
+    })
+}
+
+fn build_rotor(
+    c: &Check,
+    r: &RotorFile,
+    find_mat: &dyn Fn(&str, &str) -> Result<Material, InputError>,
+) -> Result<Built, InputError> {
+    let mut segments = Vec::new();
+    for (i, s) in r.segments.iter().enumerate() {
+        let k = format!("rotor.segments[{i}]");
+        let outer = 1e-3 * c.positive(&format!("{k}.outer_diameter_mm"), s.outer_diameter_mm)?;
+        let inner =
+            1e-3 * c.non_negative(&format!("{k}.inner_diameter_mm"), s.inner_diameter_mm)?;
+        if inner >= outer {
+            return Err(c.err(
+                &format!("{k}.inner_diameter_mm"),
+                "the inner diameter must be smaller than the outer one",
+            ));
+        }
+        segments.push(SegmentSpec {
+            length: 1e-3 * c.positive(&format!("{k}.length_mm"), s.length_mm)?,
+            section: SectionSpec::Tube { outer, inner },
+            elements: c.count(&format!("{k}.elements"), s.elements, 1, 2000)?,
+            material: find_mat(&format!("{k}.material"), &s.material)?,
+        });
+    }
+    if segments.is_empty() {
+        return Err(c.err("rotor.segments", "a rotor needs at least one segment"));
+    }
+    let z0 = 1e-3 * c.finite("rotor.z_start_mm", r.z_start_mm)?;
+    let z1 = z0 + segments.iter().map(|s| s.length).sum::<f64>();
+    let in_rotor = |key: &str, z_mm: f64| c.range(key, z_mm, z0 * 1e3, z1 * 1e3).map(|z| z * 1e-3);
+    let mut named_points = Vec::new();
+    for (name, z) in &r.nodes {
+        named_points.push((name.clone(), in_rotor(&format!("rotor.nodes.{name}"), *z)?));
+    }
+    let mut sensors = Vec::new();
+    for (i, s) in r.sensors.iter().enumerate() {
+        let k = format!("rotor.sensors[{i}]");
+        if named_points.iter().any(|(n, _)| n == &s.name) {
+            return Err(c.err(
+                &format!("{k}.name"),
+                format!("duplicate node name `{}`", s.name),
+            ));
+        }
+        named_points.push((s.name.clone(), in_rotor(&format!("{k}.z_mm"), s.z_mm)?));
+        sensors.push(s.name.clone());
+    }
+    let mut disks = Vec::new();
+    for (i, d) in r.disks.iter().enumerate() {
+        let k = format!("rotor.disks[{i}]");
+        disks.push(DiskSpec {
+            z: in_rotor(&format!("{k}.z_mm"), d.z_mm)?,
+            mass: c.positive(&format!("{k}.mass_kg"), d.mass_kg)?,
+            polar: c.non_negative(&format!("{k}.polar_kg_m2"), d.polar_kg_m2)?,
+            diametral: c.non_negative(&format!("{k}.diametral_kg_m2"), d.diametral_kg_m2)?,
+        });
+    }
+    let point_masses = masses(c, "rotor.masses", &r.masses, (z0, z1))?;
+    Ok((
+        RotorSpec {
+            z_start: z0,
+            segments,
+            disks,
+            point_masses,
+            named_points,
+        },
+        None,
+        sensors,
+        Vec::new(),
+    ))
+}
+
+fn spring(c: &Check, key: &str, s: &SpringFile) -> Result<SpringDamper, InputError> {
+    Ok(SpringDamper {
+        kx: c.non_negative(&format!("{key}.kx_n_per_m"), s.kx_n_per_m)?,
+        ky: c.non_negative(&format!("{key}.ky_n_per_m"), s.ky_n_per_m)?,
+        cx: c.non_negative(&format!("{key}.cx_ns_per_m"), s.cx_ns_per_m)?,
+        cy: c.non_negative(&format!("{key}.cy_ns_per_m"), s.cy_ns_per_m)?,
+    })
+}
+
+fn harmonics(c: &Check, key: &str, list: &[HarmonicFile]) -> Result<Vec<Harmonic>, InputError> {
+    list.iter()
+        .enumerate()
+        .map(|(i, h)| {
+            let k = format!("{key}[{i}]");
+            Ok(Harmonic {
+                order: c.count(&format!("{k}.order"), h.order as usize, 1, 256)? as u32,
+                amplitude: 1e-6 * c.non_negative(&format!("{k}.amplitude_um"), h.amplitude_um)?,
+                phase: c.finite(&format!("{k}.phase_rad"), h.phase_rad)?,
+            })
+        })
+        .collect()
+}
+
+fn support_model(
+    c: &Check,
+    key: &str,
+    s: &SupportFile,
+    roll_journal: Option<f64>,
+) -> Result<SupportModel, InputError> {
+    match s.kind.as_str() {
+        "linear" => {
+            let spring_f = s
+                .spring
+                .as_ref()
+                .ok_or_else(|| c.err(key, "a linear support needs a `spring` table"))?;
+            let spring_v = spring(c, &format!("{key}.spring"), spring_f)?;
+            let mass = match (&s.mass_kg, &s.ground) {
+                (Some(m), Some(g)) => Some((
+                    c.positive(&format!("{key}.mass_kg"), *m)?,
+                    spring(c, &format!("{key}.ground"), g)?,
+                )),
+                (None, None) => None,
+                _ => {
+                    return Err(c.err(
+                        key,
+                        "a support mass needs both `mass_kg` and a `ground` spring table",
+                    ))
+                }
+            };
+            Ok(SupportModel::Linear(LinearSupport {
+                spring: spring_v,
+                mass,
+            }))
+        }
+        "rollers" => {
+            let need = |what: &str| c.err(key, format!("a rollers support needs `{what}`"));
+            let stand = s.stand.as_ref().ok_or_else(|| need("stand"))?;
+            let contact = s.contact.as_ref().ok_or_else(|| need("contact"))?;
+            if s.rollers.is_empty() {
+                return Err(need("rollers"));
+            }
+            let ck = format!("{key}.contact");
+            let e = c.range(&format!("{ck}.exponent"), contact.exponent, 1.0, 3.0)?;
+            let k_mm = c.positive(&format!("{ck}.k_n_per_mm_e"), contact.k_n_per_mm_e)?;
+            let journal_diameter = match (s.journal_diameter_mm, roll_journal) {
+                (Some(d), _) => 1e-3 * c.positive(&format!("{key}.journal_diameter_mm"), d)?,
+                (None, Some(d)) => d,
+                (None, None) => return Err(need("journal_diameter_mm")),
+            };
+            let mut rollers = Vec::new();
+            for (i, r) in s.rollers.iter().enumerate() {
+                let rk = format!("{key}.rollers[{i}]");
+                rollers.push(Roller {
+                    name: r.name.clone(),
+                    angle: c.range(&format!("{rk}.angle_deg"), r.angle_deg, -89.0, 89.0)? * PI
+                        / 180.0,
+                    diameter: 1e-3 * c.positive(&format!("{rk}.diameter_mm"), r.diameter_mm)?,
+                    roundness: harmonics(c, &format!("{rk}.roundness"), &r.roundness)?,
+                });
+            }
+            Ok(SupportModel::Rollers(RollerSupport {
+                journal_diameter,
+                journal_roundness: harmonics(
+                    c,
+                    &format!("{key}.journal_roundness"),
+                    &s.journal_roundness,
+                )?,
+                rollers,
+                roller_phase: match s.roller_phase.as_deref().unwrap_or("roll-angle") {
+                    "roll-angle" => RollerPhase::RollAngle,
+                    "roller-angle" => RollerPhase::RollerAngle,
+                    other => {
+                        return Err(c.err(
+                            &format!("{key}.roller_phase"),
+                            format!("`{other}`: expected roll-angle or roller-angle"),
+                        ))
+                    }
+                },
+                contact: ContactLaw {
+                    // N/mm^e → N/m^e: F = k (1000 δ)^e.
+                    k: k_mm * 1000f64.powf(e),
+                    exponent: e,
+                    c_max: 1e3
+                        * c.non_negative(
+                            &format!("{ck}.c_max_ns_per_mm"),
+                            contact.c_max_ns_per_mm,
+                        )?,
+                    d: 1e-6 * c.positive(&format!("{ck}.d_um"), contact.d_um)?,
+                },
+                stand: Stand {
+                    mass: c.positive(&format!("{key}.stand.mass_kg"), stand.mass_kg)?,
+                    spring: SpringDamper {
+                        kx: c.positive(&format!("{key}.stand.kx_n_per_m"), stand.kx_n_per_m)?,
+                        ky: c.positive(&format!("{key}.stand.ky_n_per_m"), stand.ky_n_per_m)?,
+                        cx: c
+                            .non_negative(&format!("{key}.stand.cx_ns_per_m"), stand.cx_ns_per_m)?,
+                        cy: c
+                            .non_negative(&format!("{key}.stand.cy_ns_per_m"), stand.cy_ns_per_m)?,
+                    },
+                },
+            }))
+        }
+        other => Err(c.err(
+            &format!("{key}.type"),
+            format!("`{other}`: expected `linear` or `rollers`"),
+        )),
+    }
+}
