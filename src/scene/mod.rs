@@ -315,12 +315,19 @@ fn de_error(file: &Path, text: &str, e: toml::de::Error) -> InputError {
     let mut err = InputError::new(file, e.message().to_string());
     if let Some(span) = e.span() {
         err = err.at_line(line_of_offset(text, span.start));
-        let key = text[span.clone()].trim();
-        if !key.is_empty() && key.len() < 60 && !key.contains('\n') {
-            err = err.with_key(key.trim_matches(['[', ']', ' ']));
+        // The span is the offending key, value or table: name it by its dotted path.
+        if let Some(key) = locate::key_at(text, span.start) {
+            err = err.with_key(key);
         }
     }
     err
+}
+
+/// The dotted key a deserialisation error of the overridden scene `table` is about.
+fn override_error_key(table: &toml::Value) -> Option<String> {
+    let text = toml::to_string(table).ok()?;
+    let e = toml::from_str::<SceneFile>(&text).err()?;
+    locate::key_at(&text, e.span()?.start)
 }
 
 impl Scene {
@@ -345,9 +352,13 @@ impl Scene {
                     .map_err(|r| InputError::new(cli, r).with_key(k.clone()))?;
                 keys.push(k);
             }
-            raw = table
-                .try_into()
-                .map_err(|e: toml::de::Error| InputError::new(cli, e.message().to_string()))?;
+            raw = table.clone().try_into().map_err(|e: toml::de::Error| {
+                let err = InputError::new(cli, e.message().to_string());
+                match override_error_key(&table) {
+                    Some(k) => err.with_key(k),
+                    None => err,
+                }
+            })?;
         }
         let check = Check {
             file: path,
@@ -497,7 +508,16 @@ fn build_roll(
         }
         (Some(csv), None) => {
             let p = c.file.parent().unwrap_or(Path::new(".")).join(csv);
-            Some(ThicknessMap::from_csv(&p, length)?)
+            // Errors inside the CSV name the CSV and its line; an unreadable file is reported
+            // where the scene names it.
+            let map = ThicknessMap::from_csv(&p, length).map_err(|e| match e.line {
+                Some(_) => e,
+                None => c.err(
+                    "roll.shell.thickness_map",
+                    format!("{}: {}", p.display(), e.reason),
+                ),
+            })?;
+            Some(map)
         }
         (None, Some(s)) => {
             let spec = synthetic_spec(c, s)?;
