@@ -122,6 +122,18 @@ pub struct RotorSpec {
     pub point_masses: Vec<PointMassSpec>,
     /// Named points where a node must sit (supports, sensors), name → z [m].
     pub named_points: Vec<(String, f64)>,
+    /// Two-plane balancing of the rotor's own unbalance, if asked for.
+    pub balancing: Option<BalancingSpec>,
+}
+
+/// Rigid two-plane balancing: two masses at the given planes and radius cancel the static and
+/// the couple unbalance of the meshed rotor (distributed centroid offsets and point masses).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BalancingSpec {
+    /// Axial positions of the two correction planes [m].
+    pub planes: [f64; 2],
+    /// Radius of the correction masses [m].
+    pub radius: f64,
 }
 
 /// One beam element between nodes `node` and `node + 1`.
@@ -190,6 +202,17 @@ pub struct Rotor {
     pub packets: Vec<(usize, Packet)>,
     /// Named nodes.
     pub named: BTreeMap<String, usize>,
+    /// The balancing masses computed for this mesh (also among `packets`).
+    pub balancing_masses: Vec<PointMassSpec>,
+}
+
+fn nearest_node(node_z: &[f64], z: f64) -> usize {
+    node_z
+        .iter()
+        .enumerate()
+        .min_by(|a, b| (a.1 - z).abs().total_cmp(&(b.1 - z).abs()))
+        .map(|(i, _)| i)
+        .expect("mesh has nodes")
 }
 
 /// Assembled body-frame matrices and load vectors in physical DOFs (see the module doc).
@@ -556,14 +579,7 @@ impl Rotor {
             }
             z0 = z1;
         }
-        let nearest = |z: f64| {
-            node_z
-                .iter()
-                .enumerate()
-                .min_by(|a, b| (a.1 - z).abs().total_cmp(&(b.1 - z).abs()))
-                .map(|(i, _)| i)
-                .expect("mesh has nodes")
-        };
+        let nearest = |z: f64| nearest_node(&node_z, z);
         let named = spec
             .named_points
             .iter()
@@ -582,12 +598,69 @@ impl Rotor {
             );
             packets.push((node, Packet::point(p.mass, d)));
         }
-        Ok(Self {
+        let mut rotor = Self {
             node_z,
             elements,
             packets,
             named,
-        })
+            balancing_masses: Vec::new(),
+        };
+        if let Some(b) = spec.balancing {
+            for (i, &z) in b.planes.iter().enumerate() {
+                check(&format!("balancing plane {}", i + 1), z)?;
+            }
+            rotor.balance(&b);
+        }
+        Ok(rotor)
+    }
+
+    /// Static unbalance ∫ρ(q_x, q_y) dz + Σ m d [kg m] and its moment about z = 0 [kg m²], as
+    /// complex numbers (x + iy).
+    pub fn unbalance(&self) -> ((f64, f64), (f64, f64)) {
+        let (mut s, mut mo) = ((0.0, 0.0), (0.0, 0.0));
+        for e in &self.elements {
+            let rho = e.material.density;
+            let zm = self.node_z[e.node] + 0.5 * e.length;
+            let (ux, uy) = (rho * e.section.qx * e.length, rho * e.section.qy * e.length);
+            s = (s.0 + ux, s.1 + uy);
+            mo = (mo.0 + ux * zm, mo.1 + uy * zm);
+        }
+        for (n, p) in &self.packets {
+            let z = self.node_z[*n] + p.h.z / p.mass.max(f64::MIN_POSITIVE);
+            s = (s.0 + p.h.x, s.1 + p.h.y);
+            mo = (mo.0 + p.h.x * z, mo.1 + p.h.y * z);
+        }
+        (s, mo)
+    }
+
+    fn balance(&mut self, b: &BalancingSpec) {
+        let ((sx, sy), (mx, my)) = self.unbalance();
+        let [z1, z2] = b.planes;
+        // U1 + U2 = −S, U1 z1 + U2 z2 = −M (component-wise).
+        let u2 = |s: f64, m: f64| (-m + s * z1) / (z2 - z1);
+        let (u2x, u2y) = (u2(sx, mx), u2(sy, my));
+        let (u1x, u1y) = (-sx - u2x, -sy - u2y);
+        for (z, ux, uy) in [(z1, u1x, u1y), (z2, u2x, u2y)] {
+            let mag = (ux * ux + uy * uy).sqrt();
+            if mag == 0.0 {
+                continue;
+            }
+            let mass = mag / b.radius;
+            let angle = uy.atan2(ux);
+            let node = nearest_node(&self.node_z, z);
+            let d = Vector3::new(
+                b.radius * angle.cos(),
+                b.radius * angle.sin(),
+                z - self.node_z[node],
+            );
+            self.packets.push((node, Packet::point(mass, d)));
+            self.balancing_masses.push(PointMassSpec {
+                z,
+                radius: b.radius,
+                angle,
+                mass,
+            });
+        }
     }
 
     /// Number of physical DOFs.

@@ -1,6 +1,7 @@
 //! The `rotorsweep` command line.
 
 mod modes;
+mod simulate;
 
 use std::process::ExitCode;
 
@@ -21,15 +22,19 @@ struct Cli {
 enum Command {
     /// The reduced model of a scene: mass, modes, supported frequencies, critical speeds.
     Modes(modes::Args),
+    /// One time simulation of a scene: statistics, and results to HDF5 with -o.
+    Simulate(simulate::Args),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Modes(a) => modes::run(&a),
+        Command::Modes(a) => modes::run(&a).map(|()| true),
+        Command::Simulate(a) => simulate::run(&a),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(2),
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE

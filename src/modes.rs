@@ -45,9 +45,18 @@ struct Supported {
 }
 
 #[derive(Serialize)]
+struct BalancingMass {
+    z_mm: f64,
+    radius_mm: f64,
+    angle_deg: f64,
+    mass_g: f64,
+}
+
+#[derive(Serialize)]
 struct Report {
     scene: String,
     mass_kg: f64,
+    balancing_masses: Vec<BalancingMass>,
     elements: usize,
     nodes: usize,
     dofs: usize,
@@ -95,6 +104,17 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let report = Report {
         scene: scene.name.clone(),
         mass_kg: model.rotor.mass(),
+        balancing_masses: model
+            .rotor
+            .balancing_masses
+            .iter()
+            .map(|b| BalancingMass {
+                z_mm: 1e3 * b.z,
+                radius_mm: 1e3 * b.radius,
+                angle_deg: b.angle.to_degrees(),
+                mass_g: 1e3 * b.mass,
+            })
+            .collect(),
         elements: model.rotor.elements.len(),
         nodes: model.rotor.node_z.len(),
         dofs: model.rotor.ndof(),
@@ -134,6 +154,12 @@ fn list(v: &[f64], n: usize) -> String {
 
 fn print_tables(r: &Report) {
     println!("scene {}: {:.1} kg", r.scene, r.mass_kg);
+    for b in &r.balancing_masses {
+        println!(
+            "balancing mass: {:.1} g at z = {:.0} mm, r = {:.0} mm, {:.1}° (body frame)",
+            b.mass_g, b.z_mm, b.radius_mm, b.angle_deg
+        );
+    }
     println!(
         "mesh: {} elements, {} nodes, {} DOFs; reduced to {} = {} modal coordinates in {:.3} s",
         r.elements,

@@ -38,6 +38,7 @@ fn rotor_spec() -> RotorSpec {
         }],
         point_masses: Vec::new(),
         named_points: vec![("a".into(), 0.1), ("b".into(), 1.1)],
+        balancing: None,
     }
 }
 

@@ -271,9 +271,10 @@ pub fn campbell(sys: &LinearSystem, max_hz: f64, n: usize) -> Result<Campbell, L
     let mut critical = Vec::new();
     let branches = whirl.iter().map(|w| w.len()).min().unwrap_or(0);
     for b in 0..branches {
+        let branch: Vec<f64> = whirl.iter().map(|w| w[b]).collect();
         for i in 1..n {
-            let g0 = whirl[i - 1][b] - speeds[i - 1];
-            let g1 = whirl[i][b] - speeds[i];
+            let g0 = branch[i - 1] - speeds[i - 1];
+            let g1 = branch[i] - speeds[i];
             if g0 > 0.0 && g1 <= 0.0 {
                 let (mut lo, mut hi) = (speeds[i - 1], speeds[i]);
                 while hi - lo > 1e-6 {

@@ -4,3 +4,4 @@
 //! and Campbell data.
 
 pub mod linear;
+pub mod system;

@@ -17,6 +17,197 @@ pub(super) struct SceneFile {
     pub drive: Option<DriveFile>,
     #[serde(default)]
     pub reduction: ReductionFile,
+    #[serde(default)]
+    pub speed: SpeedFile,
+    #[serde(default)]
+    pub damping: DampingFile,
+    #[serde(default)]
+    pub simulation: SimulationFile,
+    #[serde(default)]
+    pub solver: SolverFile,
+    #[serde(default)]
+    pub outputs: OutputsFile,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SpeedFile {
+    #[serde(default = "constant")]
+    pub profile: String,
+    pub hz: Option<f64>,
+    pub from_hz: Option<f64>,
+    pub to_hz: Option<f64>,
+    pub ramp_start_s: Option<f64>,
+    pub ramp_end_s: Option<f64>,
+    pub times_s: Option<Vec<f64>>,
+    pub steps_hz: Option<Vec<f64>>,
+}
+
+impl Default for SpeedFile {
+    fn default() -> Self {
+        Self {
+            profile: constant(),
+            hz: Some(0.0),
+            from_hz: None,
+            to_hz: None,
+            ramp_start_s: None,
+            ramp_end_s: None,
+            times_s: None,
+            steps_hz: None,
+        }
+    }
+}
+
+fn constant() -> String {
+    "constant".to_string()
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DampingBandFile {
+    pub below_hz: f64,
+    pub ratio: f64,
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DampingFile {
+    pub schedule: Option<String>,
+    pub bands: Option<Vec<DampingBandFile>>,
+    pub above_ratio: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SimulationFile {
+    #[serde(default = "default_t_end")]
+    pub t_end_s: f64,
+    #[serde(default)]
+    pub settle_s: f64,
+    #[serde(default = "default_rate")]
+    pub sample_rate_hz: f64,
+    #[serde(default = "yes")]
+    pub static_start: bool,
+    #[serde(default = "default_bound")]
+    pub runout_bound_mm: f64,
+}
+
+impl Default for SimulationFile {
+    fn default() -> Self {
+        Self {
+            t_end_s: default_t_end(),
+            settle_s: 0.0,
+            sample_rate_hz: default_rate(),
+            static_start: true,
+            runout_bound_mm: default_bound(),
+        }
+    }
+}
+
+fn default_t_end() -> f64 {
+    1.0
+}
+fn default_rate() -> f64 {
+    1000.0
+}
+fn default_bound() -> f64 {
+    50.0
+}
+fn yes() -> bool {
+    true
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SolverFile {
+    #[serde(default = "default_integrator")]
+    pub integrator: String,
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    #[serde(default = "default_hmax")]
+    pub hmax: f64,
+    #[serde(default = "default_hmin")]
+    pub hmin: f64,
+    #[serde(default = "default_h0")]
+    pub h0: f64,
+    #[serde(default = "default_order")]
+    pub max_order: usize,
+    #[serde(default = "default_rho")]
+    pub rho_inf: f64,
+    #[serde(default)]
+    pub fixed_step: bool,
+    #[serde(default = "default_max_steps")]
+    pub max_steps: u64,
+    pub cpu_budget_s: Option<f64>,
+}
+
+impl Default for SolverFile {
+    fn default() -> Self {
+        Self {
+            integrator: default_integrator(),
+            tolerance: default_tolerance(),
+            hmax: default_hmax(),
+            hmin: default_hmin(),
+            h0: default_h0(),
+            max_order: default_order(),
+            rho_inf: default_rho(),
+            fixed_step: false,
+            max_steps: default_max_steps(),
+            cpu_budget_s: None,
+        }
+    }
+}
+
+fn default_integrator() -> String {
+    "bdf".to_string()
+}
+fn default_tolerance() -> f64 {
+    1e-7
+}
+fn default_hmax() -> f64 {
+    1e-4
+}
+fn default_hmin() -> f64 {
+    1e-12
+}
+fn default_h0() -> f64 {
+    1e-6
+}
+fn default_order() -> usize {
+    5
+}
+fn default_rho() -> f64 {
+    0.8
+}
+fn default_max_steps() -> u64 {
+    50_000_000
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct OutputsFile {
+    #[serde(default = "yes")]
+    pub runout: bool,
+    #[serde(default)]
+    pub journal_orbits: bool,
+    #[serde(default)]
+    pub contact_forces: bool,
+    #[serde(default)]
+    pub stand_motion: bool,
+    #[serde(default)]
+    pub modal: bool,
+}
+
+impl Default for OutputsFile {
+    fn default() -> Self {
+        Self {
+            runout: true,
+            journal_orbits: false,
+            contact_forces: false,
+            stand_motion: false,
+            modal: false,
+        }
+    }
 }
 
 #[derive(Debug, Deserialize)]
@@ -39,6 +230,14 @@ pub(super) struct RollFile {
     pub sensors: Vec<SensorFile>,
     #[serde(default)]
     pub masses: Vec<MassFile>,
+    pub balancing: Option<BalancingFile>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct BalancingFile {
+    pub planes_mm: [f64; 2],
+    pub radius_mm: f64,
 }
 
 #[derive(Debug, Deserialize)]

@@ -11,6 +11,11 @@
 
 mod file;
 pub mod locate;
+mod run;
+
+pub use run::{
+    DampingBands, IntegratorKind, Outputs, SimulationSettings, SolverSettings, SpeedProfile,
+};
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -18,7 +23,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::error::{line_of_offset, InputError};
-use crate::fe::{DiskSpec, Material, PointMassSpec, RotorSpec, SectionSpec, SegmentSpec};
+use crate::fe::{
+    BalancingSpec, DiskSpec, Material, PointMassSpec, RotorSpec, SectionSpec, SegmentSpec,
+};
 use crate::reduction::ModeSelection;
 use crate::thickness::{AxialShape, HarmonicSpec, SyntheticSpec, ThicknessMap};
 
@@ -50,6 +57,16 @@ pub struct Scene {
     pub supports: Vec<Support>,
     /// Axial drive spring.
     pub drive: Option<Drive>,
+    /// Spin speed profile.
+    pub speed: SpeedProfile,
+    /// Modal damping by frequency band.
+    pub damping: DampingBands,
+    /// Run window and sampling.
+    pub simulation: SimulationSettings,
+    /// Integrator settings.
+    pub solver: SolverSettings,
+    /// What a run records.
+    pub outputs: Outputs,
 }
 
 /// A support at a named node.
@@ -464,6 +481,11 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         sensors,
         supports,
         drive,
+        speed: run::speed(c, &raw.speed)?,
+        damping: run::damping(c, &raw.damping)?,
+        simulation: run::simulation(c, &raw.simulation)?,
+        solver: run::solver(c, &raw.solver)?,
+        outputs: run::outputs(&raw.outputs),
     })
 }
 
@@ -610,12 +632,35 @@ fn build_roll(
         sensors.push(s.name.clone());
     }
     let point_masses = masses(c, "roll.masses", &roll.masses, (z_start, length + outboard))?;
+    let balancing = match &roll.balancing {
+        Some(b) => {
+            let mut planes = [0.0; 2];
+            for (i, z) in b.planes_mm.iter().enumerate() {
+                planes[i] = 1e-3
+                    * c.range(
+                        &format!("roll.balancing.planes_mm[{i}]"),
+                        *z,
+                        z_start * 1e3,
+                        (length + outboard) * 1e3,
+                    )?;
+            }
+            if (planes[1] - planes[0]).abs() < 1e-3 {
+                return Err(c.err("roll.balancing.planes_mm", "the two planes must differ"));
+            }
+            Some(BalancingSpec {
+                planes,
+                radius: 1e-3 * c.positive("roll.balancing.radius_mm", b.radius_mm)?,
+            })
+        }
+        None => None,
+    };
     let rotor = RotorSpec {
         z_start,
         segments,
         disks: Vec::new(),
         point_masses,
         named_points,
+        balancing,
     };
     let boundary = vec!["journal_tending".to_string(), "journal_drive".to_string()];
     Ok((rotor, map, sensors, boundary))
@@ -778,6 +823,7 @@ fn build_rotor(
             disks,
             point_masses,
             named_points,
+            balancing: None,
         },
         None,
         sensors,

@@ -24,6 +24,7 @@ pub fn tube(length: f64, outer: f64, inner: f64, n: usize) -> RotorSpec {
         disks: Vec::new(),
         point_masses: Vec::new(),
         named_points: Vec::new(),
+        balancing: None,
     }
 }
 
@@ -59,8 +60,10 @@ pub fn inverse_state_matrix(m: &DMatrix<f64>, c: &DMatrix<f64>, k: &DMatrix<f64>
     let n = m.nrows();
     let lu = k.clone().lu();
     let mut a = DMatrix::zeros(2 * n, 2 * n);
-    a.view_mut((0, 0), (n, n)).copy_from(&(-lu.solve(c).expect("K non-singular")));
-    a.view_mut((0, n), (n, n)).copy_from(&(-lu.solve(m).expect("K non-singular")));
+    a.view_mut((0, 0), (n, n))
+        .copy_from(&(-lu.solve(c).expect("K non-singular")));
+    a.view_mut((0, n), (n, n))
+        .copy_from(&(-lu.solve(m).expect("K non-singular")));
     a.view_mut((n, 0), (n, n)).fill_with_identity();
     a
 }

@@ -1,0 +1,638 @@
+//! The spinning reduced roll on its supports as a second-order system M q̈ = F(t, q, q̇).
+//!
+//! In: a [`Scene`] and its [`Model`] (reduced basis).
+//! Out: a [`RollSystem`] with coordinates q = (modal coordinates p, then (x, y) [m] of each stand
+//! or support mass in the inertial frame), the force F [N], and the Newton matrix
+//! a M − b ∂F/∂q − c ∂F/∂q̇ the implicit integrators need (analytic; only the contacts change).
+//!
+//! Rotor (body frame, physics.md §4): M p̈ + (D + 2Ω G_c) ṗ + (K − Ω²E + Ω̇C) p = Ω² f_c − Ω̇ f_t +
+//! g_B(θ) + Φ_jᵀ R(θ)ᵀ F_j + f_axial, with g_B = Rᵀ(0, −g, 0) and F_j the supports' forces on the
+//! journals in the inertial frame. The journal centre in I is R(θ) u_j, u_j = Φ_j p.
+//! Contact per roller (physics.md §5, thesis §3): δ = H_j + H_r + L − |w − L e|, with w the
+//! journal's displacement relative to its stand, e the unit vector toward the roller and
+//! L = R_j + R_r; F = k δ^e + c(δ) δ̇ along the line of centres, c rising as the cubic step from 0
+//! at δ = 0 to c_max at δ = d; F = 0 for δ ≤ 0 (lift-off), and F is never adhesive (clamped ≥ 0).
+//! Journal roundness seen by roller i at angle a_i: H_j(θ − a_i); roller roundness either of the
+//! roll angle (the source's choice) or of the roller's own angle −θ R_j/R_r.
+//! A scene pays for what it uses: a constant speed pre-combines the linear matrices.
+
+use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
+
+use crate::model::Model;
+use crate::scene::{ContactLaw, Harmonic, RollerPhase, Scene, SpeedProfile, SupportModel, GRAVITY};
+
+/// One roller in the frame of its support.
+#[derive(Debug, Clone)]
+struct RollerSys {
+    /// Unit vector from the journal centre toward the roller centre (inertial).
+    e: Vector2<f64>,
+    /// Roller angle from straight below [rad].
+    angle: f64,
+    /// R_j + R_r [m].
+    l: f64,
+    /// Roller roundness.
+    roundness: Vec<Harmonic>,
+    /// Roller angle per roll angle (−R_j/R_r), or 0 for the source's roll-angle drive.
+    ratio: f64,
+}
+
+#[derive(Debug, Clone)]
+enum Law {
+    Contact {
+        law: ContactLaw,
+        journal: Vec<Harmonic>,
+        rollers: Vec<RollerSys>,
+    },
+    Linear {
+        k: Matrix2<f64>,
+        c: Matrix2<f64>,
+    },
+}
+
+#[derive(Debug, Clone)]
+struct SupportSys {
+    /// Lateral rows of Φ at the journal (2 × nm).
+    rows: DMatrix<f64>,
+    /// Index of the support mass's x coordinate in q, if any.
+    stand: Option<usize>,
+    law: Law,
+}
+
+/// The support forces at one state, for outputs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SupportState {
+    /// Journal centre displacement in I [m].
+    pub journal: Vector2<f64>,
+    /// Support mass displacement in I [m] (zero without one).
+    pub stand: Vector2<f64>,
+    /// Contact force per roller [N] (empty for linear supports).
+    pub contact: Vec<f64>,
+}
+
+/// The system (module doc).
+#[derive(Debug, Clone)]
+pub struct RollSystem {
+    /// Number of modal coordinates.
+    pub nm: usize,
+    /// Number of coordinates.
+    pub n: usize,
+    m: DMatrix<f64>,
+    k: DMatrix<f64>,
+    e: DMatrix<f64>,
+    c: DMatrix<f64>,
+    g: DMatrix<f64>,
+    d: DMatrix<f64>,
+    fc: DVector<f64>,
+    ft: DVector<f64>,
+    gx: DVector<f64>,
+    gy: DVector<f64>,
+    /// Gravity on the support masses (inertial, constant).
+    f_stand: DVector<f64>,
+    supports: Vec<SupportSys>,
+    drive: Option<(DVector<f64>, f64, f64)>,
+    /// The prescribed speed profile.
+    pub speed: SpeedProfile,
+    /// For a constant speed: [K − Ω²E | D + 2ΩG] pre-combined (n × 2n).
+    lin: Option<DMatrix<f64>>,
+    /// Sensor names and their lateral rows of Φ (2 × nm).
+    pub sensors: Vec<(String, DMatrix<f64>)>,
+    /// Displacement [m] per unit of each coordinate: max lateral translation of a mode over the
+    /// nodes, 1 for support masses (the error-norm weights of `integrators`).
+    pub weights: Vec<f64>,
+}
+
+fn rot(theta: f64) -> Matrix2<f64> {
+    let (s, c) = theta.sin_cos();
+    Matrix2::new(c, -s, s, c)
+}
+
+/// Σ c_k cos(k x + φ_k) and its derivative with respect to x.
+fn roundness(h: &[Harmonic], x: f64) -> (f64, f64) {
+    h.iter().fold((0.0, 0.0), |(v, dv), hk| {
+        let k = hk.order as f64;
+        let (s, c) = (k * x + hk.phase).sin_cos();
+        (v + hk.amplitude * c, dv - hk.amplitude * k * s)
+    })
+}
+
+/// The cubic STEP from 0 at u = 0 to 1 at u = 1, and its derivative.
+fn step(u: f64) -> (f64, f64) {
+    if u >= 1.0 {
+        (1.0, 0.0)
+    } else if u <= 0.0 {
+        (0.0, 0.0)
+    } else {
+        (u * u * (3.0 - 2.0 * u), 6.0 * u * (1.0 - u))
+    }
+}
+
+/// Force on the journal [N, inertial] and its stiffness and damping (−∂F/∂w, −∂F/∂ẇ) in the
+/// relative journal–support coordinates w.
+struct Local {
+    f: Vector2<f64>,
+    kc: Matrix2<f64>,
+    cc: Matrix2<f64>,
+}
+
+impl RollSystem {
+    /// Builds the system of a scene on its reduced model.
+    pub fn new(scene: &Scene, model: &Model) -> Self {
+        let r = &model.reduced;
+        let nm = r.len();
+        let n_st = scene
+            .supports
+            .iter()
+            .filter(|s| match &s.model {
+                SupportModel::Rollers(_) => true,
+                SupportModel::Linear(l) => l.mass.is_some(),
+            })
+            .count();
+        let n = nm + 2 * n_st;
+        let pad = |a: &DMatrix<f64>| {
+            let mut out = DMatrix::zeros(n, n);
+            out.view_mut((0, 0), (nm, nm)).copy_from(a);
+            out
+        };
+        let padv = |a: &DVector<f64>| {
+            let mut out = DVector::zeros(n);
+            out.rows_mut(0, nm).copy_from(a);
+            out
+        };
+        let mut m = pad(&r.m);
+        let mut k = pad(&r.k);
+        let mut d = DMatrix::zeros(n, n);
+        for i in 0..nm {
+            let f = r.freq_hz[i];
+            if f > 0.0 {
+                d[(i, i)] =
+                    2.0 * scene.damping.ratio(f) * 2.0 * std::f64::consts::PI * f * r.m[(i, i)];
+            }
+        }
+        let mut f_stand = DVector::zeros(n);
+        let mut supports = Vec::new();
+        let mut next = nm;
+        for s in &scene.supports {
+            let node = model.rotor.named[&s.node];
+            let rows = r.node_rows(node).rows(0, 2).into_owned();
+            let mut add_mass = |mass: f64, kk: Matrix2<f64>, cc: Matrix2<f64>| {
+                m[(next, next)] = mass;
+                m[(next + 1, next + 1)] = mass;
+                k.view_mut((next, next), (2, 2)).copy_from(&kk);
+                d.view_mut((next, next), (2, 2)).copy_from(&cc);
+                f_stand[next + 1] = -mass * GRAVITY;
+                next += 2;
+                next - 2
+            };
+            let diag = |a: f64, b: f64| Matrix2::new(a, 0.0, 0.0, b);
+            let sys = match &s.model {
+                SupportModel::Rollers(rs) => {
+                    let st = rs.stand;
+                    let idx = add_mass(
+                        st.mass,
+                        diag(st.spring.kx, st.spring.ky),
+                        diag(st.spring.cx, st.spring.cy),
+                    );
+                    let rj = 0.5 * rs.journal_diameter;
+                    SupportSys {
+                        rows,
+                        stand: Some(idx),
+                        law: Law::Contact {
+                            law: rs.contact,
+                            journal: rs.journal_roundness.clone(),
+                            rollers: rs
+                                .rollers
+                                .iter()
+                                .map(|ro| RollerSys {
+                                    e: Vector2::new(ro.angle.sin(), -ro.angle.cos()),
+                                    angle: ro.angle,
+                                    l: rj + 0.5 * ro.diameter,
+                                    roundness: ro.roundness.clone(),
+                                    ratio: match rs.roller_phase {
+                                        RollerPhase::RollAngle => 1.0,
+                                        RollerPhase::RollerAngle => -rj / (0.5 * ro.diameter),
+                                    },
+                                })
+                                .collect(),
+                        },
+                    }
+                }
+                SupportModel::Linear(l) => {
+                    let stand = l
+                        .mass
+                        .map(|(mass, g)| add_mass(mass, diag(g.kx, g.ky), diag(g.cx, g.cy)));
+                    SupportSys {
+                        rows,
+                        stand,
+                        law: Law::Linear {
+                            k: diag(l.spring.kx, l.spring.ky),
+                            c: diag(l.spring.cx, l.spring.cy),
+                        },
+                    }
+                }
+            };
+            supports.push(sys);
+        }
+        let drive = scene.drive.as_ref().map(|dr| {
+            let row = r.node_rows(model.rotor.named[&dr.node]).row(2).transpose();
+            (
+                padv(&row.into_owned()),
+                dr.axial_stiffness,
+                dr.axial_damping,
+            )
+        });
+        let sensors = scene
+            .sensors
+            .iter()
+            .map(|name| {
+                let node = model.rotor.named[name];
+                (name.clone(), r.node_rows(node).rows(0, 2).into_owned())
+            })
+            .collect();
+        let mut weights = vec![1.0; n];
+        for (j, w) in weights.iter_mut().enumerate().take(nm) {
+            *w = (0..r.phi.nrows())
+                .filter(|i| i % 6 < 3)
+                .map(|i| r.phi[(i, j)].abs())
+                .fold(0.0, f64::max);
+        }
+        let mut sys = Self {
+            nm,
+            n,
+            m,
+            k,
+            e: pad(&r.e),
+            c: pad(&r.c),
+            g: pad(&r.gc),
+            d,
+            fc: padv(&r.fc),
+            ft: padv(&r.ft),
+            gx: padv(&r.gx),
+            gy: padv(&r.gy),
+            f_stand,
+            supports,
+            drive,
+            speed: scene.speed.clone(),
+            lin: None,
+            sensors,
+            weights,
+        };
+        if let SpeedProfile::Constant(w) = sys.speed {
+            let mut lin = DMatrix::zeros(n, 2 * n);
+            lin.view_mut((0, 0), (n, n))
+                .copy_from(&(&sys.k - w * w * &sys.e));
+            lin.view_mut((0, n), (n, n))
+                .copy_from(&(&sys.d + 2.0 * w * &sys.g));
+            sys.lin = Some(lin);
+        }
+        sys
+    }
+
+    /// The mass matrix.
+    pub fn mass(&self) -> &DMatrix<f64> {
+        &self.m
+    }
+
+    fn local(
+        &self,
+        s: &SupportSys,
+        theta: f64,
+        omega: f64,
+        w: Vector2<f64>,
+        wd: Vector2<f64>,
+        out: Option<&mut Vec<f64>>,
+    ) -> Local {
+        match &s.law {
+            Law::Linear { k, c } => Local {
+                f: -(k * w + c * wd),
+                kc: *k,
+                cc: *c,
+            },
+            Law::Contact {
+                law,
+                journal,
+                rollers,
+            } => {
+                let mut f = Vector2::zeros();
+                let mut kc = Matrix2::zeros();
+                let mut cc = Matrix2::zeros();
+                let mut forces = out;
+                for r in rollers {
+                    let (hj, dhj) = roundness(journal, theta - r.angle);
+                    let (hr, dhr) = roundness(&r.roundness, r.ratio * theta);
+                    let dvec = w - r.l * r.e;
+                    let dist = dvec.norm();
+                    // L − |d| without cancellation: (2L w·e − |w|²)/(L + |d|).
+                    let gap = (2.0 * r.l * w.dot(&r.e) - w.norm_squared()) / (r.l + dist);
+                    let delta = hj + hr + gap;
+                    let nrm = dvec / dist;
+                    let ddelta = omega * (dhj + r.ratio * dhr) - nrm.dot(&wd);
+                    let mut fmag = 0.0;
+                    if delta > 0.0 {
+                        let (st, dst) = step(delta / law.d);
+                        let cdamp = law.c_max * st;
+                        let elastic = law.k * delta.powf(law.exponent);
+                        fmag = elastic + cdamp * ddelta;
+                        if fmag > 0.0 {
+                            let kd =
+                                law.exponent * elastic / delta + law.c_max * dst / law.d * ddelta;
+                            let nnt = nrm * nrm.transpose();
+                            kc += kd * nnt - fmag / dist * (Matrix2::identity() - nnt);
+                            cc += cdamp * nnt;
+                            f += fmag * nrm;
+                        } else {
+                            fmag = 0.0;
+                        }
+                    }
+                    if let Some(v) = forces.as_deref_mut() {
+                        v.push(fmag);
+                    }
+                }
+                Local { f, kc, cc }
+            }
+        }
+    }
+
+    /// Journal displacement and velocity relative to the support (inertial), and R(θ)Φ_j.
+    fn relative(
+        &self,
+        s: &SupportSys,
+        theta: f64,
+        omega: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+    ) -> (Vector2<f64>, Vector2<f64>, Matrix2<f64>) {
+        let r = rot(theta);
+        let p = q.rows(0, self.nm);
+        let pv = v.rows(0, self.nm);
+        let u = Vector2::new(
+            s.rows.row(0).dot(&p.transpose()),
+            s.rows.row(1).dot(&p.transpose()),
+        );
+        let ub = Vector2::new(
+            s.rows.row(0).dot(&pv.transpose()),
+            s.rows.row(1).dot(&pv.transpose()),
+        );
+        let wj = r * u;
+        let mut wjd = r * ub + omega * Vector2::new(-wj.y, wj.x);
+        let mut w = wj;
+        if let Some(i) = s.stand {
+            w -= Vector2::new(q[i], q[i + 1]);
+            wjd -= Vector2::new(v[i], v[i + 1]);
+        }
+        (w, wjd, r)
+    }
+
+    /// F(q, q̇) at roll angle θ, speed Ω and acceleration Ω̇, into `out`.
+    pub fn force_at(
+        &self,
+        (theta, omega, alpha): (f64, f64, f64),
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        let n = self.n;
+        match &self.lin {
+            Some(lin) if alpha == 0.0 && Some(omega) == self.constant_speed() => {
+                out.gemv(-1.0, &lin.columns(0, n), q, 0.0);
+                out.gemv(-1.0, &lin.columns(n, n), v, 1.0);
+            }
+            _ => {
+                out.gemv(-1.0, &self.k, q, 0.0);
+                out.gemv(omega * omega, &self.e, q, 1.0);
+                out.gemv(-1.0, &self.d, v, 1.0);
+                out.gemv(-2.0 * omega, &self.g, v, 1.0);
+                if alpha != 0.0 {
+                    out.gemv(-alpha, &self.c, q, 1.0);
+                }
+            }
+        }
+        let (s, c) = theta.sin_cos();
+        out.axpy(omega * omega, &self.fc, 1.0);
+        if alpha != 0.0 {
+            out.axpy(-alpha, &self.ft, 1.0);
+        }
+        out.axpy(-GRAVITY * s, &self.gx, 1.0);
+        out.axpy(-GRAVITY * c, &self.gy, 1.0);
+        *out += &self.f_stand;
+        for sup in &self.supports {
+            let (w, wd, r) = self.relative(sup, theta, omega, q, v);
+            let loc = self.local(sup, theta, omega, w, wd, None);
+            let fb = r.transpose() * loc.f;
+            for j in 0..self.nm {
+                out[j] += sup.rows[(0, j)] * fb.x + sup.rows[(1, j)] * fb.y;
+            }
+            if let Some(i) = sup.stand {
+                out[i] -= loc.f.x;
+                out[i + 1] -= loc.f.y;
+            }
+        }
+        if let Some((row, ka, ca)) = &self.drive {
+            let uz = row.dot(q);
+            let vz = row.dot(v);
+            out.axpy(-(ka * uz + ca * vz), row, 1.0);
+        }
+    }
+
+    fn constant_speed(&self) -> Option<f64> {
+        match self.speed {
+            SpeedProfile::Constant(w) => Some(w),
+            _ => None,
+        }
+    }
+
+    /// F(t, q, q̇).
+    pub fn force(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
+        self.force_at(self.speed.at(t), q, v, out);
+    }
+
+    /// out = a M − b ∂F/∂q − c ∂F/∂q̇ at (θ, Ω, Ω̇).
+    pub fn newton_matrix_at(
+        &self,
+        (theta, omega, alpha): (f64, f64, f64),
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        (a, b, c): (f64, f64, f64),
+        out: &mut DMatrix<f64>,
+    ) {
+        let n = self.n;
+        out.copy_from(&self.m);
+        *out *= a;
+        match &self.lin {
+            Some(lin) if alpha == 0.0 && Some(omega) == self.constant_speed() => {
+                *out += b * lin.columns(0, n);
+                *out += c * lin.columns(n, n);
+            }
+            _ => {
+                *out += b * &self.k;
+                *out -= (b * omega * omega) * &self.e;
+                if alpha != 0.0 {
+                    *out += (b * alpha) * &self.c;
+                }
+                *out += c * &self.d;
+                *out += (2.0 * c * omega) * &self.g;
+            }
+        }
+        for sup in &self.supports {
+            let (w, wd, r) = self.relative(sup, theta, omega, q, v);
+            let loc = self.local(sup, theta, omega, w, wd, None);
+            // T_q (2 × n): w = R Φ_j p − s; T_Ω = Ω S R Φ_j (the rotation of the journal velocity).
+            let mut tq = DMatrix::zeros(2, n);
+            let rp = r * &sup.rows;
+            tq.view_mut((0, 0), (2, self.nm)).copy_from(&rp);
+            if let Some(i) = sup.stand {
+                tq[(0, i)] = -1.0;
+                tq[(1, i + 1)] = -1.0;
+            }
+            let s_mat = Matrix2::new(0.0, -omega, omega, 0.0);
+            let mut tw = DMatrix::zeros(2, n);
+            tw.view_mut((0, 0), (2, self.nm)).copy_from(&(s_mat * rp));
+            let kk = b * loc.kc + c * loc.cc;
+            let inner = kk * &tq + (b * loc.cc) * tw;
+            out.gemm(1.0, &tq.transpose(), &inner, 1.0);
+        }
+        if let Some((row, ka, ca)) = &self.drive {
+            out.ger(b * ka + c * ca, row, row, 1.0);
+        }
+    }
+
+    /// The Newton matrix at time t.
+    pub fn newton_matrix(
+        &self,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        coef: (f64, f64, f64),
+        out: &mut DMatrix<f64>,
+    ) {
+        self.newton_matrix_at(self.speed.at(t), q, v, coef, out);
+    }
+
+    /// Journal, support-mass and contact state of every support at time t.
+    pub fn support_states(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>) -> Vec<SupportState> {
+        let (theta, omega, _) = self.speed.at(t);
+        self.supports
+            .iter()
+            .map(|s| {
+                let (w, wd, _) = self.relative(s, theta, omega, q, v);
+                let stand = s
+                    .stand
+                    .map(|i| Vector2::new(q[i], q[i + 1]))
+                    .unwrap_or_default();
+                let mut contact = Vec::new();
+                self.local(s, theta, omega, w, wd, Some(&mut contact));
+                SupportState {
+                    journal: w + stand,
+                    stand,
+                    contact,
+                }
+            })
+            .collect()
+    }
+
+    /// Inertial lateral displacement [m] of each sensor plane's centre at time t.
+    pub fn sensor_displacements(&self, t: f64, q: &DVector<f64>) -> Vec<Vector2<f64>> {
+        let r = rot(self.speed.at(t).0);
+        let p = q.rows(0, self.nm);
+        self.sensors
+            .iter()
+            .map(|(_, rows)| {
+                r * Vector2::new(
+                    rows.row(0).dot(&p.transpose()),
+                    rows.row(1).dot(&p.transpose()),
+                )
+            })
+            .collect()
+    }
+
+    /// The gravity load at rest (θ = 0): rotor and support masses.
+    pub fn gravity_at_rest(&self) -> DVector<f64> {
+        -GRAVITY * &self.gy + &self.f_stand
+    }
+
+    /// Static equilibrium under gravity at standstill (θ = 0): Newton on F(q, 0) = 0 from `q0`.
+    /// Open contacts get the stiffness of a 1 µm penetration in the Newton matrix (not in F) so
+    /// the iteration can close them.
+    pub fn static_equilibrium(&self, q0: &DVector<f64>) -> Result<DVector<f64>, String> {
+        let mut q = q0.clone();
+        let v = DVector::zeros(self.n);
+        let mut f = DVector::zeros(self.n);
+        let mut jac = DMatrix::zeros(self.n, self.n);
+        let state = (0.0, 0.0, 0.0);
+        let floor = self.contact_floor();
+        for _ in 0..200 {
+            self.force_at(state, &q, &v, &mut f);
+            self.newton_matrix_at(state, &q, &v, (0.0, 1.0, 0.0), &mut jac);
+            for (sup, kf) in self.supports.iter().zip(&floor) {
+                if let (Law::Contact { .. }, Some(kf)) = (&sup.law, kf) {
+                    let mut tq = DMatrix::zeros(2, self.n);
+                    tq.view_mut((0, 0), (2, self.nm)).copy_from(&sup.rows);
+                    if let Some(i) = sup.stand {
+                        tq[(0, i)] = -1.0;
+                        tq[(1, i + 1)] = -1.0;
+                    }
+                    jac.gemm(1.0, &tq.transpose(), &(kf * &tq), 1.0);
+                }
+            }
+            let dq =
+                jac.clone().lu().solve(&f).ok_or(
+                    "static equilibrium: singular stiffness (is every rigid mode supported?)",
+                )?;
+            q += &dq;
+            let step = dq
+                .iter()
+                .zip(&self.weights)
+                .map(|(d, w)| (d * w).abs())
+                .fold(0.0, f64::max);
+            if step < 1e-13 {
+                self.force_at(state, &q, &v, &mut f);
+                return Ok(q);
+            }
+        }
+        Err("static equilibrium: Newton did not converge in 200 iterations".into())
+    }
+
+    /// A small regularising contact stiffness per contact support (1 µm penetration, all rollers).
+    fn contact_floor(&self) -> Vec<Option<Matrix2<f64>>> {
+        self.supports
+            .iter()
+            .map(|s| match &s.law {
+                Law::Contact { law, rollers, .. } => Some(
+                    rollers
+                        .iter()
+                        .map(|r| 1e-3 * law.tangent(1e-6) * r.e * r.e.transpose())
+                        .sum(),
+                ),
+                Law::Linear { .. } => None,
+            })
+            .collect()
+    }
+}
+
+impl crate::integrators::SecondOrder for RollSystem {
+    fn n(&self) -> usize {
+        self.n
+    }
+
+    fn mass(&self) -> &DMatrix<f64> {
+        &self.m
+    }
+
+    fn force(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
+        RollSystem::force(self, t, q, v, out);
+    }
+
+    fn newton_matrix(
+        &self,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        coef: (f64, f64, f64),
+        out: &mut DMatrix<f64>,
+    ) {
+        RollSystem::newton_matrix(self, t, q, v, coef, out);
+    }
+
+    fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+}

@@ -1,0 +1,349 @@
+//! Variable-step, variable-order (1–5) BDF in second-order form, of the Gear / GSTIFF / DASSL
+//! family (variable-coefficient form).
+//!
+//! With the last k accepted points, BDF-k sets q̇(t_{n+1}) and q̈(t_{n+1}) to the derivative of the
+//! polynomial through (t_{n+1}, t_n, …, t_{n+1−k}): v = α₀ q + Σⱼ αⱼ q_{n+1−j} and
+//! a = α₀ v + Σⱼ αⱼ v_{n+1−j}. The unknown is q alone; the residual
+//! R(q) = M a(q) − F(t, q, v(q)) has the Newton matrix α₀² M − ∂F/∂q − α₀ ∂F/∂q̇.
+//! The predictor extrapolates the last k+1 points; the local error of order j is estimated as
+//! h/(t_{n+1} − t_{n−j}) ‖q − q_pred,j‖ (the (j+1)-th difference), which also drives the order
+//! choice between k−1, k and k+1 (a raise only after k+1 steps at order k).
+//! The corrector test is DASSL's: with the convergence rate ρ (from this step's iterations, or the
+//! last step's), accept when ρ/(1−ρ)‖Δq‖ ≤ 0.33 tolerance; at most four iterations.
+
+use std::collections::VecDeque;
+
+use nalgebra::{DMatrix, DVector};
+
+use super::{finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
+use crate::scene::SolverSettings;
+
+struct Point {
+    t: f64,
+    q: DVector<f64>,
+    v: DVector<f64>,
+}
+
+/// α_j, j = 0..=k: derivative at τ₀ of the Lagrange basis over τ₀..τ_k.
+fn bdf_coefficients(tau: &[f64], out: &mut [f64]) {
+    let k = tau.len() - 1;
+    out[0] = (1..=k).map(|m| 1.0 / (tau[0] - tau[m])).sum();
+    for j in 1..=k {
+        let mut num = 1.0;
+        let mut den = 1.0;
+        for m in 0..=k {
+            if m != j {
+                den *= tau[j] - tau[m];
+                if m != 0 {
+                    num *= tau[0] - tau[m];
+                }
+            }
+        }
+        out[j] = num / den;
+    }
+}
+
+/// Lagrange extrapolation weights at `t` over the nodes `tau`.
+fn extrapolation(tau: &[f64], t: f64, out: &mut [f64]) {
+    for j in 0..tau.len() {
+        let mut l = 1.0;
+        for m in 0..tau.len() {
+            if m != j {
+                l *= (t - tau[m]) / (tau[j] - tau[m]);
+            }
+        }
+        out[j] = l;
+    }
+}
+
+fn predict(
+    hist: &VecDeque<Point>,
+    order: usize,
+    t: f64,
+    q: &mut DVector<f64>,
+    v: &mut DVector<f64>,
+) {
+    let n = order + 1;
+    let tau: Vec<f64> = hist.iter().take(n).map(|p| p.t).collect();
+    let mut w = [0.0; 8];
+    extrapolation(&tau, t, &mut w[..n]);
+    q.fill(0.0);
+    v.fill(0.0);
+    for (j, p) in hist.iter().take(n).enumerate() {
+        q.axpy(w[j], &p.q, 1.0);
+        v.axpy(w[j], &p.v, 1.0);
+    }
+}
+
+/// Runs the BDF integrator (see the module doc).
+pub(super) fn run(
+    pb: &dyn SecondOrder,
+    s: &SolverSettings,
+    t0: f64,
+    t_end: f64,
+    q0: DVector<f64>,
+    v0: DVector<f64>,
+    observer: &mut Observer,
+) -> (DVector<f64>, DVector<f64>, Stats) {
+    let n = pb.n();
+    let w = pb.weights();
+    let m = pb.mass();
+    let guard = Guard::new(s);
+    let mut st = Stats::new();
+    let cap = s.max_order + 2;
+    let mut hist: VecDeque<Point> = VecDeque::with_capacity(cap);
+    hist.push_front(Point {
+        t: t0,
+        q: q0,
+        v: v0,
+    });
+    let mut t = t0;
+    let mut h = s.h0.min(s.hmax);
+    let mut k = 1usize;
+    let mut at_order = 0usize;
+    let mut lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>> = None;
+    let mut alpha_lu = 0.0;
+    let mut s_rate = 100.0;
+    let mut fails = 0usize;
+    let (mut qp, mut vp) = (DVector::zeros(n), DVector::zeros(n));
+    let (mut q, mut v) = (DVector::zeros(n), DVector::zeros(n));
+    let (mut hq, mut hv) = (DVector::zeros(n), DVector::zeros(n));
+    let (mut f, mut r, mut a) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
+    let mut tmp = DVector::zeros(n);
+    let mut nm = DMatrix::zeros(n, n);
+    let mut alpha = [0.0; 8];
+    while t < t_end {
+        if !guard.check(&mut st, t, h) {
+            break;
+        }
+        if t + h > t_end || t_end - (t + h) < 1e-3 * h {
+            h = t_end - t;
+        }
+        let tn = t + h;
+        let keff = k.min(hist.len());
+        let tau: Vec<f64> = std::iter::once(tn)
+            .chain(hist.iter().take(keff).map(|p| p.t))
+            .collect();
+        bdf_coefficients(&tau, &mut alpha[..=keff]);
+        let a0 = alpha[0];
+        hq.fill(0.0);
+        hv.fill(0.0);
+        for (j, p) in hist.iter().take(keff).enumerate() {
+            hq.axpy(alpha[j + 1], &p.q, 1.0);
+            hv.axpy(alpha[j + 1], &p.v, 1.0);
+        }
+        let full_pred = hist.len() > keff;
+        if full_pred {
+            predict(&hist, keff, tn, &mut qp, &mut vp);
+        } else {
+            let p = &hist[0];
+            qp.copy_from(&p.q);
+            qp.axpy(h, &p.v, 1.0);
+            vp.copy_from(&p.v);
+        }
+        // Corrector: modified Newton on q.
+        let mut fresh = false;
+        let converged = loop {
+            if lu.is_none() || (a0 / alpha_lu - 1.0).abs() > 0.3 {
+                pb.newton_matrix(tn, &qp, &vp, (a0 * a0, 1.0, a0), &mut nm);
+                st.jacobian_evals += 1;
+                st.factorizations += 1;
+                lu = Some(nm.clone().lu());
+                alpha_lu = a0;
+                s_rate = 100.0;
+                fresh = true;
+            }
+            let lu_ref = lu.as_ref().expect("factorised above");
+            q.copy_from(&qp);
+            let mut d0 = 0.0;
+            let mut ok = false;
+            for it in 0..4 {
+                v.copy_from(&hq);
+                v.axpy(a0, &q, 1.0);
+                a.copy_from(&hv);
+                a.axpy(a0, &v, 1.0);
+                pb.force(tn, &q, &v, &mut f);
+                st.rhs_evals += 1;
+                st.newton_iterations += 1;
+                r.gemv(1.0, m, &a, 0.0);
+                r -= &f;
+                tmp.copy_from(&r);
+                if !lu_ref.solve_mut(&mut tmp) {
+                    break;
+                }
+                // The matrix was built for α_lu: scale the correction as DASSL does.
+                let scale = 2.0 / (1.0 + a0 / alpha_lu);
+                q.axpy(-scale, &tmp, 1.0);
+                let d = scale * wnorm(&tmp, w, s.tolerance);
+                if !d.is_finite() {
+                    break;
+                }
+                if it == 0 {
+                    d0 = d;
+                    if s_rate * d <= 0.33 || d <= 1e-10 {
+                        ok = true;
+                        break;
+                    }
+                } else {
+                    let rho = (d / d0).powf(1.0 / it as f64);
+                    if rho > 0.9 {
+                        break;
+                    }
+                    s_rate = rho / (1.0 - rho);
+                    if s_rate * d <= 0.33 {
+                        ok = true;
+                        break;
+                    }
+                }
+            }
+            if ok || fresh {
+                break ok;
+            }
+            // Stale matrix: rebuild it and try the same step again.
+            lu = None;
+        };
+        if !converged {
+            st.rejected_convergence += 1;
+            fails += 1;
+            h *= 0.25;
+            k = 1;
+            at_order = 0;
+            if fails > 20 {
+                st.status = Status::Diverged;
+                st.cause = format!("corrector failed {fails} times in a row at t = {t:.6} s");
+                break;
+            }
+            continue;
+        }
+        v.copy_from(&hq);
+        v.axpy(a0, &q, 1.0);
+        if !finite(&q) || !finite(&v) {
+            st.status = Status::Diverged;
+            st.cause = format!("non-finite state at t = {tn:.6} s");
+            break;
+        }
+        // Local error estimates of orders k−1, k, k+1 from predictor differences.
+        let est = |order: usize, qpred: &DVector<f64>, tmp: &mut DVector<f64>| {
+            tmp.copy_from(&q);
+            *tmp -= qpred;
+            let denom = if hist.len() > order {
+                tn - hist[order].t
+            } else {
+                2.0 * h
+            };
+            h / denom * wnorm(tmp, w, s.tolerance)
+        };
+        let err = est(keff, &qp, &mut tmp);
+        if err > 1.0 {
+            st.rejected_error += 1;
+            fails += 1;
+            let factor = (0.9 * err.powf(-1.0 / (keff as f64 + 1.0))).clamp(0.1, 0.9);
+            h *= factor;
+            if fails >= 2 && k > 1 {
+                k -= 1;
+                at_order = 0;
+            }
+            continue;
+        }
+        fails = 0;
+        // Order choice.
+        let mut best = (keff, (0.5 / err.max(1e-12)).powf(1.0 / (keff as f64 + 1.0)));
+        if keff > 1 && hist.len() >= keff {
+            let mut qq = DVector::zeros(n);
+            let mut vv = DVector::zeros(n);
+            predict(&hist, keff - 1, tn, &mut qq, &mut vv);
+            let e = est(keff - 1, &qq, &mut tmp);
+            let r = (0.5 / e.max(1e-12)).powf(1.0 / keff as f64);
+            if r > best.1 {
+                best = (keff - 1, r);
+            }
+        }
+        if keff < s.max_order && hist.len() >= keff + 2 && at_order > keff {
+            let mut qq = DVector::zeros(n);
+            let mut vv = DVector::zeros(n);
+            predict(&hist, keff + 1, tn, &mut qq, &mut vv);
+            let e = est(keff + 1, &qq, &mut tmp);
+            let r = (0.5 / e.max(1e-12)).powf(1.0 / (keff as f64 + 2.0));
+            if r > 1.1 * best.1 {
+                best = (keff + 1, r);
+            }
+        }
+        // Accept.
+        let t_prev = t;
+        {
+            let prev = &hist[0];
+            let view = StepView {
+                t0: t_prev,
+                t1: tn,
+                q0: &prev.q,
+                v0: &prev.v,
+                q1: &q,
+                v1: &v,
+            };
+            if let Err(cause) = observer(&view) {
+                st.steps += 1;
+                st.status = Status::Diverged;
+                st.cause = cause;
+                t = tn;
+                break;
+            }
+        }
+        if hist.len() == cap {
+            let mut old = hist.pop_back().expect("history is full");
+            old.t = tn;
+            old.q.copy_from(&q);
+            old.v.copy_from(&v);
+            hist.push_front(old);
+        } else {
+            hist.push_front(Point {
+                t: tn,
+                q: q.clone(),
+                v: v.clone(),
+            });
+        }
+        st.steps += 1;
+        t = tn;
+        if best.0 != keff {
+            k = best.0;
+            at_order = 0;
+        } else {
+            k = keff;
+            at_order += 1;
+        }
+        let factor = best.1.min(1.5);
+        if !(1.0..1.2).contains(&factor) {
+            h *= factor.max(0.2);
+        }
+        h = h.min(s.hmax);
+    }
+    let last = hist.pop_front().expect("history never empty");
+    guard.finish(&mut st, t);
+    (last.q, last.v, st)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bdf_coefficients_match_constant_step_bdf2() {
+        // BDF2 with step h: y' ≈ (3y_{n+1} − 4y_n + y_{n−1})/(2h).
+        let h = 0.1;
+        let mut a = [0.0; 3];
+        bdf_coefficients(&[2.0 * h, h, 0.0], &mut a);
+        assert!((a[0] - 1.5 / h).abs() < 1e-12);
+        assert!((a[1] + 2.0 / h).abs() < 1e-12);
+        assert!((a[2] - 0.5 / h).abs() < 1e-12);
+    }
+
+    #[test]
+    fn extrapolation_is_exact_for_polynomials() {
+        // A cubic through four points extrapolates exactly.
+        let tau = [3.0, 2.0, 1.0, 0.0];
+        let mut w = [0.0; 4];
+        extrapolation(&tau, 4.0, &mut w);
+        let f = |x: f64| 1.0 - 2.0 * x + 0.5 * x * x * x;
+        let got: f64 = tau.iter().zip(w).map(|(x, wi)| wi * f(*x)).sum();
+        assert!((got - f(4.0)).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,139 @@
+//! `rotorsweep simulate SCENE`: one job, its statistics, and its results in HDF5.
+
+use std::path::PathBuf;
+
+use rotorsweep::job;
+use rotorsweep::model::Model;
+use rotorsweep::scene::{parse_override, Scene};
+use rotorsweep::store::{self, Param};
+use serde::Serialize;
+
+/// Arguments of `rotorsweep simulate`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Scene file (TOML).
+    scene: PathBuf,
+    /// Override a scene value by dotted key, e.g. `--set solver.hmax=1e-4 --set speed.hz=16.4`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Write the results (statistics and sampled outputs) to this HDF5 file.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Print the statistics as one JSON object.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Serialize)]
+struct Summary<'a> {
+    scene: &'a str,
+    status: &'a str,
+    cause: &'a str,
+    t_end_s: f64,
+    cpu_time_s: f64,
+    wall_time_s: f64,
+    model_build_s: f64,
+    steps: u64,
+    rejected_steps: u64,
+    rejected_error: u64,
+    rejected_convergence: u64,
+    newton_iterations: u64,
+    iterations_per_step: f64,
+    jacobian_evals: u64,
+    factorizations: u64,
+    rhs_evals: u64,
+    modes: &'a str,
+    coordinates: usize,
+    integrator: &'a str,
+    samples: usize,
+    lift_off_s: Option<f64>,
+}
+
+/// Runs the command; the exit code says whether the job ended ok.
+pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
+    let scene = Scene::load(&a.scene, &a.set)?;
+    let text = std::fs::read_to_string(&a.scene)?;
+    let model = Model::build(&scene, None)?;
+    let r = job::run(&scene, &model);
+    let s = &r.stats;
+    let integrator = scene.solver.integrator.name();
+    let summary = Summary {
+        scene: &scene.name,
+        status: s.status.name(),
+        cause: &s.cause,
+        t_end_s: s.t_end_s,
+        cpu_time_s: s.cpu_time_s,
+        wall_time_s: s.wall_time_s,
+        model_build_s: model.build_seconds,
+        steps: s.steps,
+        rejected_steps: s.rejected(),
+        rejected_error: s.rejected_error,
+        rejected_convergence: s.rejected_convergence,
+        newton_iterations: s.newton_iterations,
+        iterations_per_step: s.iterations_per_step(),
+        jacobian_evals: s.jacobian_evals,
+        factorizations: s.factorizations,
+        rhs_evals: s.rhs_evals,
+        modes: &r.modes,
+        coordinates: r.coordinates,
+        integrator,
+        samples: r.time.len(),
+        lift_off_s: r.lift_off_s,
+    };
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        println!(
+            "{}: {} ({}) at t = {:.4} s{}",
+            scene.name,
+            summary.status,
+            integrator,
+            s.t_end_s,
+            if s.cause.is_empty() {
+                String::new()
+            } else {
+                format!(": {}", s.cause)
+            }
+        );
+        println!(
+            "  modes {} ({} coordinates), CPU {:.3} s, wall {:.3} s, model build {:.3} s",
+            r.modes, r.coordinates, s.cpu_time_s, s.wall_time_s, model.build_seconds
+        );
+        println!(
+            "  steps {}, rejected {} (error {}, convergence {}), Newton iterations {} ({:.3} per step)",
+            s.steps,
+            s.rejected(),
+            s.rejected_error,
+            s.rejected_convergence,
+            s.newton_iterations,
+            s.iterations_per_step()
+        );
+        println!(
+            "  Jacobians {}, factorisations {}, RHS evaluations {}, samples {}",
+            s.jacobian_evals,
+            s.factorizations,
+            s.rhs_evals,
+            r.time.len()
+        );
+    }
+    if let Some(path) = &a.output {
+        let command = std::env::args().collect::<Vec<_>>().join(" ");
+        let (file, jobs) = store::create_file(path, &command, &text)?;
+        let params: Vec<(String, Param)> = a
+            .set
+            .iter()
+            .filter_map(|kv| parse_override(kv).ok())
+            .map(|(k, v)| {
+                let p = match v {
+                    toml::Value::Float(x) => Param::Number(x),
+                    toml::Value::Integer(i) => Param::Number(i as f64),
+                    other => Param::Text(other.to_string()),
+                };
+                (k, p)
+            })
+            .collect();
+        store::write_job(&jobs, &scene.name, &params, integrator, &r)?;
+        store::finish_file(path, file, jobs)?;
+    }
+    Ok(s.status == rotorsweep::integrators::Status::Ok)
+}

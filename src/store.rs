@@ -1,0 +1,192 @@
+//! HDF5 results: one group per job, chunked and compressed datasets with `units` attributes.
+//!
+//! In: [`JobResult`]s and the parameters that made them. Out: an HDF5 file that h5py reads:
+//!
+//! ```text
+//! /                      attrs: tool, tool_version, created_utc, host, command, scene_text
+//! /jobs/<id>/            attrs: status, cause, modes, coordinates, integrator, the solver
+//!                        statistics (steps, rejected_steps, …, cpu_time_s, wall_time_s),
+//!                        lift_off_s (NaN if none), and each parameter under its dotted key
+//! /jobs/<id>/time        [s]
+//! /jobs/<id>/runout/<sensor>/{vertical,horizontal}   [um]
+//! /jobs/<id>/journal/<node>/{x,y}  /stand/<node>/{x,y}  [um]
+//! /jobs/<id>/contact/<node>/<roller>  [N]     /modal/<i>  [kg^0.5 m]
+//! ```
+//! Strings are variable-length UTF-8 (h5py returns `str`). Datasets are chunked (≤ 8192
+//! samples), shuffled and deflated (level 4).
+
+use std::path::Path;
+use std::str::FromStr;
+
+use hdf5::types::VarLenUnicode;
+use hdf5::{File, Group, Location};
+
+use crate::job::JobResult;
+
+/// Writes a string attribute (variable-length UTF-8).
+pub fn attr_str(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
+    let v =
+        VarLenUnicode::from_str(value).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+    loc.new_attr::<VarLenUnicode>()
+        .shape(())
+        .create(name)?
+        .write_scalar(&v)
+}
+
+/// Writes a float attribute.
+pub fn attr_f64(loc: &Location, name: &str, value: f64) -> hdf5::Result<()> {
+    loc.new_attr::<f64>()
+        .shape(())
+        .create(name)?
+        .write_scalar(&value)
+}
+
+/// Writes an integer attribute.
+pub fn attr_u64(loc: &Location, name: &str, value: u64) -> hdf5::Result<()> {
+    loc.new_attr::<u64>()
+        .shape(())
+        .create(name)?
+        .write_scalar(&value)
+}
+
+/// Writes a 1-D float dataset (chunked, shuffled, deflated) with a `units` attribute, creating
+/// the intermediate groups of a path-like name.
+pub fn dataset(group: &Group, name: &str, data: &[f64], units: &str) -> hdf5::Result<()> {
+    let (parent, leaf) = match name.rsplit_once('/') {
+        Some((p, l)) => (subgroup(group, p)?, l),
+        None => (group.clone(), name),
+    };
+    let mut b = parent.new_dataset_builder();
+    if !data.is_empty() {
+        b = b.chunk(data.len().min(8192)).shuffle().deflate(4);
+    }
+    let ds = b.with_data(data).create(leaf)?;
+    attr_str(&ds, "units", units)
+}
+
+/// Opens or creates a nested group `a/b/c` under `group`.
+pub fn subgroup(group: &Group, path: &str) -> hdf5::Result<Group> {
+    let mut g = group.clone();
+    for part in path.split('/').filter(|p| !p.is_empty()) {
+        g = match g.group(part) {
+            Ok(x) => x,
+            Err(_) => g.create_group(part)?,
+        };
+    }
+    Ok(g)
+}
+
+/// A parameter value stored as an attribute.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Param {
+    /// A number.
+    Number(f64),
+    /// A string.
+    Text(String),
+}
+
+/// Writes one job's group: status, statistics, parameters and datasets.
+pub fn write_job(
+    parent: &Group,
+    id: &str,
+    params: &[(String, Param)],
+    integrator: &str,
+    r: &JobResult,
+) -> hdf5::Result<()> {
+    let g = parent.create_group(id)?;
+    let s = &r.stats;
+    attr_str(&g, "status", s.status.name())?;
+    attr_str(&g, "cause", &s.cause)?;
+    attr_str(&g, "modes", &r.modes)?;
+    attr_str(&g, "integrator", integrator)?;
+    attr_u64(&g, "coordinates", r.coordinates as u64)?;
+    attr_f64(&g, "t_end_s", s.t_end_s)?;
+    attr_u64(&g, "steps", s.steps)?;
+    attr_u64(&g, "rejected_steps", s.rejected())?;
+    attr_u64(&g, "rejected_error", s.rejected_error)?;
+    attr_u64(&g, "rejected_convergence", s.rejected_convergence)?;
+    attr_u64(&g, "newton_iterations", s.newton_iterations)?;
+    attr_f64(&g, "iterations_per_step", s.iterations_per_step())?;
+    attr_u64(&g, "jacobian_evals", s.jacobian_evals)?;
+    attr_u64(&g, "factorizations", s.factorizations)?;
+    attr_u64(&g, "rhs_evals", s.rhs_evals)?;
+    attr_f64(&g, "cpu_time_s", s.cpu_time_s)?;
+    attr_f64(&g, "wall_time_s", s.wall_time_s)?;
+    attr_f64(&g, "lift_off_s", r.lift_off_s.unwrap_or(f64::NAN))?;
+    for (k, v) in params {
+        match v {
+            Param::Number(x) => attr_f64(&g, k, *x)?,
+            Param::Text(t) => attr_str(&g, k, t)?,
+        }
+    }
+    dataset(&g, "time", &r.time, "s")?;
+    for c in &r.channels {
+        dataset(&g, &c.name, &c.data, c.units)?;
+    }
+    Ok(())
+}
+
+/// Creates a results file with its provenance attributes and an empty `jobs` group. The file is
+/// written to `path` + ".part" and renamed by [`finish_file`], so a crash leaves no half file
+/// under the final name.
+pub fn create_file(path: &Path, command: &str, scene_text: &str) -> hdf5::Result<(File, Group)> {
+    let part = part_path(path);
+    let f = File::create(&part)?;
+    attr_str(&f, "tool", "rotorsweep")?;
+    attr_str(&f, "tool_version", env!("CARGO_PKG_VERSION"))?;
+    attr_str(&f, "created_utc", &utc_now())?;
+    attr_str(&f, "host", &hostname())?;
+    attr_str(&f, "command", command)?;
+    attr_str(&f, "scene_text", scene_text)?;
+    let jobs = f.create_group("jobs")?;
+    Ok((f, jobs))
+}
+
+/// Closes the file and moves it to its final name.
+pub fn finish_file(path: &Path, file: File, jobs: Group) -> std::io::Result<()> {
+    drop(jobs);
+    file.close()
+        .map_err(|e| std::io::Error::other(e.to_string()))?;
+    std::fs::rename(part_path(path), path)
+}
+
+fn part_path(path: &Path) -> std::path::PathBuf {
+    let mut p = path.as_os_str().to_owned();
+    p.push(".part");
+    p.into()
+}
+
+/// The host name (from /proc or the environment), or "unknown".
+pub fn hostname() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|s| s.trim().to_string())
+        .ok()
+        .filter(|s| !s.is_empty())
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// Current UTC time as ISO 8601 (from the system clock, no time-zone database needed).
+pub fn utc_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    let (days, rem) = (secs / 86_400, secs % 86_400);
+    // Civil date from days since 1970-01-01 (Howard Hinnant's algorithm).
+    let z = days as i64 + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z",
+        rem / 3600,
+        (rem % 3600) / 60,
+        rem % 60
+    )
+}
