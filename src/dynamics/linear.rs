@@ -19,7 +19,7 @@ use nalgebra::{DMatrix, Matrix2, Vector2};
 use crate::eigen;
 use crate::fe::Rotor;
 use crate::reduction::{classify, ModeKind, ReducedModel};
-use crate::scene::{RollerSupport, Scene, SpringDamper, SupportModel, GRAVITY};
+use crate::scene::{RollerSupport, Scene, SpringDamper, SupportModel};
 
 /// Why a linear system could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -107,7 +107,7 @@ pub fn linear_stages(scene: &Scene, rotor: &Rotor) -> Result<Vec<LinearStage>, L
         }
         let za = rotor.node_z[node(&scene.supports[0].node)];
         let zb = rotor.node_z[node(&scene.supports[1].node)];
-        let w = rotor.mass() * GRAVITY;
+        let w = rotor.mass() * scene.simulation.gravity;
         let zc = rotor.mass_center_z();
         vec![w * (zb - zc) / (zb - za), w * (zc - za) / (zb - za)]
     } else {

@@ -19,7 +19,7 @@
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use crate::model::Model;
-use crate::scene::{ContactLaw, Harmonic, RollerPhase, Scene, SpeedProfile, SupportModel, GRAVITY};
+use crate::scene::{ContactLaw, Harmonic, RollerPhase, Scene, SpeedProfile, SupportModel};
 
 /// One roller in the frame of its support.
 #[derive(Debug, Clone)]
@@ -88,6 +88,8 @@ pub struct RollSystem {
     gy: DVector<f64>,
     /// Gravity on the support masses (inertial, constant).
     f_stand: DVector<f64>,
+    /// Gravitational acceleration [m/s²].
+    gravity: f64,
     supports: Vec<SupportSys>,
     drive: Option<(DVector<f64>, f64, f64)>,
     /// The prescribed speed profile.
@@ -168,6 +170,7 @@ impl RollSystem {
                     2.0 * scene.damping.ratio(f) * 2.0 * std::f64::consts::PI * f * r.m[(i, i)];
             }
         }
+        let gravity = scene.simulation.gravity;
         let mut f_stand = DVector::zeros(n);
         let mut supports = Vec::new();
         let mut next = nm;
@@ -179,7 +182,7 @@ impl RollSystem {
                 m[(next + 1, next + 1)] = mass;
                 k.view_mut((next, next), (2, 2)).copy_from(&kk);
                 d.view_mut((next, next), (2, 2)).copy_from(&cc);
-                f_stand[next + 1] = -mass * GRAVITY;
+                f_stand[next + 1] = -mass * gravity;
                 next += 2;
                 next - 2
             };
@@ -269,6 +272,7 @@ impl RollSystem {
             gx: padv(&r.gx),
             gy: padv(&r.gy),
             f_stand,
+            gravity,
             supports,
             drive,
             speed: scene.speed.clone(),
@@ -411,8 +415,8 @@ impl RollSystem {
         if alpha != 0.0 {
             out.axpy(-alpha, &self.ft, 1.0);
         }
-        out.axpy(-GRAVITY * s, &self.gx, 1.0);
-        out.axpy(-GRAVITY * c, &self.gy, 1.0);
+        out.axpy(-self.gravity * s, &self.gx, 1.0);
+        out.axpy(-self.gravity * c, &self.gy, 1.0);
         *out += &self.f_stand;
         for sup in &self.supports {
             let (w, wd, r) = self.relative(sup, theta, omega, q, v);
@@ -546,7 +550,7 @@ impl RollSystem {
 
     /// The gravity load at rest (θ = 0): rotor and support masses.
     pub fn gravity_at_rest(&self) -> DVector<f64> {
-        -GRAVITY * &self.gy + &self.f_stand
+        -self.gravity * &self.gy + &self.f_stand
     }
 
     /// Static equilibrium under gravity at standstill (θ = 0): Newton on F(q, 0) = 0 from `q0`.

@@ -90,6 +90,8 @@ pub(super) struct SimulationFile {
     pub static_start: bool,
     #[serde(default = "default_bound")]
     pub runout_bound_mm: f64,
+    #[serde(default = "default_gravity")]
+    pub gravity_m_s2: f64,
 }
 
 impl Default for SimulationFile {
@@ -100,6 +102,7 @@ impl Default for SimulationFile {
             sample_rate_hz: default_rate(),
             static_start: true,
             runout_bound_mm: default_bound(),
+            gravity_m_s2: default_gravity(),
         }
     }
 }
@@ -109,6 +112,9 @@ fn default_t_end() -> f64 {
 }
 fn default_rate() -> f64 {
     1000.0
+}
+fn default_gravity() -> f64 {
+    9.81
 }
 fn default_bound() -> f64 {
     50.0

@@ -31,9 +31,6 @@ use crate::thickness::{AxialShape, HarmonicSpec, SyntheticSpec, ThicknessMap};
 
 use file::*;
 
-/// Standard gravity [m/s²] (physics.md §1).
-pub const GRAVITY: f64 = 9.81;
-
 /// A validated scene in SI units.
 #[derive(Debug, Clone)]
 pub struct Scene {

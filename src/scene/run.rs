@@ -175,6 +175,8 @@ pub struct SimulationSettings {
     pub static_start: bool,
     /// A journal or sensor displacement beyond this [m] ends the run `diverged`.
     pub runout_bound: f64,
+    /// Gravitational acceleration [m/s²] (9.81; 0 for checks that need a time-invariant body frame).
+    pub gravity: f64,
 }
 
 /// What a run records.
@@ -295,6 +297,7 @@ pub(super) fn simulation(c: &Check, s: &SimulationFile) -> Result<SimulationSett
         sample_rate: c.positive("simulation.sample_rate_hz", s.sample_rate_hz)?,
         static_start: s.static_start,
         runout_bound: 1e-3 * c.positive("simulation.runout_bound_mm", s.runout_bound_mm)?,
+        gravity: c.non_negative("simulation.gravity_m_s2", s.gravity_m_s2)?,
     })
 }
 
