@@ -31,7 +31,7 @@ struct RollerSys {
     /// R_j + R_r [m].
     l: f64,
     /// Roller roundness.
-    roundness: Vec<Harmonic>,
+    roundness: Profile,
     /// Roller angle per roll angle (−R_j/R_r), or 0 for the source's roll-angle drive.
     ratio: f64,
 }
@@ -40,7 +40,7 @@ struct RollerSys {
 enum Law {
     Contact {
         law: ContactLaw,
-        journal: Vec<Harmonic>,
+        journal: Profile,
         rollers: Vec<RollerSys>,
     },
     Linear {
@@ -108,13 +108,50 @@ fn rot(theta: f64) -> Matrix2<f64> {
     Matrix2::new(c, -s, s, c)
 }
 
-/// Σ c_k cos(k x + φ_k) and its derivative with respect to x.
-fn roundness(h: &[Harmonic], x: f64) -> (f64, f64) {
-    h.iter().fold((0.0, 0.0), |(v, dv), hk| {
-        let k = hk.order as f64;
-        let (s, c) = (k * x + hk.phase).sin_cos();
-        (v + hk.amplitude * c, dv - hk.amplitude * k * s)
-    })
+/// A roundness profile Σ c_k cos(k x + φ_k), with the phases' sines and cosines precomputed.
+#[derive(Debug, Clone)]
+struct Profile {
+    /// (k, c_k cos φ_k, c_k sin φ_k), ascending k.
+    terms: Vec<(u32, f64, f64)>,
+}
+
+impl Profile {
+    fn new(h: &[Harmonic]) -> Self {
+        let mut terms: Vec<(u32, f64, f64)> = h
+            .iter()
+            .map(|hk| {
+                (
+                    hk.order,
+                    hk.amplitude * hk.phase.cos(),
+                    hk.amplitude * hk.phase.sin(),
+                )
+            })
+            .collect();
+        terms.sort_by_key(|t| t.0);
+        Self { terms }
+    }
+
+    /// The profile and its derivative with respect to x, with one sin_cos and the angle-addition
+    /// recurrence for the multiples of x.
+    fn eval(&self, x: f64) -> (f64, f64) {
+        if self.terms.is_empty() {
+            return (0.0, 0.0);
+        }
+        let (s1, c1) = x.sin_cos();
+        let (mut sk, mut ck) = (0.0, 1.0);
+        let mut k = 0;
+        let (mut v, mut dv) = (0.0, 0.0);
+        for &(order, a, b) in &self.terms {
+            while k < order {
+                (sk, ck) = (sk * c1 + ck * s1, ck * c1 - sk * s1);
+                k += 1;
+            }
+            // c cos(kx + φ) = a cos kx − b sin kx; d/dx = −k (a sin kx + b cos kx).
+            v += a * ck - b * sk;
+            dv -= order as f64 * (a * sk + b * ck);
+        }
+        (v, dv)
+    }
 }
 
 /// The cubic STEP from 0 at u = 0 to 1 at u = 1, and its derivative.
@@ -201,7 +238,7 @@ impl RollSystem {
                         stand: Some(idx),
                         law: Law::Contact {
                             law: rs.contact,
-                            journal: rs.journal_roundness.clone(),
+                            journal: Profile::new(&rs.journal_roundness),
                             rollers: rs
                                 .rollers
                                 .iter()
@@ -209,7 +246,7 @@ impl RollSystem {
                                     e: Vector2::new(ro.angle.sin(), -ro.angle.cos()),
                                     angle: ro.angle,
                                     l: rj + 0.5 * ro.diameter,
-                                    roundness: ro.roundness.clone(),
+                                    roundness: Profile::new(&ro.roundness),
                                     ratio: match rs.roller_phase {
                                         RollerPhase::RollAngle => 1.0,
                                         RollerPhase::RollerAngle => -rj / (0.5 * ro.diameter),
@@ -321,8 +358,8 @@ impl RollSystem {
                 let mut cc = Matrix2::zeros();
                 let mut forces = out;
                 for r in rollers {
-                    let (hj, dhj) = roundness(journal, theta - r.angle);
-                    let (hr, dhr) = roundness(&r.roundness, r.ratio * theta);
+                    let (hj, dhj) = journal.eval(theta - r.angle);
+                    let (hr, dhr) = r.roundness.eval(r.ratio * theta);
                     let dvec = w - r.l * r.e;
                     let dist = dvec.norm();
                     // L − |d| without cancellation: (2L w·e − |w|²)/(L + |d|).

@@ -110,6 +110,7 @@ pub(super) fn run(
     let (mut hq, mut hv) = (DVector::zeros(n), DVector::zeros(n));
     let (mut f, mut r, mut a) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
     let mut tmp = DVector::zeros(n);
+    let (mut qq, mut vv) = (DVector::zeros(n), DVector::zeros(n));
     let mut nm = DMatrix::zeros(n, n);
     let mut alpha = [0.0; 8];
     while t < t_end {
@@ -121,10 +122,12 @@ pub(super) fn run(
         }
         let tn = t + h;
         let keff = k.min(hist.len());
-        let tau: Vec<f64> = std::iter::once(tn)
-            .chain(hist.iter().take(keff).map(|p| p.t))
-            .collect();
-        bdf_coefficients(&tau, &mut alpha[..=keff]);
+        let mut tau = [0.0; 8];
+        tau[0] = tn;
+        for (slot, p) in tau[1..].iter_mut().zip(hist.iter().take(keff)) {
+            *slot = p.t;
+        }
+        bdf_coefficients(&tau[..=keff], &mut alpha[..=keff]);
         let a0 = alpha[0];
         hq.fill(0.0);
         hv.fill(0.0);
@@ -246,11 +249,11 @@ pub(super) fn run(
             continue;
         }
         fails = 0;
-        // Order choice.
+        // Order choice, when the error (not hmax) limits the step: the cost of a step hardly
+        // depends on the order, so at hmax the order stays.
         let mut best = (keff, (0.5 / err.max(1e-12)).powf(1.0 / (keff as f64 + 1.0)));
-        if keff > 1 && hist.len() >= keff {
-            let mut qq = DVector::zeros(n);
-            let mut vv = DVector::zeros(n);
+        let error_limited = h < 0.999 * s.hmax || best.1 < 1.0;
+        if error_limited && keff > 1 && hist.len() >= keff {
             predict(&hist, keff - 1, tn, &mut qq, &mut vv);
             let e = est(keff - 1, &qq, &mut tmp);
             let r = (0.5 / e.max(1e-12)).powf(1.0 / keff as f64);
@@ -258,9 +261,7 @@ pub(super) fn run(
                 best = (keff - 1, r);
             }
         }
-        if keff < s.max_order && hist.len() >= keff + 2 && at_order > keff {
-            let mut qq = DVector::zeros(n);
-            let mut vv = DVector::zeros(n);
+        if error_limited && keff < s.max_order && hist.len() >= keff + 2 && at_order > keff {
             predict(&hist, keff + 1, tn, &mut qq, &mut vv);
             let e = est(keff + 1, &qq, &mut tmp);
             let r = (0.5 / e.max(1e-12)).powf(1.0 / (keff as f64 + 2.0));
