@@ -7,9 +7,12 @@
 //! R(q) = M a(q) − F(t, q, v(q)) has the Newton matrix α₀² M − ∂F/∂q − α₀ ∂F/∂q̇.
 //! The predictor extrapolates the last k+1 points; the local error of order j is estimated as
 //! h/(t_{n+1} − t_{n−j}) ‖q − q_pred,j‖ (the (j+1)-th difference), which also drives the order
-//! choice between k−1, k and k+1 (a raise only after k+1 steps at order k).
-//! The corrector test is DASSL's: with the convergence rate ρ (from this step's iterations, or the
-//! last step's), accept when ρ/(1−ρ)‖Δq‖ ≤ 0.33 tolerance; at most four iterations.
+//! choice between k−1, k and k+1 after k+1 steps at order k: the order allowing the longest step,
+//! or, when hmax caps the step anyway, the order with the smallest error.
+//! The corrector stops after one iteration when the first correction is below 5 % of the
+//! tolerance, otherwise when the rate ρ measured in this step gives ρ/(1−ρ)‖Δq‖ ≤ 0.05 tolerance;
+//! at most four iterations; a rate above 0.3 refreshes the Newton matrix for the next step (the
+//! contact directions turn with the roll, so a reused matrix ages with the roll angle).
 
 use std::collections::VecDeque;
 
@@ -103,7 +106,6 @@ pub(super) fn run(
     let mut at_order = 0usize;
     let mut lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>> = None;
     let mut alpha_lu = 0.0;
-    let mut s_rate = 100.0;
     let mut fails = 0usize;
     let (mut qp, mut vp) = (DVector::zeros(n), DVector::zeros(n));
     let (mut q, mut v) = (DVector::zeros(n), DVector::zeros(n));
@@ -146,6 +148,7 @@ pub(super) fn run(
         }
         // Corrector: modified Newton on q.
         let mut fresh = false;
+        let mut slow = false;
         let converged = loop {
             if lu.is_none() || (a0 / alpha_lu - 1.0).abs() > 0.3 {
                 pb.newton_matrix(tn, &qp, &vp, (a0 * a0, 1.0, a0), &mut nm);
@@ -153,7 +156,6 @@ pub(super) fn run(
                 st.factorizations += 1;
                 lu = Some(nm.clone().lu());
                 alpha_lu = a0;
-                s_rate = 100.0;
                 fresh = true;
             }
             let lu_ref = lu.as_ref().expect("factorised above");
@@ -183,7 +185,9 @@ pub(super) fn run(
                 }
                 if it == 0 {
                     d0 = d;
-                    if s_rate * d <= 0.33 || d <= 1e-10 {
+                    // One iteration suffices when the first correction is already far below
+                    // the tolerance (whatever the rate, what is left is smaller still).
+                    if d <= 0.05 {
                         ok = true;
                         break;
                     }
@@ -192,8 +196,8 @@ pub(super) fn run(
                     if rho > 0.9 {
                         break;
                     }
-                    s_rate = rho / (1.0 - rho);
-                    if s_rate * d <= 0.33 {
+                    slow = rho > 0.3;
+                    if rho / (1.0 - rho) * d <= 0.05 {
                         ok = true;
                         break;
                     }
@@ -217,6 +221,10 @@ pub(super) fn run(
                 break;
             }
             continue;
+        }
+        if slow {
+            // A slowly converging corrector: refresh the Newton matrix for the next step.
+            lu = None;
         }
         v.copy_from(&hq);
         v.axpy(a0, &q, 1.0);
@@ -249,26 +257,37 @@ pub(super) fn run(
             continue;
         }
         fails = 0;
-        // Order choice, when the error (not hmax) limits the step: the cost of a step hardly
-        // depends on the order, so at hmax the order stays.
-        let mut best = (keff, (0.5 / err.max(1e-12)).powf(1.0 / (keff as f64 + 1.0)));
-        let error_limited = h < 0.999 * s.hmax || best.1 < 1.0;
-        if error_limited && keff > 1 && hist.len() >= keff {
+        // Order choice after k+1 steps at order k: the order allowing the longest step; when
+        // hmax caps every candidate, the order with the smallest error (same cost, more accuracy).
+        let cand = |order: usize, e: f64| {
+            (
+                order,
+                e,
+                (0.5 / e.max(1e-300)).powf(1.0 / (order as f64 + 1.0)),
+            )
+        };
+        let mut cands = [cand(keff, err); 3];
+        let mut nc = 1;
+        let review = at_order > keff;
+        if review && keff > 1 && hist.len() >= keff {
             predict(&hist, keff - 1, tn, &mut qq, &mut vv);
-            let e = est(keff - 1, &qq, &mut tmp);
-            let r = (0.5 / e.max(1e-12)).powf(1.0 / keff as f64);
-            if r > best.1 {
-                best = (keff - 1, r);
-            }
+            cands[nc] = cand(keff - 1, est(keff - 1, &qq, &mut tmp));
+            nc += 1;
         }
-        if error_limited && keff < s.max_order && hist.len() >= keff + 2 && at_order > keff {
+        if review && keff < s.max_order && hist.len() >= keff + 2 {
             predict(&hist, keff + 1, tn, &mut qq, &mut vv);
-            let e = est(keff + 1, &qq, &mut tmp);
-            let r = (0.5 / e.max(1e-12)).powf(1.0 / (keff as f64 + 2.0));
-            if r > 1.1 * best.1 {
-                best = (keff + 1, r);
-            }
+            cands[nc] = cand(keff + 1, est(keff + 1, &qq, &mut tmp));
+            nc += 1;
         }
+        let cands = &cands[..nc];
+        let capped = cands.iter().all(|c| h * c.2.min(1.5) >= s.hmax);
+        let best = if capped {
+            cands.iter().min_by(|a, b| a.1.total_cmp(&b.1))
+        } else {
+            cands.iter().max_by(|a, b| a.2.total_cmp(&b.2))
+        }
+        .map(|c| (c.0, c.2))
+        .expect("the current order is a candidate");
         // Accept.
         let t_prev = t;
         {
@@ -304,7 +323,7 @@ pub(super) fn run(
         }
         st.steps += 1;
         t = tn;
-        if best.0 != keff {
+        if best.0 != keff || review {
             k = best.0;
             at_order = 0;
         } else {
