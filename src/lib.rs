@@ -15,4 +15,5 @@ pub mod reduction;
 pub mod scene;
 pub mod section;
 pub mod store;
+pub mod study;
 pub mod thickness;

@@ -1,5 +1,6 @@
 //! The `rotorsweep` command line.
 
+mod campaign_cli;
 mod modes;
 mod simulate;
 
@@ -24,6 +25,12 @@ enum Command {
     Modes(modes::Args),
     /// One time simulation of a scene: statistics, and results to HDF5 with -o.
     Simulate(simulate::Args),
+    /// The jobs of a study, without running them: count, parameters, models, cost.
+    Plan(campaign_cli::PlanArgs),
+    /// Run a study into one HDF5 file.
+    Run(campaign_cli::RunArgs),
+    /// Join shard files of one study into one file.
+    Merge(campaign_cli::MergeArgs),
 }
 
 fn main() -> ExitCode {
@@ -31,6 +38,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Modes(a) => modes::run(&a).map(|()| true),
         Command::Simulate(a) => simulate::run(&a),
+        Command::Plan(a) => campaign_cli::plan(&a).map(|()| true),
+        Command::Run(a) => campaign_cli::run(&a),
+        Command::Merge(a) => campaign_cli::merge(&a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

@@ -190,3 +190,159 @@ pub fn utc_now() -> String {
         rem % 60
     )
 }
+
+/// Reads a string attribute (variable-length UTF-8).
+pub fn read_str(loc: &Location, name: &str) -> hdf5::Result<String> {
+    Ok(loc.attr(name)?.read_scalar::<VarLenUnicode>()?.to_string())
+}
+
+/// Reads a numeric attribute as f64 (floats and integers).
+pub fn read_num(loc: &Location, name: &str) -> hdf5::Result<f64> {
+    use hdf5::types::TypeDescriptor as T;
+    let a = loc.attr(name)?;
+    Ok(match a.dtype()?.to_descriptor()? {
+        T::Unsigned(_) => a.read_scalar::<u64>()? as f64,
+        T::Integer(_) => a.read_scalar::<i64>()? as f64,
+        _ => a.read_scalar::<f64>()?,
+    })
+}
+
+/// A parameter attribute as it was written: number or text.
+pub fn read_param(loc: &Location, name: &str) -> hdf5::Result<Param> {
+    use hdf5::types::TypeDescriptor as T;
+    let a = loc.attr(name)?;
+    Ok(match a.dtype()?.to_descriptor()? {
+        T::VarLenUnicode | T::VarLenAscii | T::FixedAscii(_) | T::FixedUnicode(_) => {
+            Param::Text(read_str(loc, name)?)
+        }
+        _ => Param::Number(read_num(loc, name)?),
+    })
+}
+
+/// Writes a 1-D dataset of strings (variable-length UTF-8).
+pub fn string_dataset(group: &Group, name: &str, items: &[String]) -> hdf5::Result<()> {
+    let v: Vec<VarLenUnicode> = items
+        .iter()
+        .map(|s| VarLenUnicode::from_str(s).unwrap_or_default())
+        .collect();
+    group.new_dataset_builder().with_data(&v).create(name)?;
+    Ok(())
+}
+
+/// Deep-copies the object `src_name` under `src` to `dst_name` under `dst` (HDF5's H5Ocopy):
+/// datasets keep their chunking, filters and bytes.
+pub fn copy_object(
+    src: &Location,
+    src_name: &str,
+    dst: &Location,
+    dst_name: &str,
+) -> hdf5::Result<()> {
+    let (a, b) = (
+        std::ffi::CString::new(src_name).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?,
+        std::ffi::CString::new(dst_name).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?,
+    );
+    let rc = hdf5::sync::sync(|| {
+        // SAFETY: both ids are open HDF5 locations owned by the callers; the names are valid
+        // NUL-terminated strings; the library lock is held by `sync`.
+        unsafe {
+            hdf5_sys::h5o::H5Ocopy(
+                src.id(),
+                a.as_ptr(),
+                dst.id(),
+                b.as_ptr(),
+                hdf5_sys::h5p::H5P_DEFAULT,
+                hdf5_sys::h5p::H5P_DEFAULT,
+            )
+        }
+    });
+    if rc < 0 {
+        Err(hdf5::Error::from(
+            format!("H5Ocopy {src_name} → {dst_name} failed").as_str(),
+        ))
+    } else {
+        Ok(())
+    }
+}
+
+/// One column of the summary table.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Column {
+    /// float64 values.
+    Number(String, Vec<f64>),
+    /// Fixed-length ASCII strings (bytes in numpy), at most `width` bytes each.
+    Text(String, usize, Vec<String>),
+}
+
+/// Writes a compound table (one row per entry) that numpy reads as a structured array and
+/// `pandas.DataFrame(f["summary"][()])` takes directly.
+pub fn compound_table(group: &Group, name: &str, columns: &[Column]) -> hdf5::Result<()> {
+    use hdf5::types::{CompoundField, CompoundType, FloatSize, TypeDescriptor};
+    let rows = match columns.first() {
+        Some(Column::Number(_, v)) => v.len(),
+        Some(Column::Text(_, _, v)) => v.len(),
+        None => 0,
+    };
+    let mut fields = Vec::new();
+    let mut offset = 0;
+    for (index, c) in columns.iter().enumerate() {
+        let (name, ty, size) = match c {
+            Column::Number(n, _) => (n, TypeDescriptor::Float(FloatSize::U8), 8),
+            Column::Text(n, w, _) => (n, TypeDescriptor::FixedAscii(*w), *w),
+        };
+        fields.push(CompoundField {
+            name: name.clone(),
+            ty,
+            offset,
+            index,
+        });
+        offset += size;
+    }
+    let size = offset;
+    let desc = TypeDescriptor::Compound(CompoundType { fields, size });
+    let mut buf = vec![0u8; size * rows];
+    let mut off = 0;
+    for c in columns {
+        match c {
+            Column::Number(_, v) => {
+                for (r, x) in v.iter().enumerate() {
+                    buf[r * size + off..r * size + off + 8].copy_from_slice(&x.to_ne_bytes());
+                }
+                off += 8;
+            }
+            Column::Text(_, w, v) => {
+                for (r, s) in v.iter().enumerate() {
+                    let b: Vec<u8> = s.bytes().filter(u8::is_ascii).take(*w).collect();
+                    buf[r * size + off..r * size + off + b.len()].copy_from_slice(&b);
+                }
+                off += w;
+            }
+        }
+    }
+    let dtype = hdf5::Datatype::from_descriptor(&desc)?;
+    let ds = group
+        .new_dataset_builder()
+        .empty_as(dtype.clone())
+        .shape(rows)
+        .create(name)?;
+    if rows == 0 {
+        return Ok(());
+    }
+    let rc = hdf5::sync::sync(|| {
+        // SAFETY: the buffer holds `rows` packed records laid out exactly as `dtype` describes
+        // (offsets computed above), and the dataset has `rows` elements of that type.
+        unsafe {
+            hdf5_sys::h5d::H5Dwrite(
+                ds.id(),
+                dtype.id(),
+                hdf5_sys::h5s::H5S_ALL,
+                hdf5_sys::h5s::H5S_ALL,
+                hdf5_sys::h5p::H5P_DEFAULT,
+                buf.as_ptr().cast(),
+            )
+        }
+    });
+    if rc < 0 {
+        return Err(hdf5::Error::from("writing the summary table failed"));
+    }
+    Ok(())
+}

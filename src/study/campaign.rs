@@ -1,0 +1,781 @@
+//! Running a study: shared models, pruning pilots, reference runs and jobs on a thread pool, each
+//! finished job saved at once, then one HDF5 file assembled.
+//!
+//! In: a [`Study`] and [`RunOptions`] (output path, threads, resume, shard).
+//! Out: `OUT.h5` in the layout of `store` plus `/models/<id>`, `/references/<id>` and the
+//! `summary` table, and an [`Outcome`] (counts). Every finished job is first written to its own
+//! file `OUT.h5.parts/<id>.h5` (written under a temporary name, then renamed), so a `kill -9`
+//! at any moment loses only the jobs that were running; `--resume` skips the saved ones and
+//! assembles again. Each job runs on one thread; results do not depend on the thread count.
+//! A job that panics, diverges or exhausts its budget is a result with its status and cause.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::io::IsTerminal;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+use std::sync::{mpsc, Arc};
+
+use rayon::prelude::*;
+
+use super::{Job, Study};
+use crate::integrators::{Stats, Status};
+use crate::job::{self, JobResult};
+use crate::model::Model;
+use crate::reduction::{ModeKind, ModeSelection};
+use crate::scene::Scene;
+use crate::store::{self, Column, Param};
+
+/// How to run a study.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// The results file.
+    pub output: PathBuf,
+    /// Worker threads.
+    pub threads: usize,
+    /// Continue from the saved jobs of an interrupted run.
+    pub resume: bool,
+    /// Run only shard i of n.
+    pub shard: Option<(usize, usize)>,
+    /// The command line, stored in the file.
+    pub command: String,
+}
+
+/// What a campaign did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Outcome {
+    /// Jobs in this run (shard).
+    pub jobs: usize,
+    /// Jobs that ended ok.
+    pub ok: usize,
+    /// Jobs that ended otherwise.
+    pub failed: usize,
+    /// Jobs found already done (resume).
+    pub resumed: usize,
+}
+
+/// Why a campaign could not run (bad files or I/O; failing jobs are results, not errors).
+#[derive(Debug, thiserror::Error)]
+pub enum CampaignError {
+    /// HDF5 failure.
+    #[error("HDF5: {0}")]
+    Hdf5(#[from] hdf5::Error),
+    /// File-system failure.
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    /// A usage problem.
+    #[error("{0}")]
+    Usage(String),
+}
+
+fn parts_dir(out: &Path) -> PathBuf {
+    let mut p = out.as_os_str().to_owned();
+    p.push(".parts");
+    p.into()
+}
+
+/// A unit of work for the pool.
+struct Work<'a> {
+    id: String,
+    kind: Kind,
+    scene: &'a Scene,
+    model_id: &'a str,
+    prune: Option<f64>,
+    params: Vec<(String, Param)>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Job(usize),
+    Reference,
+}
+
+fn params_of(overrides: &[(String, toml::Value)]) -> Vec<(String, Param)> {
+    overrides
+        .iter()
+        .map(|(k, v)| {
+            let p = match v {
+                toml::Value::Float(x) => Param::Number(*x),
+                toml::Value::Integer(i) => Param::Number(*i as f64),
+                toml::Value::Boolean(b) => Param::Number(f64::from(u8::from(*b))),
+                toml::Value::String(s) => Param::Text(s.clone()),
+                other => Param::Text(other.to_string()),
+            };
+            (k.clone(), p)
+        })
+        .collect()
+}
+
+/// Strain-energy shares of the modes in a pilot run: E_i = ½ ω_i² p_i², averaged over the
+/// recorded window (time average, physics.md §3), normalised to sum 1. Rigid modes get 0.
+pub fn strain_energy_shares(model: &Model, r: &JobResult) -> Vec<f64> {
+    let red = &model.reduced;
+    let mut e = vec![0.0; red.len()];
+    for (i, ei) in e.iter_mut().enumerate() {
+        let name = format!("modal/{i:03}");
+        if let Some(c) = r.channels.iter().find(|c| c.name == name) {
+            let w2 = red.k[(i, i)].max(0.0);
+            let n = c.data.len().max(1) as f64;
+            *ei = 0.5 * w2 * c.data.iter().map(|p| p * p).sum::<f64>() / n;
+        }
+    }
+    let total: f64 = e.iter().sum();
+    if total > 0.0 {
+        e.iter_mut().for_each(|x| *x /= total);
+    }
+    e
+}
+
+/// The modes kept at a threshold: rigid modes always, the others with a share above it.
+pub fn pruned_selection(model: &Model, shares: &[f64], threshold: f64) -> ModeSelection {
+    let red = &model.reduced;
+    ModeSelection::List(
+        (0..red.len())
+            .filter(|&i| red.kinds[i] == ModeKind::Rigid || shares[i] > threshold)
+            .map(|i| red.index[i])
+            .collect(),
+    )
+}
+
+fn run_one(scene: &Scene, model: &Model) -> JobResult {
+    match catch_unwind(AssertUnwindSafe(|| job::run(scene, model))) {
+        Ok(r) => r,
+        Err(e) => {
+            let msg = e
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown panic".into());
+            let mut stats = Stats::failed(format!("panic: {msg}"));
+            stats.status = Status::Diverged;
+            JobResult {
+                stats,
+                modes: model.reduced.counts_label(),
+                coordinates: 0,
+                time: Vec::new(),
+                channels: Vec::new(),
+                lift_off_s: None,
+            }
+        }
+    }
+}
+
+fn failed_result(cause: String) -> JobResult {
+    JobResult {
+        stats: Stats::failed(cause),
+        modes: String::new(),
+        coordinates: 0,
+        time: Vec::new(),
+        channels: Vec::new(),
+        lift_off_s: None,
+    }
+}
+
+/// Writes one finished job to its own part file, atomically.
+fn save_part(dir: &Path, w: &Work, r: &JobResult, integrator: &str) -> Result<(), CampaignError> {
+    let tmp = dir.join(format!("{}.h5.tmp", w.id));
+    let fin = dir.join(format!("{}.h5", w.id));
+    {
+        let f = hdf5::File::create(&tmp)?;
+        let mut params = w.params.clone();
+        params.push(("model_id".into(), Param::Text(w.model_id.to_string())));
+        if let Some(p) = w.prune {
+            params.push((super::PRUNE_KEY.into(), Param::Number(p)));
+        }
+        match w.kind {
+            Kind::Job(i) => {
+                params.push(("job_index".into(), Param::Number(i as f64)));
+                params.push(("kind".into(), Param::Text("job".into())));
+            }
+            Kind::Reference => params.push(("kind".into(), Param::Text("reference".into()))),
+        }
+        store::write_job(&f, "job", &params, integrator, r)?;
+        f.close()?;
+    }
+    std::fs::rename(&tmp, &fin)?;
+    Ok(())
+}
+
+fn done_ids(dir: &Path) -> BTreeSet<String> {
+    std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .filter_map(|e| {
+                    let name = e.file_name().to_string_lossy().into_owned();
+                    name.strip_suffix(".h5").map(|s| s.to_string())
+                })
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// Runs a study (module doc).
+pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
+    let dir = parts_dir(&opts.output);
+    if dir.exists() && !opts.resume {
+        return Err(CampaignError::Usage(format!(
+            "{} exists (an interrupted run?): add --resume to finish it, or remove it",
+            dir.display()
+        )));
+    }
+    if opts.output.exists() && !opts.resume {
+        return Err(CampaignError::Usage(format!(
+            "{} exists: choose another -o or remove it",
+            opts.output.display()
+        )));
+    }
+    std::fs::create_dir_all(&dir)?;
+    let (si, sn) = opts.shard.unwrap_or((0, 1));
+    let jobs: Vec<&Job> = study.shard(si, sn);
+    let refs: Vec<&super::Reference> = if study.has_reference {
+        let needed: BTreeSet<&str> = jobs.iter().map(|j| j.reference_id.as_str()).collect();
+        study
+            .references
+            .iter()
+            .filter(|r| needed.contains(r.id.as_str()))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let done = done_ids(&dir);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.max(1))
+        .build()
+        .map_err(|e| CampaignError::Usage(e.to_string()))?;
+    // 1. Distinct models, built once each.
+    let mut model_scenes: BTreeMap<&str, &Scene> = BTreeMap::new();
+    for j in &jobs {
+        model_scenes.entry(j.model_id.as_str()).or_insert(&j.scene);
+    }
+    for r in &refs {
+        model_scenes.entry(r.model_id.as_str()).or_insert(&r.scene);
+    }
+    let built: Vec<(&str, Result<Arc<Model>, String>)> = pool.install(|| {
+        model_scenes
+            .par_iter()
+            .map(|(id, sc)| {
+                (
+                    *id,
+                    Model::build(sc, None)
+                        .map(Arc::new)
+                        .map_err(|e| e.to_string()),
+                )
+            })
+            .collect()
+    });
+    let models: BTreeMap<&str, Result<Arc<Model>, String>> = built.into_iter().collect();
+    // 2. Pruning pilots, once per model that a pruned job needs.
+    let mut shares: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    let pilot_models: BTreeSet<&str> = jobs
+        .iter()
+        .filter(|j| j.prune.is_some())
+        .map(|j| j.model_id.as_str())
+        .collect();
+    let pilots: Vec<(String, Result<Vec<f64>, String>)> = pool.install(|| {
+        pilot_models
+            .par_iter()
+            .map(|mid| {
+                let id = format!("pilot-{mid}");
+                let path = dir.join(format!("{id}.shares"));
+                if let Ok(text) = std::fs::read_to_string(&path) {
+                    let v: Result<Vec<f64>, _> = text.lines().map(str::parse).collect();
+                    if let Ok(v) = v {
+                        return (mid.to_string(), Ok(v));
+                    }
+                }
+                let job = jobs
+                    .iter()
+                    .find(|j| j.model_id == *mid)
+                    .expect("a job uses it");
+                let res = pilot_run(study, job, models[mid].clone()).and_then(|v| {
+                    let text: String = v.iter().map(|x| format!("{x:e}\n")).collect();
+                    std::fs::write(&path, text).map_err(|e| e.to_string())?;
+                    Ok(v)
+                });
+                (mid.to_string(), res)
+            })
+            .collect()
+    });
+    let mut pilot_errors: BTreeMap<String, String> = BTreeMap::new();
+    for (mid, r) in pilots {
+        match r {
+            Ok(v) => {
+                shares.insert(mid, v);
+            }
+            Err(e) => {
+                pilot_errors.insert(mid, e);
+            }
+        }
+    }
+    // 3. The work list: references, then jobs; saved ones skipped.
+    let mut work: Vec<Work> = Vec::new();
+    for r in &refs {
+        work.push(Work {
+            id: r.id.clone(),
+            kind: Kind::Reference,
+            scene: &r.scene,
+            model_id: &r.model_id,
+            prune: None,
+            params: params_of(&r.overrides),
+        });
+    }
+    for j in &jobs {
+        work.push(Work {
+            id: j.id.clone(),
+            kind: Kind::Job(j.index),
+            scene: &j.scene,
+            model_id: &j.model_id,
+            prune: j.prune,
+            params: params_of(&j.overrides),
+        });
+    }
+    let resumed = jobs.iter().filter(|j| done.contains(&j.id)).count();
+    work.retain(|w| !done.contains(&w.id));
+    let total = work.len();
+    let progress = Progress::new(total as u64);
+    let (tx, rx) = mpsc::channel::<(usize, JobResult)>();
+    let mut write_error: Option<CampaignError> = None;
+    std::thread::scope(|scope| {
+        let work_ref = &work;
+        let models_ref = &models;
+        let shares_ref = &shares;
+        let pilot_errors_ref = &pilot_errors;
+        let pool_ref = &pool;
+        scope.spawn(move || {
+            pool_ref.install(|| {
+                work_ref
+                    .par_iter()
+                    .enumerate()
+                    .for_each_with(tx, |tx, (i, w)| {
+                        let r = match &models_ref[w.model_id] {
+                            Err(e) => failed_result(format!("model: {e}")),
+                            Ok(m) => match w.prune {
+                                Some(t) if t > 0.0 => match (
+                                    shares_ref.get(w.model_id),
+                                    pilot_errors_ref.get(w.model_id),
+                                ) {
+                                    (Some(sh), _) => {
+                                        let sel = pruned_selection(m, sh, t);
+                                        match m.full.select(&sel) {
+                                            Ok(red) => {
+                                                let mut pm = (**m).clone();
+                                                pm.reduced = red;
+                                                run_one(w.scene, &pm)
+                                            }
+                                            Err(e) => failed_result(format!("pruning: {e}")),
+                                        }
+                                    }
+                                    (None, Some(e)) => failed_result(format!("pruning pilot: {e}")),
+                                    (None, None) => failed_result("pruning pilot missing".into()),
+                                },
+                                _ => run_one(w.scene, m),
+                            },
+                        };
+                        // The receiver lives until every sender is gone.
+                        let _ = tx.send((i, r));
+                    });
+            });
+        });
+        for (i, r) in rx {
+            let w = &work[i];
+            let ok = r.stats.status == Status::Ok;
+            if let Err(e) = save_part(&dir, w, &r, w.scene.solver.integrator.name()) {
+                write_error.get_or_insert(e);
+            }
+            progress.job_done(&w.id, &r, ok);
+        }
+    });
+    progress.finish();
+    if let Some(e) = write_error {
+        return Err(e);
+    }
+    assemble(study, opts, &dir, &jobs, &refs, &models, &shares)?;
+    let statuses = read_statuses(&opts.output)?;
+    let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
+    std::fs::remove_dir_all(&dir)?;
+    Ok(Outcome {
+        jobs: jobs.len(),
+        ok,
+        failed: jobs.len() - ok,
+        resumed,
+    })
+}
+
+fn pilot_run(
+    study: &Study,
+    job: &Job,
+    model: Result<Arc<Model>, String>,
+) -> Result<Vec<f64>, String> {
+    let model = model?;
+    let mut over: Vec<String> = job
+        .overrides
+        .iter()
+        .chain(study.pilot_overrides.iter())
+        .map(|(k, v)| format!("{k}={}", super::value_text(v)))
+        .collect();
+    over.push("outputs.modal=true".into());
+    let text = std::fs::read_to_string(&study.scene_path).map_err(|e| e.to_string())?;
+    let scene = Scene::from_text(&study.scene_path, &text, &over).map_err(|e| e.to_string())?;
+    let r = run_one(&scene, &model);
+    if r.stats.status != Status::Ok {
+        return Err(format!("{}: {}", r.stats.status.name(), r.stats.cause));
+    }
+    Ok(strain_energy_shares(&model, &r))
+}
+
+fn read_statuses(path: &Path) -> Result<Vec<String>, CampaignError> {
+    let f = hdf5::File::open(path)?;
+    let jobs = f.group("jobs")?;
+    let mut out = Vec::new();
+    for name in jobs.member_names()? {
+        let g = jobs.group(&name)?;
+        out.push(store::read_str(&g, "status")?);
+    }
+    Ok(out)
+}
+
+/// Runout channels of a job group: (name, samples).
+fn runout_channels(g: &hdf5::Group) -> Vec<(String, Vec<f64>)> {
+    let mut out = Vec::new();
+    let Ok(r) = g.group("runout") else {
+        return out;
+    };
+    for sensor in r.member_names().unwrap_or_default() {
+        let Ok(sg) = r.group(&sensor) else { continue };
+        for dir in sg.member_names().unwrap_or_default() {
+            if let Ok(ds) = sg.dataset(&dir) {
+                if let Ok(v) = ds.read_raw::<f64>() {
+                    out.push((format!("{sensor}/{dir}"), v));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Max and RMS runout difference [µm] between a job and its reference, over the common samples,
+/// the worst channel; NaN when either has no samples.
+fn errors_against(
+    job: &hdf5::Group,
+    reference: &hdf5::Group,
+) -> (f64, f64, Vec<(String, f64, f64)>) {
+    let a = runout_channels(job);
+    let b = runout_channels(reference);
+    let mut per = Vec::new();
+    for (name, x) in &a {
+        if let Some((_, y)) = b.iter().find(|(n, _)| n == name) {
+            let n = x.len().min(y.len());
+            if n == 0 {
+                continue;
+            }
+            let d: Vec<f64> = (0..n).map(|i| x[i] - y[i]).collect();
+            let max = d.iter().map(|v| v.abs()).fold(0.0, f64::max);
+            let rms = (d.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+            per.push((name.clone(), max, rms));
+        }
+    }
+    let max = per.iter().map(|p| p.1).fold(f64::NAN, f64::max);
+    let rms = per.iter().map(|p| p.2).fold(f64::NAN, f64::max);
+    (max, rms, per)
+}
+
+fn write_model(
+    group: &hdf5::Group,
+    id: &str,
+    m: &Model,
+    shares: Option<&Vec<f64>>,
+) -> hdf5::Result<()> {
+    let g = group.create_group(id)?;
+    let r = &m.full;
+    store::attr_str(&g, "modes", &m.reduced.counts_label())?;
+    store::attr_u64(&g, "elements", m.rotor.elements.len() as u64)?;
+    store::attr_f64(&g, "mass_kg", m.rotor.mass())?;
+    store::dataset(&g, "freq_hz", &r.freq_hz, "Hz")?;
+    let idx: Vec<f64> = r.index.iter().map(|&i| i as f64).collect();
+    store::dataset(&g, "index", &idx, "1")?;
+    store::string_dataset(
+        &g,
+        "labels",
+        &r.labels.iter().map(|l| l.to_string()).collect::<Vec<_>>(),
+    )?;
+    store::string_dataset(
+        &g,
+        "kinds",
+        &r.kinds.iter().map(|k| k.to_string()).collect::<Vec<_>>(),
+    )?;
+    if let Some(s) = shares {
+        store::dataset(&g, "strain_energy_share", s, "1")?;
+    }
+    Ok(())
+}
+
+/// Builds the final file from the part files (module doc), written under a temporary name.
+#[allow(clippy::too_many_arguments)]
+fn assemble(
+    study: &Study,
+    opts: &RunOptions,
+    dir: &Path,
+    jobs: &[&Job],
+    refs: &[&super::Reference],
+    models: &BTreeMap<&str, Result<Arc<Model>, String>>,
+    shares: &BTreeMap<String, Vec<f64>>,
+) -> Result<(), CampaignError> {
+    let tmp = {
+        let mut p = opts.output.as_os_str().to_owned();
+        p.push(".tmp");
+        PathBuf::from(p)
+    };
+    {
+        let f = hdf5::File::create(&tmp)?;
+        store::attr_str(&f, "tool", "rotorsweep")?;
+        store::attr_str(&f, "tool_version", env!("CARGO_PKG_VERSION"))?;
+        store::attr_str(&f, "created_utc", &store::utc_now())?;
+        store::attr_str(&f, "host", &store::hostname())?;
+        store::attr_u64(&f, "threads", opts.threads as u64)?;
+        store::attr_str(&f, "command", &opts.command)?;
+        store::attr_str(&f, "study_name", &study.name)?;
+        store::attr_str(&f, "study_path", &study.path.display().to_string())?;
+        store::attr_str(&f, "study_text", &study.text)?;
+        store::attr_str(&f, "varying_keys", &study.varying.join("\n"))?;
+        let (si, sn) = opts.shard.unwrap_or((0, 1));
+        store::attr_str(&f, "shard", &format!("{si}/{sn}"))?;
+        let mg = f.create_group("models")?;
+        for (id, m) in models {
+            if let Ok(m) = m {
+                write_model(&mg, id, m, shares.get(*id))?;
+            }
+        }
+        let rg = f.create_group("references")?;
+        for r in refs {
+            let part = hdf5::File::open(dir.join(format!("{}.h5", r.id)))?;
+            store::copy_object(&part, "job", &rg, &r.id)?;
+        }
+        let jg = f.create_group("jobs")?;
+        for j in jobs {
+            let part = hdf5::File::open(dir.join(format!("{}.h5", j.id)))?;
+            store::copy_object(&part, "job", &jg, &j.id)?;
+            let g = jg.group(&j.id)?;
+            let (max, rms, per) = match rg.group(&j.reference_id) {
+                Ok(rgp) if study.has_reference => errors_against(&g, &rgp),
+                _ => (f64::NAN, f64::NAN, Vec::new()),
+            };
+            store::attr_f64(&g, "error_max_um", max)?;
+            store::attr_f64(&g, "error_rms_um", rms)?;
+            store::attr_str(&g, "reference_id", &j.reference_id)?;
+            for (name, m, r) in per {
+                store::attr_f64(&g, &format!("error_max_um:{name}"), m)?;
+                store::attr_f64(&g, &format!("error_rms_um:{name}"), r)?;
+            }
+        }
+        write_summary(&f, &study.varying)?;
+        f.close()?;
+    }
+    std::fs::rename(&tmp, &opts.output)?;
+    Ok(())
+}
+
+/// The numeric statistics every summary row carries, in order.
+const STAT_COLUMNS: [&str; 11] = [
+    "cpu_time_s",
+    "wall_time_s",
+    "steps",
+    "rejected_steps",
+    "newton_iterations",
+    "iterations_per_step",
+    "jacobian_evals",
+    "rhs_evals",
+    "t_end_s",
+    "error_max_um",
+    "error_rms_um",
+];
+
+/// (Re)writes `/summary` from the job groups' attributes, ordered by job index.
+pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
+    if let Ok(old) = f.dataset("summary") {
+        drop(old);
+        f.unlink("summary")?;
+    }
+    let jobs = f.group("jobs")?;
+    let mut rows: Vec<(f64, hdf5::Group, String)> = Vec::new();
+    for name in jobs.member_names()? {
+        let g = jobs.group(&name)?;
+        let idx = store::read_num(&g, "job_index").unwrap_or(f64::NAN);
+        rows.push((idx, g, name));
+    }
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
+    let text = |name: &str, w: usize, get: &dyn Fn(&hdf5::Group) -> String| {
+        Column::Text(
+            name.to_string(),
+            w,
+            rows.iter().map(|r| get(&r.1)).collect(),
+        )
+    };
+    let mut cols = vec![
+        text("job_id", 17, &|g| {
+            g.name().rsplit('/').next().unwrap_or("").to_string()
+        }),
+        Column::Number("job_index".into(), rows.iter().map(|r| r.0).collect()),
+        text("status", 8, &|g| {
+            store::read_str(g, "status").unwrap_or_default()
+        }),
+        text("cause", 96, &|g| {
+            store::read_str(g, "cause").unwrap_or_default()
+        }),
+        text("integrator", 12, &|g| {
+            store::read_str(g, "integrator").unwrap_or_default()
+        }),
+        text("modes", 16, &|g| {
+            store::read_str(g, "modes").unwrap_or_default()
+        }),
+    ];
+    for key in varying {
+        if key == "solver.integrator" {
+            continue;
+        }
+        let vals: Vec<Option<Param>> = rows
+            .iter()
+            .map(|r| store::read_param(&r.1, key).ok())
+            .collect();
+        if vals.iter().flatten().all(|v| matches!(v, Param::Number(_))) {
+            cols.push(Column::Number(
+                key.clone(),
+                vals.iter()
+                    .map(|v| match v {
+                        Some(Param::Number(x)) => *x,
+                        _ => f64::NAN,
+                    })
+                    .collect(),
+            ));
+        } else {
+            cols.push(Column::Text(
+                key.clone(),
+                32,
+                vals.iter()
+                    .map(|v| match v {
+                        Some(Param::Text(t)) => t.clone(),
+                        Some(Param::Number(x)) => format!("{x}"),
+                        None => String::new(),
+                    })
+                    .collect(),
+            ));
+        }
+    }
+    for key in STAT_COLUMNS {
+        cols.push(Column::Number(
+            key.to_string(),
+            rows.iter()
+                .map(|r| store::read_num(&r.1, key).unwrap_or(f64::NAN))
+                .collect(),
+        ));
+    }
+    store::compound_table(f, "summary", &cols)
+}
+
+/// Progress: an indicatif bar on a terminal, plain lines otherwise.
+struct Progress {
+    bar: Option<indicatif::ProgressBar>,
+    total: u64,
+    done: std::cell::Cell<u64>,
+    failed: std::cell::Cell<u64>,
+}
+
+impl Progress {
+    fn new(total: u64) -> Self {
+        let bar = std::io::stderr().is_terminal().then(|| {
+            let b = indicatif::ProgressBar::new(total);
+            b.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{bar:40} {pos}/{len} jobs, {msg} failed, {elapsed} elapsed, ETA {eta}",
+                )
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            b.set_message("0");
+            b
+        });
+        Self {
+            bar,
+            total,
+            done: 0.into(),
+            failed: 0.into(),
+        }
+    }
+
+    fn job_done(&self, id: &str, r: &JobResult, ok: bool) {
+        self.done.set(self.done.get() + 1);
+        if !ok {
+            self.failed.set(self.failed.get() + 1);
+        }
+        match &self.bar {
+            Some(b) => {
+                b.inc(1);
+                b.set_message(self.failed.get().to_string());
+            }
+            None => eprintln!(
+                "[{}/{}] {id} {} cpu {:.3} s{}",
+                self.done.get(),
+                self.total,
+                r.stats.status.name(),
+                r.stats.cpu_time_s,
+                if r.stats.cause.is_empty() {
+                    String::new()
+                } else {
+                    format!(": {}", r.stats.cause)
+                }
+            ),
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish();
+        }
+    }
+}
+
+/// Joins shard files of one study: jobs, references and models (each once), file attributes of
+/// the first file, and a new summary. Returns the number of jobs.
+pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> {
+    let tmp = {
+        let mut p = output.as_os_str().to_owned();
+        p.push(".tmp");
+        PathBuf::from(p)
+    };
+    let mut jobs_n = 0;
+    {
+        let f = hdf5::File::create(&tmp)?;
+        let first = hdf5::File::open(&inputs[0])?;
+        let varying = store::read_str(&first, "varying_keys")?;
+        for name in first.attr_names()? {
+            if name == "shard" || name == "threads" {
+                continue;
+            }
+            store::attr_str(
+                &f,
+                &name,
+                &store::read_str(&first, &name).unwrap_or_default(),
+            )?;
+        }
+        let sources: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
+        store::attr_str(&f, "merged_from", &sources.join("\n"))?;
+        for group in ["models", "references", "jobs"] {
+            let dst = f.create_group(group)?;
+            let mut seen = BTreeSet::new();
+            for p in inputs {
+                let src = hdf5::File::open(p)?;
+                let sg = src.group(group)?;
+                for name in sg.member_names()? {
+                    if seen.insert(name.clone()) {
+                        store::copy_object(&sg, &name, &dst, &name)?;
+                    }
+                }
+            }
+            if group == "jobs" {
+                jobs_n = seen.len();
+            }
+        }
+        let keys: Vec<String> = varying.lines().map(str::to_string).collect();
+        write_summary(&f, &keys)?;
+        f.close()?;
+    }
+    std::fs::rename(&tmp, output)?;
+    Ok(jobs_n)
+}

@@ -1,0 +1,500 @@
+//! Study files: a base scene and sweep axes → a list of fully resolved jobs.
+//!
+//! In: a study `.toml` (the commented `studies/smoke.toml` documents the format): a base scene,
+//! overrides for every job (`[set]`), sweep axes (cartesian product; an axis with several `keys`
+//! moves them together, i.e. zipped), explicit `[[jobs]]`, a `[reference]` solver setting, a
+//! per-job `[budget]`, and optional strain-energy pruning (the pseudo-key
+//! `reduction.prune_threshold`, swept like any other key; 0 means the unpruned pilot).
+//! Out: a [`Study`] with its [`Job`]s — each the scene's key=value overrides, a stable id (a hash
+//! of every input that defines the job), the id of the reduced model it needs and of the
+//! reference run it is compared with. Errors name the study file, the line, the key and the
+//! reason; every job's scene is validated before anything runs.
+
+pub mod campaign;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::error::{line_of_offset, InputError};
+use crate::scene::{locate, set_path, Scene};
+
+/// The pseudo-key that asks for strain-energy pruning (not a scene key).
+pub const PRUNE_KEY: &str = "reduction.prune_threshold";
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StudyFile {
+    name: Option<String>,
+    description: Option<String>,
+    scene: String,
+    #[serde(default)]
+    set: toml::Table,
+    #[serde(default)]
+    axes: Vec<AxisFile>,
+    #[serde(default)]
+    jobs: Vec<toml::Table>,
+    #[serde(default)]
+    reference: toml::Table,
+    #[serde(default)]
+    budget: BudgetFile,
+    #[serde(default)]
+    pruning: toml::Table,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AxisFile {
+    key: Option<String>,
+    keys: Option<Vec<String>>,
+    values: Option<Vec<toml::Value>>,
+    range: Option<RangeFile>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RangeFile {
+    start: f64,
+    stop: f64,
+    step: f64,
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct BudgetFile {
+    cpu_s: Option<f64>,
+    steps: Option<u64>,
+}
+
+/// One job: the overrides that make it, and its identities.
+#[derive(Debug, Clone)]
+pub struct Job {
+    /// Position in the study's job list (shards split on it).
+    pub index: usize,
+    /// Stable id: hash of the scene files and all resolved overrides.
+    pub id: String,
+    /// Scene overrides (dotted key, value), base `[set]` first; without the prune pseudo-key.
+    pub overrides: Vec<(String, toml::Value)>,
+    /// Strain-energy pruning threshold, if this job asks for pruning (0 = the pilot's full set).
+    pub prune: Option<f64>,
+    /// Id of the unpruned reduced model this job starts from.
+    pub model_id: String,
+    /// Id of the reference run this job is compared with.
+    pub reference_id: String,
+    /// The validated scene.
+    pub scene: Scene,
+}
+
+/// A reference run: the job's physics with the study's reference solver setting.
+#[derive(Debug, Clone)]
+pub struct Reference {
+    /// Stable id.
+    pub id: String,
+    /// Scene overrides.
+    pub overrides: Vec<(String, toml::Value)>,
+    /// Id of the (unpruned) model it runs on.
+    pub model_id: String,
+    /// The validated scene.
+    pub scene: Scene,
+}
+
+/// An expanded, validated study.
+#[derive(Debug, Clone)]
+pub struct Study {
+    /// Study name.
+    pub name: String,
+    /// Free text.
+    pub description: String,
+    /// The study file.
+    pub path: PathBuf,
+    /// Its text (stored in the results).
+    pub text: String,
+    /// The base scene file.
+    pub scene_path: PathBuf,
+    /// Keys that vary between jobs, in axis order.
+    pub varying: Vec<String>,
+    /// The jobs.
+    pub jobs: Vec<Job>,
+    /// The reference runs, one per distinct physics.
+    pub references: Vec<Reference>,
+    /// Overrides of the pruning pilot runs.
+    pub pilot_overrides: Vec<(String, toml::Value)>,
+    /// Whether the study names a reference setting (otherwise no errors are computed).
+    pub has_reference: bool,
+}
+
+/// FNV-1a 64-bit: a stable hash for ids (the same on every machine and run).
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+fn flatten(prefix: &str, t: &toml::Table, out: &mut Vec<(String, toml::Value)>) {
+    for (k, v) in t {
+        let key = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match v {
+            toml::Value::Table(sub) => flatten(&key, sub, out),
+            other => out.push((key, other.clone())),
+        }
+    }
+}
+
+pub(crate) fn value_text(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => format!("{s:?}"),
+        other => other.to_string(),
+    }
+}
+
+/// The text of every file a scene reads (the scene and its thickness map), for hashing.
+fn scene_inputs(scene_path: &Path, merged: &toml::Value) -> String {
+    let mut text = std::fs::read_to_string(scene_path).unwrap_or_default();
+    if let Some(csv) = merged
+        .get("roll")
+        .and_then(|r| r.get("shell"))
+        .and_then(|s| s.get("thickness_map"))
+        .and_then(|m| m.as_str())
+    {
+        let p = scene_path.parent().unwrap_or(Path::new(".")).join(csv);
+        text.push_str(&std::fs::read_to_string(p).unwrap_or_default());
+    }
+    text
+}
+
+fn hash_id(prefix: char, parts: &[&str]) -> String {
+    let joined = parts.join("\u{1f}");
+    format!("{prefix}{:016x}", fnv1a(joined.as_bytes()))
+}
+
+/// Subtree of a merged scene table, serialised canonically.
+fn canonical(merged: &toml::Value, keep: &[&str], drop: &[&str]) -> String {
+    let mut t = merged.as_table().cloned().unwrap_or_default();
+    t.retain(|k, _| {
+        let k: &str = k;
+        (keep.is_empty() || keep.contains(&k)) && !drop.contains(&k)
+    });
+    toml::to_string(&t).unwrap_or_default()
+}
+
+struct Ctx<'a> {
+    path: &'a Path,
+    text: &'a str,
+}
+
+impl Ctx<'_> {
+    fn err(&self, key: &str, reason: impl Into<String>) -> InputError {
+        let e = InputError::new(self.path, reason).with_key(key);
+        match locate::line_of(self.text, key) {
+            Some(l) => e.at_line(l),
+            None => e,
+        }
+    }
+}
+
+fn axis_values(
+    c: &Ctx,
+    i: usize,
+    a: &AxisFile,
+) -> Result<(Vec<String>, Vec<Vec<toml::Value>>), InputError> {
+    let key = format!("axes[{i}]");
+    let keys = match (&a.key, &a.keys) {
+        (Some(k), None) => vec![k.clone()],
+        (None, Some(ks)) if !ks.is_empty() => ks.clone(),
+        _ => {
+            return Err(c.err(
+                &key,
+                "an axis needs either `key` or a non-empty `keys` list",
+            ))
+        }
+    };
+    let rows: Vec<Vec<toml::Value>> = match (&a.values, &a.range) {
+        (Some(vals), None) => {
+            if vals.is_empty() {
+                return Err(c.err(&format!("{key}.values"), "an axis needs at least one value"));
+            }
+            if keys.len() == 1 {
+                vals.iter().map(|v| vec![v.clone()]).collect()
+            } else {
+                vals.iter()
+                    .enumerate()
+                    .map(|(j, v)| match v.as_array() {
+                        Some(row) if row.len() == keys.len() => Ok(row.clone()),
+                        _ => Err(c.err(
+                            &format!("{key}.values"),
+                            format!(
+                                "value {j} must be a list of {} values, one per key",
+                                keys.len()
+                            ),
+                        )),
+                    })
+                    .collect::<Result<_, _>>()?
+            }
+        }
+        (None, Some(r)) => {
+            if keys.len() != 1 {
+                return Err(c.err(&format!("{key}.range"), "a range goes with a single `key`"));
+            }
+            if !(r.step > 0.0 && r.stop >= r.start && r.start.is_finite() && r.stop.is_finite()) {
+                return Err(c.err(&format!("{key}.range"), "needs start <= stop and step > 0"));
+            }
+            let n = ((r.stop - r.start) / r.step + 1e-9).floor() as usize + 1;
+            if n > 100_000 {
+                return Err(c.err(&format!("{key}.range"), format!("{n} values is too many")));
+            }
+            (0..n)
+                .map(|j| {
+                    // Rounded to 12 significant digits so that 7.2 + 3·0.2 reads as 7.8.
+                    let v = r.start + j as f64 * r.step;
+                    let v: f64 = format!("{v:.12e}").parse().unwrap_or(v);
+                    vec![toml::Value::Float(v)]
+                })
+                .collect()
+        }
+        _ => return Err(c.err(&key, "an axis needs either `values` or `range`")),
+    };
+    Ok((keys, rows))
+}
+
+impl Study {
+    /// Reads, expands and validates a study file.
+    pub fn load(path: &Path) -> Result<Study, InputError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| InputError::new(path, format!("cannot read the study file: {e}")))?;
+        let c = Ctx { path, text: &text };
+        let raw: StudyFile = toml::from_str(&text).map_err(|e| {
+            let mut err = InputError::new(path, e.message().to_string());
+            if let Some(span) = e.span() {
+                err = err.at_line(line_of_offset(&text, span.start));
+            }
+            err
+        })?;
+        let scene_path = path.parent().unwrap_or(Path::new(".")).join(&raw.scene);
+        let scene_text = std::fs::read_to_string(&scene_path).map_err(|e| {
+            c.err(
+                "scene",
+                format!("cannot read {}: {e}", scene_path.display()),
+            )
+        })?;
+        let scene_table: toml::Table = toml::from_str(&scene_text)
+            .map_err(|e| InputError::new(&scene_path, e.message().to_string()))?;
+        let mut base = Vec::new();
+        flatten("", &raw.set, &mut base);
+        // The product of the axes.
+        let mut combos: Vec<Vec<(String, toml::Value)>> = vec![Vec::new()];
+        let mut varying = Vec::new();
+        let mut axis_of_key = BTreeMap::new();
+        for (i, a) in raw.axes.iter().enumerate() {
+            let (keys, rows) = axis_values(&c, i, a)?;
+            for k in &keys {
+                if axis_of_key.insert(k.clone(), i).is_some() {
+                    return Err(c.err(&format!("axes[{i}]"), format!("key `{k}` is swept twice")));
+                }
+                varying.push(k.clone());
+            }
+            let mut next = Vec::with_capacity(combos.len() * rows.len());
+            for combo in &combos {
+                for row in &rows {
+                    let mut c2 = combo.clone();
+                    c2.extend(keys.iter().cloned().zip(row.iter().cloned()));
+                    next.push(c2);
+                }
+            }
+            combos = next;
+        }
+        if raw.axes.is_empty() && !raw.jobs.is_empty() {
+            combos.clear();
+        }
+        for (j, t) in raw.jobs.iter().enumerate() {
+            let mut o = Vec::new();
+            flatten("", t, &mut o);
+            for (k, _) in &o {
+                if !varying.contains(k) {
+                    varying.push(k.clone());
+                }
+            }
+            if o.is_empty() {
+                return Err(c.err(
+                    &format!("jobs[{j}]"),
+                    "an explicit job needs at least one key",
+                ));
+            }
+            combos.push(o);
+        }
+        let mut reference = Vec::new();
+        flatten("", &raw.reference, &mut reference);
+        if let Some((k, _)) = reference.iter().find(|(k, _)| !k.starts_with("solver.")) {
+            return Err(c.err(
+                &format!("reference.{k}"),
+                "the reference may only change solver.* keys (it must be the same physics)",
+            ));
+        }
+        let mut pilot = Vec::new();
+        flatten("", &raw.pruning, &mut pilot);
+        let mut budget = Vec::new();
+        if let Some(s) = raw.budget.cpu_s {
+            if !(s > 0.0 && s.is_finite()) {
+                return Err(c.err("budget.cpu_s", "must be a positive number"));
+            }
+            budget.push(("solver.cpu_budget_s".to_string(), toml::Value::Float(s)));
+        }
+        if let Some(n) = raw.budget.steps {
+            budget.push((
+                "solver.max_steps".to_string(),
+                toml::Value::Integer(n as i64),
+            ));
+        }
+        let name = raw.name.clone().unwrap_or_else(|| {
+            path.file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        });
+        let mut jobs = Vec::new();
+        let mut references: BTreeMap<String, Reference> = BTreeMap::new();
+        for (index, combo) in combos.into_iter().enumerate() {
+            // Where to point errors: the axis (or explicit job) that set a key.
+            let locate_key = |k: &str| -> String {
+                match axis_of_key.get(k) {
+                    Some(i) => format!("axes[{i}]"),
+                    None if raw.set.contains_key(k.split('.').next().unwrap_or("")) => {
+                        format!("set.{k}")
+                    }
+                    None => "jobs".to_string(),
+                }
+            };
+            let mut overrides: Vec<(String, toml::Value)> = base.clone();
+            overrides.extend(budget.iter().cloned());
+            let mut prune = None;
+            for (k, v) in combo {
+                if k == PRUNE_KEY {
+                    let t = v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
+                    match t {
+                        Some(t) if (0.0..1.0).contains(&t) => prune = Some(t),
+                        _ => {
+                            return Err(c.err(
+                                &locate_key(&k),
+                                format!("`{PRUNE_KEY}` must be a share in [0, 1), got {v}"),
+                            ))
+                        }
+                    }
+                } else {
+                    overrides.retain(|(ok, _)| ok != &k);
+                    overrides.push((k, v));
+                }
+            }
+            let strings: Vec<String> = overrides
+                .iter()
+                .map(|(k, v)| format!("{k}={}", value_text(v)))
+                .collect();
+            let scene = Scene::from_text(&scene_path, &scene_text, &strings).map_err(|e| {
+                let key = e.key.clone().unwrap_or_default();
+                if e.file.as_os_str() == "<command line --set>" {
+                    let mut err = c.err(&locate_key(&key), format!("job {index}: {}", e.reason));
+                    err.key = Some(key);
+                    err
+                } else {
+                    e
+                }
+            })?;
+            let mut merged = toml::Value::Table(scene_table.clone());
+            for (k, v) in &overrides {
+                set_path(&mut merged, k, v.clone()).map_err(|r| c.err(&locate_key(k), r))?;
+            }
+            let inputs = scene_inputs(&scene_path, &merged);
+            let model_part = canonical(&merged, &["materials", "roll", "rotor", "reduction"], &[]);
+            let model_id = hash_id('m', &[&inputs, &model_part]);
+            let physics = canonical(&merged, &[], &["solver"]);
+            let prune_text = prune.map(|p| format!("{p:e}")).unwrap_or_default();
+            let all = canonical(&merged, &[], &[]);
+            let id = hash_id('j', &[&inputs, &all, &prune_text]);
+            // Reference: the same physics with the reference solver keys.
+            let mut ref_over = overrides.clone();
+            for (k, v) in &reference {
+                ref_over.retain(|(ok, _)| ok != k);
+                ref_over.push((k.clone(), v.clone()));
+            }
+            ref_over
+                .retain(|(k, _)| !k.starts_with("solver.cpu_budget") && k != "solver.max_steps");
+            let mut ref_merged = toml::Value::Table(scene_table.clone());
+            for (k, v) in &ref_over {
+                set_path(&mut ref_merged, k, v.clone()).map_err(|r| c.err("reference", r))?;
+            }
+            let reference_id = hash_id(
+                'r',
+                &[&inputs, &physics, &canonical(&ref_merged, &["solver"], &[])],
+            );
+            if !references.contains_key(&reference_id) {
+                let rs: Vec<String> = ref_over
+                    .iter()
+                    .map(|(k, v)| format!("{k}={}", value_text(v)))
+                    .collect();
+                let rscene = Scene::from_text(&scene_path, &scene_text, &rs)
+                    .map_err(|e| c.err("reference", e.reason))?;
+                references.insert(
+                    reference_id.clone(),
+                    Reference {
+                        id: reference_id.clone(),
+                        overrides: ref_over,
+                        model_id: model_id.clone(),
+                        scene: rscene,
+                    },
+                );
+            }
+            jobs.push(Job {
+                index,
+                id,
+                overrides,
+                prune,
+                model_id,
+                reference_id,
+                scene,
+            });
+        }
+        if jobs.is_empty() {
+            return Err(c.err("axes", "the study has no jobs: add axes or [[jobs]]"));
+        }
+        let mut seen = BTreeMap::new();
+        for j in &jobs {
+            if let Some(first) = seen.insert(j.id.clone(), j.index) {
+                return Err(c.err(
+                    "axes",
+                    format!("jobs {first} and {} are identical (same inputs)", j.index),
+                ));
+            }
+        }
+        Ok(Study {
+            name,
+            description: raw.description.unwrap_or_default(),
+            path: path.to_path_buf(),
+            text: text.clone(),
+            scene_path,
+            varying,
+            jobs,
+            references: references.into_values().collect(),
+            pilot_overrides: pilot,
+            has_reference: !reference.is_empty(),
+        })
+    }
+
+    /// The value of a varying key in a job (as written), or `None`.
+    pub fn value_of<'a>(&self, job: &'a Job, key: &str) -> Option<&'a toml::Value> {
+        job.overrides
+            .iter()
+            .rev()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v)
+    }
+
+    /// The jobs of shard `i` of `n` (by index modulo n).
+    pub fn shard(&self, i: usize, n: usize) -> Vec<&Job> {
+        self.jobs.iter().filter(|j| j.index % n == i).collect()
+    }
+}
