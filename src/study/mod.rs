@@ -363,7 +363,7 @@ impl Study {
             // Where to point errors: the axis (or explicit job) that set a key.
             let locate_key = |k: &str| -> String {
                 match axis_of_key.get(k) {
-                    Some(i) => format!("axes[{i}]"),
+                    Some(i) => format!("axes[{i}].values"),
                     None if raw.set.contains_key(k.split('.').next().unwrap_or("")) => {
                         format!("set.{k}")
                     }
@@ -395,7 +395,18 @@ impl Study {
                 .map(|(k, v)| format!("{k}={}", value_text(v)))
                 .collect();
             let scene = Scene::from_text(&scene_path, &scene_text, &strings).map_err(|e| {
-                let key = e.key.clone().unwrap_or_default();
+                // Errors without a key (unknown fields) name the field in their reason.
+                let key = e.key.clone().unwrap_or_else(|| {
+                    overrides
+                        .iter()
+                        .map(|(k, _)| k.as_str())
+                        .find(|k| {
+                            e.reason
+                                .contains(&format!("`{}`", k.rsplit('.').next().unwrap_or(k)))
+                        })
+                        .unwrap_or_default()
+                        .to_string()
+                });
                 if e.file.as_os_str() == "<command line --set>" {
                     let mut err = c.err(&locate_key(&key), format!("job {index}: {}", e.reason));
                     err.key = Some(key);

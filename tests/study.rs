@@ -1,0 +1,291 @@
+//! The study engine: expansion and validation of study files, bit-identical job datasets at 1 and
+//! 2 threads and through 2 shards + merge, and crash safety (SIGKILL, then --resume).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use rotorsweep::study::campaign::{self, RunOptions};
+use rotorsweep::study::Study;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rotorsweep-study-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A study text on the reference roll with the given body (t_end short: these test the engine).
+fn study_text(body: &str) -> String {
+    let scene = repo().join("studies/scenes/reference-roll.toml");
+    format!(
+        "name = \"t\"\nscene = {:?}\n[set]\n\"simulation.t_end_s\" = 0.1\n\"simulation.settle_s\" = 0.05\n{body}",
+        scene.display().to_string()
+    )
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines()
+        .position(|l| l.contains(needle))
+        .expect("needle in text")
+        + 1
+}
+
+#[test]
+fn expansion_product_zip_range_and_explicit_jobs() {
+    let d = tmpdir("expand");
+    let text = study_text(
+        "[[axes]]\nkey = \"speed.hz\"\nrange = { start = 10.0, stop = 11.0, step = 0.5 }\n\
+         [[axes]]\nkeys = [\"solver.integrator\", \"solver.hmax\"]\nvalues = [[\"bdf\", 1e-4], [\"gen-alpha\", 2e-4]]\n\
+         [[jobs]]\n\"speed.hz\" = 16.4\n",
+    );
+    let st = Study::load(&write(&d, "s.toml", &text)).unwrap();
+    // 3 speeds × 2 zipped rows + 1 explicit job.
+    assert_eq!(st.jobs.len(), 7);
+    assert_eq!(
+        st.varying,
+        vec!["speed.hz", "solver.integrator", "solver.hmax"]
+    );
+    let speeds: Vec<f64> = st
+        .jobs
+        .iter()
+        .map(|j| st.value_of(j, "speed.hz").unwrap().as_float().unwrap())
+        .collect();
+    assert_eq!(speeds, vec![10.0, 10.0, 10.5, 10.5, 11.0, 11.0, 16.4]);
+    // Zipped keys move together.
+    assert_eq!(
+        st.value_of(&st.jobs[1], "solver.integrator")
+            .unwrap()
+            .as_str(),
+        Some("gen-alpha")
+    );
+    assert_eq!(
+        st.value_of(&st.jobs[1], "solver.hmax").unwrap().as_float(),
+        Some(2e-4)
+    );
+    // Ids are stable and distinct; the same file expands to the same ids.
+    let again = Study::load(&d.join("s.toml")).unwrap();
+    let ids: Vec<&str> = st.jobs.iter().map(|j| j.id.as_str()).collect();
+    assert_eq!(
+        ids,
+        again.jobs.iter().map(|j| j.id.as_str()).collect::<Vec<_>>()
+    );
+    let unique: std::collections::BTreeSet<&str> = ids.iter().copied().collect();
+    assert_eq!(unique.len(), 7);
+    // One model for all (no model key varies); shards split by index.
+    assert!(st.jobs.iter().all(|j| j.model_id == st.jobs[0].model_id));
+    assert_eq!(st.shard(0, 2).len() + st.shard(1, 2).len(), 7);
+}
+
+#[test]
+fn validation_errors_name_the_study_file_line_and_key() {
+    let d = tmpdir("errors");
+    let cases: Vec<(&str, String, &str, &str)> = vec![
+        (
+            "unknown.toml",
+            study_text("colour = \"red\"\n"),
+            "colour",
+            "unknown field",
+        ),
+        (
+            "badvalue.toml",
+            study_text("[[axes]]\nkey = \"speed.hz\"\nvalues = [10.0, -5.0]\n"),
+            "values = [10.0, -5.0]",
+            "speed.hz",
+        ),
+        (
+            "badkey.toml",
+            study_text("[[axes]]\nkey = \"solver.hmaxx\"\nvalues = [1e-4]\n"),
+            "values = [1e-4]",
+            "hmaxx",
+        ),
+        (
+            "noval.toml",
+            study_text("[[axes]]\nkey = \"speed.hz\"\n"),
+            "[[axes]]",
+            "values",
+        ),
+        (
+            "refphys.toml",
+            study_text(
+                "[[axes]]\nkey = \"speed.hz\"\nvalues = [10.0]\n[reference]\n\"speed.hz\" = 3.0\n",
+            ),
+            "[reference]",
+            "solver",
+        ),
+    ];
+    for (name, text, needle, reason) in cases {
+        let p = write(&d, name, &text);
+        let e = Study::load(&p).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains(name), "{name}: {msg}");
+        assert!(msg.contains(reason), "{name}: {msg}");
+        let want = line_of(&text, needle);
+        assert_eq!(e.line, Some(want), "{name}: {msg}");
+    }
+    // A missing scene file is named.
+    let p = write(
+        &d,
+        "noscene.toml",
+        "scene = \"nope.toml\"\n[[axes]]\nkey = \"speed.hz\"\nvalues = [1.0]\n",
+    );
+    let e = Study::load(&p).unwrap_err();
+    assert!(e.to_string().contains("nope.toml"), "{e}");
+    assert_eq!(e.line, Some(1));
+}
+
+fn run_study(study: &Study, out: &Path, threads: usize, shard: Option<(usize, usize)>) {
+    let opts = RunOptions {
+        output: out.to_path_buf(),
+        threads,
+        resume: false,
+        shard,
+        command: "test".into(),
+    };
+    campaign::run(study, &opts).unwrap();
+}
+
+/// Every job dataset as raw f64 bits, by "job_id/path".
+fn job_data(path: &Path) -> Vec<(String, Vec<u64>)> {
+    fn walk(g: &hdf5::Group, prefix: &str, out: &mut Vec<(String, Vec<u64>)>) {
+        for name in g.member_names().unwrap() {
+            let p = format!("{prefix}/{name}");
+            if let Ok(sub) = g.group(&name) {
+                walk(&sub, &p, out);
+            } else {
+                let v: Vec<f64> = g.dataset(&name).unwrap().read_raw().unwrap();
+                out.push((p, v.iter().map(|x| x.to_bits()).collect()));
+            }
+        }
+    }
+    let f = hdf5::File::open(path).unwrap();
+    let mut out = Vec::new();
+    walk(&f.group("jobs").unwrap(), "", &mut out);
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out
+}
+
+#[test]
+fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
+    let d = tmpdir("determinism");
+    let text = study_text(
+        "[[axes]]\nkey = \"speed.hz\"\nvalues = [12.0, 16.0]\n[[axes]]\nkey = \"solver.hmax\"\nvalues = [1e-4, 3e-4]\n\
+         [reference]\n\"solver.hmax\" = 5e-5\n",
+    );
+    let st = Study::load(&write(&d, "s.toml", &text)).unwrap();
+    run_study(&st, &d.join("one.h5"), 1, None);
+    run_study(&st, &d.join("two.h5"), 2, None);
+    run_study(&st, &d.join("s0.h5"), 2, Some((0, 2)));
+    run_study(&st, &d.join("s1.h5"), 2, Some((1, 2)));
+    campaign::merge(&[d.join("s0.h5"), d.join("s1.h5")], &d.join("merged.h5")).unwrap();
+    let one = job_data(&d.join("one.h5"));
+    assert_eq!(one.len(), 4 * 7, "4 jobs × (time + 6 runout channels)");
+    assert_eq!(one, job_data(&d.join("two.h5")));
+    assert_eq!(one, job_data(&d.join("merged.h5")));
+    // The merged summary has every job once, in job order.
+    let f = hdf5::File::open(d.join("merged.h5")).unwrap();
+    let n = f.dataset("summary").unwrap().shape()[0];
+    assert_eq!(n, 4);
+}
+
+#[test]
+fn sigkill_then_resume_keeps_every_job_exactly_once() {
+    let d = tmpdir("kill");
+    // 10 jobs of ≈ 0.1–0.3 s each on one thread: long enough to kill in the middle.
+    let text = study_text(
+        "[[axes]]\nkey = \"speed.hz\"\nrange = { start = 10.0, stop = 14.5, step = 0.5 }\n",
+    )
+    .replace(
+        "\"simulation.t_end_s\" = 0.1",
+        "\"simulation.t_end_s\" = 0.6",
+    );
+    let study = write(&d, "s.toml", &text);
+    let out = d.join("out.h5");
+    let parts = d.join("out.h5.parts");
+    let bin = env!("CARGO_BIN_EXE_rotorsweep");
+    let mut child = Command::new(bin)
+        .args([
+            "run",
+            study.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--threads",
+            "1",
+        ])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // Wait until at least three jobs are saved, then SIGKILL.
+    let t0 = Instant::now();
+    loop {
+        let n = std::fs::read_dir(&parts)
+            .map(|r| {
+                r.filter_map(|e| e.ok())
+                    .filter(|e| e.file_name().to_string_lossy().ends_with(".h5"))
+                    .count()
+            })
+            .unwrap_or(0);
+        if n >= 3 || t0.elapsed() > Duration::from_secs(60) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.kill().unwrap(); // SIGKILL on Unix
+    child.wait().unwrap();
+    assert!(!out.exists(), "the final file appears only after assembly");
+    let saved = std::fs::read_dir(&parts)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".h5"))
+        .count();
+    assert!(
+        saved >= 3 && saved < 10,
+        "killed in the middle: {saved} saved"
+    );
+    // Without --resume the campaign refuses to mix runs.
+    let refuse = Command::new(bin)
+        .args(["run", study.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!refuse.status.success());
+    assert!(String::from_utf8_lossy(&refuse.stderr).contains("--resume"));
+    let resumed = Command::new(bin)
+        .args([
+            "run",
+            study.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--threads",
+            "2",
+            "--resume",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    let err = String::from_utf8_lossy(&resumed.stderr);
+    assert!(err.contains(&format!("({saved} resumed)")), "{err}");
+    // Every job exactly once, the file readable, the parts gone.
+    let st = Study::load(&study).unwrap();
+    let f = hdf5::File::open(&out).unwrap();
+    let mut names = f.group("jobs").unwrap().member_names().unwrap();
+    names.sort();
+    let mut want: Vec<String> = st.jobs.iter().map(|j| j.id.clone()).collect();
+    want.sort();
+    assert_eq!(names, want);
+    assert_eq!(f.dataset("summary").unwrap().shape()[0], 10);
+    assert!(!parts.exists());
+}
