@@ -249,7 +249,7 @@ fn sigkill_then_resume_keeps_every_job_exactly_once() {
         .filter(|e| e.file_name().to_string_lossy().ends_with(".h5"))
         .count();
     assert!(
-        saved >= 3 && saved < 10,
+        (3..10).contains(&saved),
         "killed in the middle: {saved} saved"
     );
     // Without --resume the campaign refuses to mix runs.
