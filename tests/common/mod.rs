@@ -67,3 +67,48 @@ pub fn inverse_state_matrix(m: &DMatrix<f64>, c: &DMatrix<f64>, k: &DMatrix<f64>
     a.view_mut((n, 0), (n, n)).fill_with_identity();
     a
 }
+
+/// A scene from TOML text; `name` anchors relative paths (a bare name: the crate root).
+pub fn scene_from_text(name: &str, text: &str) -> rotorsweep::scene::Scene {
+    rotorsweep::scene::Scene::from_text(std::path::Path::new(name), text, &[])
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The samples of the channel `name` of a job result.
+pub fn channel<'a>(r: &'a rotorsweep::job::JobResult, name: &str) -> &'a [f64] {
+    &r.channels
+        .iter()
+        .find(|c| c.name == name)
+        .unwrap_or_else(|| {
+            let names: Vec<&str> = r.channels.iter().map(|c| c.name.as_str()).collect();
+            panic!("no channel `{name}` (have: {})", names.join(", "))
+        })
+        .data
+}
+
+/// Amplitude of the line at `f` [Hz] in `x` sampled at `fs` [Hz]: mean removed, periodic Hann
+/// window, amplitude-correct scaling 2|Σ wₙ xₙ e^{−i2πf n/fs}| / Σ wₙ (physics.md §8). Exact for
+/// a line on a bin of the record (record = whole number of its periods); Hann's sidelobes keep
+/// the other lines' leakage small otherwise.
+pub fn hann_amplitude(x: &[f64], fs: f64, f: f64) -> f64 {
+    let n = x.len();
+    let mean = x.iter().sum::<f64>() / n as f64;
+    let (mut re, mut im, mut wsum) = (0.0, 0.0, 0.0);
+    for (i, xi) in x.iter().enumerate() {
+        let w = 0.5 * (1.0 - (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos());
+        let ph = 2.0 * std::f64::consts::PI * f * i as f64 / fs;
+        re += w * (xi - mean) * ph.cos();
+        im -= w * (xi - mean) * ph.sin();
+        wsum += w;
+    }
+    2.0 * (re * re + im * im).sqrt() / wsum
+}
+
+/// Least-squares slope of y against x.
+pub fn slope(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len() as f64;
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
+    sxy / sxx
+}
