@@ -126,12 +126,15 @@ pub struct RotorSpec {
     pub balancing: Option<BalancingSpec>,
 }
 
-/// Rigid two-plane balancing: two masses at the given planes and radius cancel the static and
-/// the couple unbalance of the meshed rotor (distributed centroid offsets and point masses).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Balancing of the rotor's own unbalance (its sections' centroid offsets; trial and other point
+/// masses stay as given) with
+/// masses at the given planes and radius: two planes cancel the static and the couple
+/// unbalance (rigid-rotor balancing); a third plane also cancels the unbalance weighted by a
+/// half-sine over the rotor's length, the first bending mode's (modal balancing).
+#[derive(Debug, Clone, PartialEq)]
 pub struct BalancingSpec {
-    /// Axial positions of the two correction planes [m].
-    pub planes: [f64; 2],
+    /// Axial positions of the two or three correction planes [m], distinct.
+    pub planes: Vec<f64>,
     /// Radius of the correction masses [m].
     pub radius: f64,
 }
@@ -605,48 +608,63 @@ impl Rotor {
             named,
             balancing_masses: Vec::new(),
         };
-        if let Some(b) = spec.balancing {
+        if let Some(b) = &spec.balancing {
             for (i, &z) in b.planes.iter().enumerate() {
                 check(&format!("balancing plane {}", i + 1), z)?;
             }
-            rotor.balance(&b);
+            rotor.balance(b);
         }
         Ok(rotor)
     }
 
-    /// Static unbalance ∫ρ(q_x, q_y) dz + Σ m d [kg m] and its moment about z = 0 [kg m²], as
-    /// complex numbers (x + iy).
-    pub fn unbalance(&self) -> ((f64, f64), (f64, f64)) {
-        let (mut s, mut mo) = ((0.0, 0.0), (0.0, 0.0));
+    /// The rotor's own (distributed) unbalance weighted along z, ∫ w(z) ρ(q_x, q_y) dz [kg m],
+    /// from the sections' centroid offsets; point masses (trial masses) are not part of it.
+    /// w = 1 is the static unbalance, w = z its moment.
+    pub fn distributed_unbalance(&self, w: impl Fn(f64) -> f64) -> (f64, f64) {
+        let mut u = (0.0, 0.0);
         for e in &self.elements {
             let rho = e.material.density;
             let zm = self.node_z[e.node] + 0.5 * e.length;
-            let (ux, uy) = (rho * e.section.qx * e.length, rho * e.section.qy * e.length);
-            s = (s.0 + ux, s.1 + uy);
-            mo = (mo.0 + ux * zm, mo.1 + uy * zm);
+            let k = w(zm) * rho * e.length;
+            u = (u.0 + k * e.section.qx, u.1 + k * e.section.qy);
         }
-        for (n, p) in &self.packets {
-            let z = self.node_z[*n] + p.h.z / p.mass.max(f64::MIN_POSITIVE);
-            s = (s.0 + p.h.x, s.1 + p.h.y);
-            mo = (mo.0 + p.h.x * z, mo.1 + p.h.y * z);
+        u
+    }
+
+    /// The weights of the balancing conditions: static, moment, and with a third plane the
+    /// half-sine over the rotor's length (the first bending mode of a roll on its journals).
+    fn balancing_weights(&self, planes: usize) -> Vec<Box<dyn Fn(f64) -> f64>> {
+        let (z0, z1) = (self.node_z[0], self.node_z[self.node_z.len() - 1]);
+        let mut w: Vec<Box<dyn Fn(f64) -> f64>> = vec![Box::new(|_| 1.0), Box::new(|z| z)];
+        if planes == 3 {
+            w.push(Box::new(move |z| {
+                (std::f64::consts::PI * (z - z0) / (z1 - z0)).sin()
+            }));
         }
-        (s, mo)
+        w
     }
 
     fn balance(&mut self, b: &BalancingSpec) {
-        let ((sx, sy), (mx, my)) = self.unbalance();
-        let [z1, z2] = b.planes;
-        // U1 + U2 = −S, U1 z1 + U2 z2 = −M (component-wise).
-        let u2 = |s: f64, m: f64| (-m + s * z1) / (z2 - z1);
-        let (u2x, u2y) = (u2(sx, mx), u2(sy, my));
-        let (u1x, u1y) = (-sx - u2x, -sy - u2y);
-        for (z, ux, uy) in [(z1, u1x, u1y), (z2, u2x, u2y)] {
-            let mag = (ux * ux + uy * uy).sqrt();
+        let n = b.planes.len();
+        let weights = self.balancing_weights(n);
+        let a = nalgebra::DMatrix::from_fn(n, n, |i, j| weights[i](b.planes[j]));
+        let (mut rx, mut ry) = (nalgebra::DVector::zeros(n), nalgebra::DVector::zeros(n));
+        for (i, w) in weights.iter().enumerate() {
+            let (ux, uy) = self.distributed_unbalance(w);
+            rx[i] = -ux;
+            ry[i] = -uy;
+        }
+        let lu = a.lu();
+        let (Some(ux), Some(uy)) = (lu.solve(&rx), lu.solve(&ry)) else {
+            return;
+        };
+        for (k, &z) in b.planes.iter().enumerate() {
+            let mag = ux[k].hypot(uy[k]);
             if mag == 0.0 {
                 continue;
             }
             let mass = mag / b.radius;
-            let angle = uy.atan2(ux);
+            let angle = uy[k].atan2(ux[k]);
             let node = nearest_node(&self.node_z, z);
             let d = Vector3::new(
                 b.radius * angle.cos(),

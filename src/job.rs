@@ -251,13 +251,15 @@ pub fn run(scene: &Scene, model: &Model) -> JobResult {
         rec.step(s);
         Ok(())
     };
+    // The spin jumps to Ω(0) with the static deflection at rest in space.
+    let v0 = sys.quiescent_velocity(&q0, scene.speed.at(0.0).1);
     let (_, _, stats) = integrate(
         &sys,
         &scene.solver,
         0.0,
         scene.simulation.t_end,
         q0,
-        DVector::zeros(n),
+        v0,
         &mut observer,
     );
     JobResult {

@@ -19,7 +19,7 @@ use nalgebra::{DMatrix, Matrix2, Vector2};
 use crate::eigen;
 use crate::fe::Rotor;
 use crate::reduction::{classify, ModeKind, ReducedModel};
-use crate::scene::{RollerSupport, Scene, SpringDamper, SupportModel};
+use crate::scene::{RollerSupport, Scene, SupportModel};
 
 /// Why a linear system could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -71,10 +71,6 @@ pub struct SupportedMode {
     pub kind: ModeKind,
 }
 
-fn diag(s: &SpringDamper) -> Matrix2<f64> {
-    Matrix2::new(s.kx, 0.0, 0.0, s.ky)
-}
-
 /// Static roller forces [N] carrying a vertical journal load `w` [N] (rollers at angles a_i from
 /// straight below; roller i pushes the journal along n_i = (−sin a_i, cos a_i)).
 pub fn roller_forces(s: &RollerSupport, w: f64) -> Option<Vec<f64>> {
@@ -122,8 +118,8 @@ pub fn linear_stages(scene: &Scene, rotor: &Rotor) -> Result<Vec<LinearStage>, L
             Ok(match &s.model {
                 SupportModel::Linear(l) => LinearStage {
                     node: n,
-                    k: diag(&l.spring),
-                    mass: l.mass.map(|(m, g)| (m, diag(&g))),
+                    k: l.spring_at(0.0).k_matrix(),
+                    mass: l.mass.map(|(m, g)| (m, g.k_matrix())),
                 },
                 SupportModel::Rollers(r) => {
                     let forces = roller_forces(r, w)
@@ -137,7 +133,7 @@ pub fn linear_stages(scene: &Scene, rotor: &Rotor) -> Result<Vec<LinearStage>, L
                     LinearStage {
                         node: n,
                         k,
-                        mass: Some((r.stand.mass, diag(&r.stand.spring))),
+                        mass: Some((r.stand.mass, r.stand.spring.k_matrix())),
                     }
                 }
             })

@@ -19,7 +19,9 @@
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use crate::model::Model;
-use crate::scene::{ContactLaw, Harmonic, RollerPhase, Scene, SpeedProfile, SupportModel};
+use crate::scene::{
+    ContactLaw, Harmonic, LinearSupport, RollerPhase, Scene, SpeedProfile, SupportModel,
+};
 
 /// One roller in the frame of its support.
 #[derive(Debug, Clone)]
@@ -43,10 +45,7 @@ enum Law {
         journal: Profile,
         rollers: Vec<RollerSys>,
     },
-    Linear {
-        k: Matrix2<f64>,
-        c: Matrix2<f64>,
-    },
+    Linear(LinearSupport),
 }
 
 #[derive(Debug, Clone)]
@@ -223,15 +222,10 @@ impl RollSystem {
                 next += 2;
                 next - 2
             };
-            let diag = |a: f64, b: f64| Matrix2::new(a, 0.0, 0.0, b);
             let sys = match &s.model {
                 SupportModel::Rollers(rs) => {
                     let st = rs.stand;
-                    let idx = add_mass(
-                        st.mass,
-                        diag(st.spring.kx, st.spring.ky),
-                        diag(st.spring.cx, st.spring.cy),
-                    );
+                    let idx = add_mass(st.mass, st.spring.k_matrix(), st.spring.c_matrix());
                     let rj = 0.5 * rs.journal_diameter;
                     SupportSys {
                         rows,
@@ -259,14 +253,11 @@ impl RollSystem {
                 SupportModel::Linear(l) => {
                     let stand = l
                         .mass
-                        .map(|(mass, g)| add_mass(mass, diag(g.kx, g.ky), diag(g.cx, g.cy)));
+                        .map(|(mass, g)| add_mass(mass, g.k_matrix(), g.c_matrix()));
                     SupportSys {
                         rows,
                         stand,
-                        law: Law::Linear {
-                            k: diag(l.spring.kx, l.spring.ky),
-                            c: diag(l.spring.cx, l.spring.cy),
-                        },
+                        law: Law::Linear(l.clone()),
                     }
                 }
             };
@@ -343,11 +334,15 @@ impl RollSystem {
         out: Option<&mut Vec<f64>>,
     ) -> Local {
         match &s.law {
-            Law::Linear { k, c } => Local {
-                f: -(k * w + c * wd),
-                kc: *k,
-                cc: *c,
-            },
+            Law::Linear(l) => {
+                let sp = l.spring_at(omega);
+                let (k, c) = (sp.k_matrix(), sp.c_matrix());
+                Local {
+                    f: -(k * w + c * wd),
+                    kc: k,
+                    cc: c,
+                }
+            }
             Law::Contact {
                 law,
                 journal,
@@ -585,6 +580,18 @@ impl RollSystem {
             .collect()
     }
 
+    /// The body-frame velocity that keeps a deflected shape q at rest in the inertial frame when
+    /// the spin jumps to Ω: material velocity u̇ = −Ω ẑ×u, projected on the modes, M v = −Ω G_c q.
+    /// (Zero body velocity would make the static sag turn with the roll and throw it sideways.)
+    pub fn quiescent_velocity(&self, q: &DVector<f64>, omega: f64) -> DVector<f64> {
+        let rhs = -omega * (&self.g * q);
+        self.m
+            .clone()
+            .lu()
+            .solve(&rhs)
+            .unwrap_or_else(|| DVector::zeros(self.n))
+    }
+
     /// The gravity load at rest (θ = 0): rotor and support masses.
     pub fn gravity_at_rest(&self) -> DVector<f64> {
         -self.gravity * &self.gy + &self.f_stand
@@ -643,7 +650,7 @@ impl RollSystem {
                         .map(|r| 1e-3 * law.tangent(1e-6) * r.e * r.e.transpose())
                         .sum(),
                 ),
-                Law::Linear { .. } => None,
+                Law::Linear(_) => None,
             })
             .collect()
     }

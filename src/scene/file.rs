@@ -242,7 +242,7 @@ pub(super) struct RollFile {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct BalancingFile {
-    pub planes_mm: [f64; 2],
+    pub planes_mm: Vec<f64>,
     pub radius_mm: f64,
 }
 
@@ -364,9 +364,24 @@ pub(super) struct SpringFile {
     pub kx_n_per_m: f64,
     pub ky_n_per_m: f64,
     #[serde(default)]
+    pub kxy_n_per_m: f64,
+    #[serde(default)]
+    pub kyx_n_per_m: f64,
+    #[serde(default)]
     pub cx_ns_per_m: f64,
     #[serde(default)]
     pub cy_ns_per_m: f64,
+    #[serde(default)]
+    pub cxy_ns_per_m: f64,
+    #[serde(default)]
+    pub cyx_ns_per_m: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SpringBySpeedFile {
+    pub hz: f64,
+    pub spring: SpringFile,
 }
 
 #[derive(Debug, Deserialize)]
@@ -414,6 +429,8 @@ pub(super) struct SupportFile {
     #[serde(rename = "type")]
     pub kind: String,
     pub spring: Option<SpringFile>,
+    #[serde(default)]
+    pub spring_by_speed: Vec<SpringBySpeedFile>,
     pub mass_kg: Option<f64>,
     pub ground: Option<SpringFile>,
     pub journal_diameter_mm: Option<f64>,

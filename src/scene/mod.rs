@@ -84,26 +84,81 @@ pub enum SupportModel {
     Rollers(RollerSupport),
 }
 
-/// Stiffness and damping per inertial direction [N/m, Ns/m].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Stiffness and damping in the inertial (x horizontal, y vertical) plane [N/m, Ns/m]: the
+/// force on the rotor is −K w − C ẇ with K = [[kx, kxy], [kyx, ky]] and C likewise.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SpringDamper {
     /// Horizontal stiffness.
     pub kx: f64,
     /// Vertical stiffness.
     pub ky: f64,
+    /// Cross stiffness, x force per y displacement.
+    pub kxy: f64,
+    /// Cross stiffness, y force per x displacement.
+    pub kyx: f64,
     /// Horizontal damping.
     pub cx: f64,
     /// Vertical damping.
     pub cy: f64,
+    /// Cross damping, x force per y velocity.
+    pub cxy: f64,
+    /// Cross damping, y force per x velocity.
+    pub cyx: f64,
+}
+
+impl SpringDamper {
+    /// The stiffness matrix K.
+    pub fn k_matrix(&self) -> nalgebra::Matrix2<f64> {
+        nalgebra::Matrix2::new(self.kx, self.kxy, self.kyx, self.ky)
+    }
+
+    /// The damping matrix C.
+    pub fn c_matrix(&self) -> nalgebra::Matrix2<f64> {
+        nalgebra::Matrix2::new(self.cx, self.cxy, self.cyx, self.cy)
+    }
 }
 
 /// A linear support: rotor node —(spring)— [support mass —(ground spring)—] ground.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct LinearSupport {
     /// Between the rotor node and the support mass (or the ground).
     pub spring: SpringDamper,
+    /// Speed-dependent values: (Ω [rad/s], spring), ascending; linear between the points and
+    /// constant beyond them. Empty: `spring` at every speed.
+    pub by_speed: Vec<(f64, SpringDamper)>,
     /// Optional support mass [kg] with its spring to the ground.
     pub mass: Option<(f64, SpringDamper)>,
+}
+
+impl LinearSupport {
+    /// The spring at spin speed Ω [rad/s].
+    pub fn spring_at(&self, omega: f64) -> SpringDamper {
+        let t = &self.by_speed;
+        if t.is_empty() {
+            return self.spring;
+        }
+        if omega <= t[0].0 {
+            return t[0].1;
+        }
+        for w in t.windows(2) {
+            let ((w0, a), (w1, b)) = (w[0], w[1]);
+            if omega <= w1 {
+                let x = (omega - w0) / (w1 - w0);
+                let mix = |p: f64, q: f64| p + x * (q - p);
+                return SpringDamper {
+                    kx: mix(a.kx, b.kx),
+                    ky: mix(a.ky, b.ky),
+                    kxy: mix(a.kxy, b.kxy),
+                    kyx: mix(a.kyx, b.kyx),
+                    cx: mix(a.cx, b.cx),
+                    cy: mix(a.cy, b.cy),
+                    cxy: mix(a.cxy, b.cxy),
+                    cyx: mix(a.cyx, b.cyx),
+                };
+            }
+        }
+        t[t.len() - 1].1
+    }
 }
 
 /// A stand: rigid upper part on springs to the ground.
@@ -631,18 +686,23 @@ fn build_roll(
     let point_masses = masses(c, "roll.masses", &roll.masses, (z_start, length + outboard))?;
     let balancing = match &roll.balancing {
         Some(b) => {
-            let mut planes = [0.0; 2];
-            for (i, z) in b.planes_mm.iter().enumerate() {
-                planes[i] = 1e-3
-                    * c.range(
-                        &format!("roll.balancing.planes_mm[{i}]"),
-                        *z,
-                        z_start * 1e3,
-                        (length + outboard) * 1e3,
-                    )?;
+            let key = "roll.balancing.planes_mm";
+            if !(2..=3).contains(&b.planes_mm.len()) {
+                return Err(c.err(
+                    key,
+                    "two planes (rigid balancing) or three (modal) are needed",
+                ));
             }
-            if (planes[1] - planes[0]).abs() < 1e-3 {
-                return Err(c.err("roll.balancing.planes_mm", "the two planes must differ"));
+            let mut planes = Vec::new();
+            for (i, z) in b.planes_mm.iter().enumerate() {
+                let lo = z_start * 1e3;
+                let hi = (length + outboard) * 1e3;
+                planes.push(1e-3 * c.range(&format!("{key}[{i}]"), *z, lo, hi)?);
+            }
+            let mut sorted = planes.clone();
+            sorted.sort_by(f64::total_cmp);
+            if sorted.windows(2).any(|w| w[1] - w[0] < 1e-3) {
+                return Err(c.err(key, "the planes must be at least 1 mm apart"));
             }
             Some(BalancingSpec {
                 planes,
@@ -832,8 +892,12 @@ fn spring(c: &Check, key: &str, s: &SpringFile) -> Result<SpringDamper, InputErr
     Ok(SpringDamper {
         kx: c.non_negative(&format!("{key}.kx_n_per_m"), s.kx_n_per_m)?,
         ky: c.non_negative(&format!("{key}.ky_n_per_m"), s.ky_n_per_m)?,
+        kxy: c.finite(&format!("{key}.kxy_n_per_m"), s.kxy_n_per_m)?,
+        kyx: c.finite(&format!("{key}.kyx_n_per_m"), s.kyx_n_per_m)?,
         cx: c.non_negative(&format!("{key}.cx_ns_per_m"), s.cx_ns_per_m)?,
         cy: c.non_negative(&format!("{key}.cy_ns_per_m"), s.cy_ns_per_m)?,
+        cxy: c.finite(&format!("{key}.cxy_ns_per_m"), s.cxy_ns_per_m)?,
+        cyx: c.finite(&format!("{key}.cyx_ns_per_m"), s.cyx_ns_per_m)?,
     })
 }
 
@@ -877,8 +941,18 @@ fn support_model(
                     ))
                 }
             };
+            let mut by_speed = Vec::new();
+            for (i, sp) in s.spring_by_speed.iter().enumerate() {
+                let k = format!("{key}.spring_by_speed[{i}]");
+                let hz = c.non_negative(&format!("{k}.hz"), sp.hz)?;
+                if by_speed.last().is_some_and(|(w, _)| 2.0 * PI * hz <= *w) {
+                    return Err(c.err(&format!("{k}.hz"), "speeds must ascend"));
+                }
+                by_speed.push((2.0 * PI * hz, spring(c, &k, &sp.spring)?));
+            }
             Ok(SupportModel::Linear(LinearSupport {
                 spring: spring_v,
+                by_speed,
                 mass,
             }))
         }
@@ -946,6 +1020,7 @@ fn support_model(
                             .non_negative(&format!("{key}.stand.cx_ns_per_m"), stand.cx_ns_per_m)?,
                         cy: c
                             .non_negative(&format!("{key}.stand.cy_ns_per_m"), stand.cy_ns_per_m)?,
+                        ..SpringDamper::default()
                     },
                 },
             }))

@@ -318,6 +318,12 @@ pub(super) fn solver(c: &Check, s: &SolverFile) -> Result<SolverSettings, InputE
     if hmin > hmax {
         return Err(c.err("solver.hmin", "must not exceed solver.hmax"));
     }
+    if hmin > s.h0 {
+        return Err(c.err(
+            "solver.hmin",
+            format!("must not exceed solver.h0 = {}", s.h0),
+        ));
+    }
     Ok(SolverSettings {
         integrator,
         tolerance: c.positive("solver.tolerance", s.tolerance)?,
