@@ -128,7 +128,8 @@ def load_summary(path: PathLike, *, index: bool = False) -> pd.DataFrame:
     Text columns (job_id, status, cause, integrator, modes, text parameters) are decoded from
     the file's fixed-length ASCII bytes to ``str``; the counts in :data:`COUNT_COLUMNS` become
     nullable integers. Varying parameters keep their dotted names (``df["speed.hz"]``; in
-    ``DataFrame.query`` write them in backticks). With ``index=True`` job_id is the index,
+    ``DataFrame.query`` write them in backticks); a varying ``solver.integrator``, which the file
+    keeps only as the ``integrator`` column, is also given its dotted key. With ``index=True`` job_id is the index,
     otherwise a column. A file without ``/summary`` (``rotorsweep simulate``) gets one row per
     run built from the runs' scalar attributes.
     """
@@ -139,6 +140,11 @@ def load_summary(path: PathLike, *, index: bool = False) -> pd.DataFrame:
             for name in table.dtype.names or ():
                 if table.dtype[name].kind == "S":
                     df[name] = [b.decode("ascii", "replace") for b in table[name]]
+            # A varying solver.integrator is stored only as the "integrator" column; give it its
+            # dotted key too, so that df[varying_keys(path)] works.
+            varying = str(_value(f.attrs.get("varying_keys", ""))).split("\n")
+            if "solver.integrator" in varying and "solver.integrator" not in df and "integrator" in df:
+                df["solver.integrator"] = df["integrator"]
         else:
             rows = []
             for run_id in f.get("jobs", {}):

@@ -250,6 +250,24 @@ def test_shards_merge_to_the_same_results(results: Path, study_dir: Path) -> Non
     assert set(rp.job_ids(study_dir / "merged.h5", "references")) == set(rp.job_ids(results, "references"))
 
 
+def test_text_axis_columns(tmp_path: Path) -> None:
+    """A text-valued axis (solver.integrator) is a str column under its dotted key."""
+    study = STUDY.replace('key = "speed.hz"\nvalues = [12.0, 16.0]', 'key = "speed.hz"\nvalues = [12.0]')
+    study = study.replace(
+        'key = "solver.hmax"\nvalues = [0.0001, 0.0005]',
+        'key = "solver.integrator"\nvalues = ["bdf", "gen-alpha"]',
+    )
+    assert "gen-alpha" in study and "values = [12.0]" in study
+    (tmp_path / "integrators.toml").write_text(study)
+    run_ok("run", "integrators.toml", "-o", "out.h5", "--threads", "2", cwd=tmp_path)
+    keys = rp.varying_keys(tmp_path / "out.h5")
+    assert keys == ["speed.hz", "solver.integrator"]
+    df = rp.load_summary(tmp_path / "out.h5")
+    assert list(df[keys]["solver.integrator"]) == ["bdf", "gen-alpha"]
+    assert list(df["integrator"]) == ["bdf", "gen-alpha"]
+    assert list(df["status"]) == ["ok", "ok"]
+
+
 def test_simulate_file(tmp_path: Path) -> None:
     run_ok(
         "simulate", SCENE, "-o", "run.h5",
