@@ -103,7 +103,7 @@ pub struct PointMassSpec {
     pub z: f64,
     /// Radius from the axis [m].
     pub radius: f64,
-    /// Body-frame angle [rad], counter-clockwise seen from the tending end, 0 = +x.
+    /// Body-frame angle [rad], positive about +z (clockwise seen from the tending end), 0 = +x.
     pub angle: f64,
     /// Mass [kg].
     pub mass: f64,

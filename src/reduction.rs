@@ -15,11 +15,13 @@
 //! prescribed.
 //!
 //! Labels: each orthogonalised mode's kinetic-energy share in the normal-mode coordinates ranks
-//! it; the n modes with the largest share are "normal", the other twelve "static". The rigid
-//! modes come entirely from the constraint modes, so six of the twelve static modes are the
-//! rigid ones (the spin included, although it is never simulated). Selecting "N n + M st"
-//! keeps the rigid modes always (the body frame does not float), the N normal modes and the
-//! M − 6 lowest elastic static modes; M ≤ 6 therefore keeps no elastic static mode.
+//! it; the n modes with the largest share are "normal", the other twelve "static" (the six rigid
+//! modes, which come entirely from the constraint modes, among them). Labels are for reporting:
+//! the lowest bending modes of a roll are mostly constraint-mode motion, so selecting by label
+//! would drop them. Selecting "N n + M st" builds the Craig–Bampton basis with N normal modes
+//! and keeps the rigid modes (always: the body frame does not float) and the lowest
+//! N + max(M − 6, 0) elastic modes by frequency; "30n+12st" is the whole set (41 coordinates:
+//! 5 rigid, 36 elastic), "10n+2st" keeps 5 rigid + 10 elastic.
 
 use std::fmt;
 
@@ -209,6 +211,8 @@ pub struct ReducedModel {
     pub node_z: Vec<f64>,
     /// Number of normal modes in the Craig–Bampton basis this set came from.
     pub cb_normal: usize,
+    /// The selection that made this set, "Nn+Mst" or "list of K modes".
+    pub selection: String,
 }
 
 /// Builds the full orthogonalised Craig–Bampton set with `n_normal` normal modes.
@@ -318,6 +322,7 @@ pub fn craig_bampton(
     model.labels = labels;
     model.kinds = kinds;
     model.cb_normal = n_normal;
+    model.selection = format!("{n_normal}n+{nb}st");
     Ok(model)
 }
 
@@ -383,6 +388,7 @@ fn project(fe: &FeMatrices, phi: DMatrix<f64>, node_z: Vec<f64>) -> ReducedModel
         phi,
         node_z,
         cb_normal: 0,
+        selection: String::new(),
     }
 }
 
@@ -397,8 +403,14 @@ impl ReducedModel {
         self.freq_hz.is_empty()
     }
 
-    /// "Nn+Mst" of this set, the six rigid modes counted as static (module doc).
+    /// The selection that made this set: "Nn+Mst", or for a list "K modes (Nn+Mst labels)".
     pub fn counts_label(&self) -> String {
+        self.selection.clone()
+    }
+
+    /// The label counts of this set, "Nn+Mst", the six rigid modes (spin included) counted as
+    /// static.
+    pub fn label_counts(&self) -> String {
         let n = self
             .labels
             .iter()
@@ -420,29 +432,17 @@ impl ReducedModel {
             .collect();
         match sel {
             ModeSelection::Counts { normal, statics } => {
-                let nn: Vec<usize> = (0..self.len())
-                    .filter(|&i| self.labels[i] == ModeLabel::Normal)
+                let elastic: Vec<usize> = (0..self.len())
+                    .filter(|&i| self.kinds[i] != ModeKind::Rigid)
                     .collect();
-                if *normal > nn.len() {
+                let want = normal + statics.saturating_sub(6);
+                if want > elastic.len() {
                     return Err(ReductionError::Selection(format!(
-                        "{normal} normal modes asked for, the set has {}",
-                        nn.len()
+                        "{normal}n+{statics}st asks for {want} elastic modes, the set has {}",
+                        elastic.len()
                     )));
                 }
-                let st: Vec<usize> = (0..self.len())
-                    .filter(|&i| {
-                        self.labels[i] == ModeLabel::Static && self.kinds[i] != ModeKind::Rigid
-                    })
-                    .collect();
-                let want_st = statics.saturating_sub(6);
-                if want_st > st.len() {
-                    return Err(ReductionError::Selection(format!(
-                        "{statics} static modes asked for, the set has {} (six of them rigid)",
-                        st.len() + 6
-                    )));
-                }
-                keep.extend(&nn[..*normal]);
-                keep.extend(&st[..want_st]);
+                keep.extend(&elastic[..want]);
             }
             ModeSelection::List(list) => {
                 for &i in list {
@@ -458,7 +458,12 @@ impl ReducedModel {
         }
         keep.sort_unstable();
         keep.dedup();
-        Ok(self.subset(&keep))
+        let mut out = self.subset(&keep);
+        out.selection = match sel {
+            ModeSelection::Counts { normal, statics } => format!("{normal}n+{statics}st"),
+            ModeSelection::List(_) => format!("{} modes ({})", out.len(), out.label_counts()),
+        };
+        Ok(out)
     }
 
     fn subset(&self, keep: &[usize]) -> ReducedModel {
@@ -485,6 +490,7 @@ impl ReducedModel {
             gy: vec(&self.gy),
             node_z: self.node_z.clone(),
             cb_normal: self.cb_normal,
+            selection: self.selection.clone(),
         }
     }
 }

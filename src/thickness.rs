@@ -10,13 +10,14 @@
 //!
 //! # Conventions
 //! - SI inside: φ in radians, z and t in metres.
-//! - φ is the **body-frame** angle, **counter-clockwise seen from the tending end**, φ = 0 along +x
-//!   of the body frame. z runs along the shell from its tending end (z = 0) to its drive end
-//!   (z = L).
+//! - φ is the **body-frame** angle, positive about +z (x toward y): with y up and z from the
+//!   tending end to the drive end, that is **clockwise seen from the tending end** (looking along
+//!   +z) and counter-clockwise seen from the drive end; φ = 0 along +x of the body frame. z runs
+//!   along the shell from its tending end (z = 0) to its drive end (z = L).
 //! - CSV files use the **source's** convention (thesis Table 4.1, Appendix 1): header
-//!   `angle_deg,z_mm,thickness_mm`; the angle in degrees grows **clockwise** seen from the tending
-//!   end with 0 = +x; z in mm from the tending end; thickness in mm. The conversion happens once, at
-//!   input: φ = −angle, wrapped into [0, 2π) (a CSV point at 90° sits at φ = 3π/2). `write_csv`
+//!   `angle_deg,z_mm,thickness_mm`; the angle in degrees grows **clockwise seen from the tending
+//!   end** with 0 = +x — the same direction as φ — so the conversion at input is degrees to
+//!   radians, wrapped into [0, 2π) (a CSV point at 90° sits at φ = π/2, on +y). `write_csv`
 //!   converts back, so `from_csv(write_csv(m))` reproduces `m` (numbers are written with nine
 //!   decimals of a millimetre or a degree).
 //!
@@ -138,7 +139,7 @@ pub struct HarmonicSpec {
     pub order: u32,
     /// Relative amplitude (only ratios between harmonics matter).
     pub weight: f64,
-    /// Body-frame angle of the first maximum at z = 0, rad (counter-clockwise).
+    /// Body-frame angle of the first maximum at z = 0, rad (positive about +z).
     pub phase_rad: f64,
     /// Extra phase reached at z = L (linear in z), rad.
     pub phase_twist_rad: f64,
@@ -430,25 +431,14 @@ fn wrap_angle(phi: f64) -> f64 {
     }
 }
 
-/// Body-frame φ (rad, counter-clockwise) of a source angle (degrees, clockwise).
+/// Body-frame φ (rad) of a source angle (degrees; both clockwise seen from the tending end).
 fn body_angle_rad(angle_deg: f64) -> f64 {
-    let clockwise = angle_deg.rem_euclid(360.0);
-    let ccw = if clockwise == 0.0 {
-        0.0
-    } else {
-        360.0 - clockwise
-    };
-    wrap_angle(ccw.to_radians())
+    wrap_angle(angle_deg.rem_euclid(360.0).to_radians())
 }
 
-/// Source angle (degrees, clockwise, in [0, 360)) of a body-frame φ in [0, 2π).
+/// Source angle (degrees in [0, 360)) of a body-frame φ in [0, 2π).
 fn source_angle_deg(phi_rad: f64) -> f64 {
-    let ccw = phi_rad.to_degrees();
-    if ccw == 0.0 {
-        0.0
-    } else {
-        360.0 - ccw
-    }
+    phi_rad.to_degrees()
 }
 
 /// A number with nine decimals, trailing zeros dropped (`150`, `18.723456789`).
@@ -1056,15 +1046,16 @@ mod tests {
     }
 
     #[test]
-    fn clockwise_source_angle_becomes_counter_clockwise() {
-        // Source convention (thesis-data.md §2): angle grows clockwise seen from the tending end.
-        // A thick spot at angle_deg = 90 lies at body-frame φ = −90° = 270° = 3π/2.
+    fn source_angle_is_the_body_angle() {
+        // Source convention (thesis-data.md §2): angle grows clockwise seen from the tending end,
+        // which with y up and z toward the drive end is the positive sense about +z: a thick
+        // spot at angle_deg = 90 lies at body-frame φ = π/2 (on +y).
         let map = load_ok(
             "angles.csv",
             "angle_deg,z_mm,thickness_mm\n0,0,18\n90,0,20\n180,0,18\n270,0,16\n",
         );
-        assert!((map.thickness(1.5 * PI, 0.0) - 0.020).abs() < 1e-15);
-        assert!((map.thickness(0.5 * PI, 0.0) - 0.016).abs() < 1e-15);
+        assert!((map.thickness(0.5 * PI, 0.0) - 0.020).abs() < 1e-15);
+        assert!((map.thickness(1.5 * PI, 0.0) - 0.016).abs() < 1e-15);
         assert!((map.thickness(0.0, 0.0) - 0.018).abs() < 1e-15);
         assert!((map.thickness(PI, 0.0) - 0.018).abs() < 1e-15);
         // Writing converts back: the 20 mm point is written at 90°.
@@ -1083,12 +1074,12 @@ mod tests {
     #[test]
     fn interpolates_between_stations_and_wraps_in_angle() {
         // Two stations (z = 1000 and 3000 mm) with angles given out of order, and a body-frame
-        // profile 10, 12, 14, 16 mm at φ = 0°, 90°, 180°, 270° (source angles 0, 270, 180, 90)
-        // at z = 1000 mm and 20 mm flat at z = 3000 mm.
+        // profile 10, 12, 14, 16 mm at φ = 0°, 90°, 180°, 270° (the same source angles) at
+        // z = 1000 mm and 20 mm flat at z = 3000 mm.
         let map = load_ok(
             "stations.csv",
             "# test map\n\n  angle_deg , z_mm , thickness_mm \n\
-             180,1000,14\n0,1000,10\n3000.0e-3 , 3000 , 20\n90,1000,16\n270,1000,12\n\
+             180,1000,14\n0,1000,10\n3000.0e-3 , 3000 , 20\n90,1000,12\n270,1000,16\n\
              0,3000,20\n120,3000,20\n",
         );
         let mm = |phi_deg: f64, z_mm: f64| map.thickness(phi_deg.to_radians(), z_mm * 1e-3) * 1e3;
@@ -1102,7 +1093,7 @@ mod tests {
         assert!(close(mm(315.0, 1000.0), 13.0));
         assert!(close(mm(-45.0, 1000.0), 13.0));
         assert!(close(mm(315.0 + 720.0, 1000.0), 13.0));
-        // Station at z = 3000 mm: given at 0°, 120°, 240° (source 0, 3, 120), all 20 mm.
+        // Station at z = 3000 mm: given at 0°, 3°, 120°, all 20 mm.
         assert!(close(mm(200.0, 3000.0), 20.0));
         // Linear in z: a quarter of the way from 1000 mm (13) to 3000 mm (20) at φ = 135°.
         assert!(close(mm(135.0, 1500.0), 13.0 + 0.25 * 7.0));
@@ -1506,7 +1497,7 @@ mod tests {
             let sign = if h.phase_twist_rad < 0.0 { '-' } else { '+' };
             text.push(format!(
                 "# k = {} ({what}): relative weight {}, {}, thickest wall at body-frame \
-                 (counter-clockwise) angle {} {sign} {} * z/L rad (plus multiples of 2 pi / k).",
+                 (positive about +z, clockwise seen from the tending end) angle {} {sign} {} * z/L rad (plus multiples of 2 pi / k).",
                 h.order,
                 h.weight,
                 shape(h.axial_shape),

@@ -116,9 +116,12 @@ fn mode_selection_counts_and_lists() {
         .full
         .select(&ModeSelection::parse("10n + 2st").unwrap())
         .unwrap();
-    // Rigid modes always stay; "2st" keeps no elastic static mode (six of the twelve are rigid).
+    // Rigid modes always stay; "2st" adds no elastic mode (six of the twelve are rigid): the
+    // five rigid modes and the ten lowest elastic ones, so the first bending pair is kept.
     assert_eq!(small.len(), 15);
-    assert_eq!(small.counts_label(), "10n+6st");
+    assert_eq!(small.counts_label(), "10n+2st");
+    assert!((small.freq_hz[5] - model.full.freq_hz[5]).abs() < 1e-12);
+    assert_eq!(small.index, (0..15).collect::<Vec<_>>());
     let list = model
         .full
         .select(&ModeSelection::parse("5-9,12").unwrap())

@@ -281,27 +281,23 @@ fn missing_thickness_map_file() {
 fn malformed_thickness_map_lines() {
     let csv = fs::read_to_string(root().join("studies/maps/reference-roll-thickness.csv")).unwrap();
     // Each edit breaks one data row; the error names the CSV file and that row's line.
+    // A data row of the shipped map (angle 20°, z = 0): its thickness value as written.
+    let row = csv
+        .lines()
+        .find(|l| l.starts_with("20,0,"))
+        .expect("the map has a row at 20°, z = 0");
+    let t = row.rsplit(',').next().unwrap();
+    let (zero, short, negative, far) = (
+        format!("20,zero,{t}"),
+        "20,0".to_string(),
+        "20,0,-1.0".to_string(),
+        "20,9000,18.8".to_string(),
+    );
     let edits: [(&str, &str, &[&str]); 4] = [
-        (
-            "20,0,18.855314795",
-            "20,zero,18.855314795",
-            &["z_mm", "`zero` is not a number"],
-        ),
-        (
-            "20,0,18.855314795",
-            "20,0",
-            &["expected 3 comma-separated values"],
-        ),
-        (
-            "20,0,18.855314795",
-            "20,0,-1.0",
-            &["thickness_mm", "positive"],
-        ),
-        (
-            "20,0,18.855314795",
-            "20,9000,18.8",
-            &["z_mm", "outside the shell"],
-        ),
+        (row, &zero, &["z_mm", "`zero` is not a number"]),
+        (row, &short, &["expected 3 comma-separated values"]),
+        (row, &negative, &["thickness_mm", "positive"]),
+        (row, &far, &["z_mm", "outside the shell"]),
     ];
     for (i, (old, new, says)) in edits.into_iter().enumerate() {
         let (bad, line) = replace_line(&csv, old, new);
