@@ -273,7 +273,11 @@ pub fn campbell(sys: &LinearSystem, max_hz: f64, n: usize) -> Result<Campbell, L
             let g1 = branch[i] - speeds[i];
             if g0 > 0.0 && g1 <= 0.0 {
                 let (mut lo, mut hi) = (speeds[i - 1], speeds[i]);
-                while hi - lo > 1e-6 {
+                // To 1e-6 Hz or 1e-12 relative, at most 200 halvings.
+                for _ in 0..200 {
+                    if hi - lo <= 1e-6_f64.max(1e-12 * hi) {
+                        break;
+                    }
                     let mid = 0.5 * (lo + hi);
                     let w = sys.whirl_hz(tau * mid)?;
                     if w.get(b).is_some_and(|f| f - mid > 0.0) {

@@ -184,15 +184,6 @@ pub struct ContactLaw {
 }
 
 impl ContactLaw {
-    /// Elastic force [N] at penetration δ [m] (0 when δ ≤ 0).
-    pub fn force(&self, delta: f64) -> f64 {
-        if delta <= 0.0 {
-            0.0
-        } else {
-            self.k * delta.powf(self.exponent)
-        }
-    }
-
     /// Penetration [m] that carries the force `f` [N] statically.
     pub fn penetration(&self, f: f64) -> f64 {
         (f.max(0.0) / self.k).powf(1.0 / self.exponent)
@@ -487,6 +478,12 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
     for (i, s) in raw.supports.iter().enumerate() {
         let key = format!("supports[{i}]");
         let node = node_exists(&format!("{key}.node"), &s.node)?;
+        if supports.iter().any(|x: &Support| x.node == node) {
+            return Err(c.err(
+                &format!("{key}.node"),
+                format!("node `{node}` already has a support"),
+            ));
+        }
         let model = support_model(c, &key, s, roll_journal(&raw))?;
         supports.push(Support { node, model });
     }
@@ -974,6 +971,12 @@ fn support_model(
             let mut rollers = Vec::new();
             for (i, r) in s.rollers.iter().enumerate() {
                 let rk = format!("{key}.rollers[{i}]");
+                if s.rollers[..i].iter().any(|o| o.name == r.name) {
+                    return Err(c.err(
+                        &format!("{rk}.name"),
+                        format!("roller name `{}` is used twice in this support", r.name),
+                    ));
+                }
                 rollers.push(Roller {
                     name: r.name.clone(),
                     angle: c.range(&format!("{rk}.angle_deg"), r.angle_deg, -89.0, 89.0)? * PI

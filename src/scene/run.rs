@@ -58,22 +58,10 @@ impl SpeedProfile {
                     }
                     theta += speeds[i] * (end - times[i]);
                 }
-                unreachable!("the last step runs to infinity")
+                // Only a NaN t gets here: the last step runs to infinity.
+                let last = speeds.len() - 1;
+                (theta, speeds[last], 0.0)
             }
-        }
-    }
-
-    /// True when Ω never changes.
-    pub fn is_constant(&self) -> bool {
-        matches!(self, Self::Constant(_))
-    }
-
-    /// The speed at which the run ends [rad/s].
-    pub fn final_speed(&self) -> f64 {
-        match self {
-            Self::Constant(w) => *w,
-            Self::Ramp { to, .. } => *to,
-            Self::Steps { speeds, .. } => *speeds.last().expect("validated non-empty"),
         }
     }
 }

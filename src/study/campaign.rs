@@ -145,10 +145,8 @@ fn run_one(scene: &Scene, model: &Model) -> JobResult {
                 .cloned()
                 .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_else(|| "unknown panic".into());
-            let mut stats = Stats::failed(format!("panic: {msg}"));
-            stats.status = Status::Diverged;
             JobResult {
-                stats,
+                stats: Stats::failed(format!("panic: {msg}")),
                 modes: model.reduced.counts_label(),
                 coordinates: 0,
                 time: Vec::new(),
@@ -274,7 +272,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         pilot_models
             .par_iter()
             .map(|mid| {
-                let id = format!("pilot-{mid}");
+                let pilot_key = super::fnv1a(super::pilot_text(&study.pilot_overrides).as_bytes());
+                let id = format!("pilot-{mid}-{pilot_key:016x}");
                 let path = dir.join(format!("{id}.shares"));
                 if let Ok(text) = std::fs::read_to_string(&path) {
                     let v: Result<Vec<f64>, _> = text.lines().map(str::parse).collect();
@@ -503,7 +502,14 @@ fn write_model(
         &r.kinds.iter().map(|k| k.to_string()).collect::<Vec<_>>(),
     )?;
     if let Some(s) = shares {
-        store::dataset(&g, "strain_energy_share", s, "1")?;
+        // Shares are per mode of the pilot's set; scatter them onto the full set's indices.
+        let mut full = vec![f64::NAN; r.len()];
+        for (i, &idx) in m.reduced.index.iter().enumerate() {
+            if let (Some(slot), Some(v)) = (full.get_mut(idx), s.get(i)) {
+                *slot = *v;
+            }
+        }
+        store::dataset(&g, "strain_energy_share", &full, "1")?;
     }
     Ok(())
 }
@@ -555,7 +561,20 @@ fn assemble(
             store::copy_object(&part, "job", &jg, &j.id)?;
             let g = jg.group(&j.id)?;
             let (max, rms, per) = match rg.group(&j.reference_id) {
-                Ok(rgp) if study.has_reference => errors_against(&g, &rgp),
+                Ok(rgp) if study.has_reference => {
+                    let status = store::read_str(&rgp, "status").unwrap_or_default();
+                    if status == "ok" {
+                        errors_against(&g, &rgp)
+                    } else {
+                        let cause = store::read_str(&rgp, "cause").unwrap_or_default();
+                        store::attr_str(
+                            &g,
+                            "error_cause",
+                            &format!("reference {status}: {cause}"),
+                        )?;
+                        (f64::NAN, f64::NAN, Vec::new())
+                    }
+                }
                 _ => (f64::NAN, f64::NAN, Vec::new()),
             };
             store::attr_f64(&g, "error_max_um", max)?;

@@ -124,6 +124,15 @@ pub struct Study {
     pub has_reference: bool,
 }
 
+/// The pilot overrides as one canonical text (for ids).
+pub(crate) fn pilot_text(pilot: &[(String, toml::Value)]) -> String {
+    pilot
+        .iter()
+        .map(|(k, v)| format!("{k}={}", value_text(v)))
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
 /// FNV-1a 64-bit: a stable hash for ids (the same on every machine and run).
 pub fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
@@ -331,12 +340,18 @@ impl Study {
         }
         let mut reference = Vec::new();
         flatten("", &raw.reference, &mut reference);
-        if let Some((k, _)) = reference.iter().find(|(k, _)| !k.starts_with("solver.")) {
+        if let Some((k, _)) = reference
+            .iter()
+            .find(|(k, _)| !k.starts_with("solver.") && k != "reduction.modes")
+        {
             return Err(c.err(
                 &format!("reference.{k}"),
-                "the reference may only change solver.* keys (it must be the same physics)",
+                "the reference may only change solver.* keys and reduction.modes (same physics)",
             ));
         }
+        // With its own mode set the reference is shared by jobs that differ only in their modes
+        // (their error then includes the truncation); otherwise each mode set has its own.
+        let ref_sets_modes = reference.iter().any(|(k, _)| k == "reduction.modes");
         let mut pilot = Vec::new();
         flatten("", &raw.pruning, &mut pilot);
         let mut budget = Vec::new();
@@ -422,8 +437,15 @@ impl Study {
             let inputs = scene_inputs(&scene_path, &merged);
             let model_part = canonical(&merged, &["materials", "roll", "rotor", "reduction"], &[]);
             let model_id = hash_id('m', &[&inputs, &model_part]);
-            let physics = canonical(&merged, &[], &["solver"]);
-            let prune_text = prune.map(|p| format!("{p:e}")).unwrap_or_default();
+            let physics = if ref_sets_modes {
+                canonical(&merged, &[], &["solver", "reduction"])
+            } else {
+                canonical(&merged, &[], &["solver"])
+            };
+            // A pruned job also depends on how its pilot ran.
+            let prune_text = prune
+                .map(|p| format!("{p:e}|{}", pilot_text(&pilot)))
+                .unwrap_or_default();
             let all = canonical(&merged, &[], &[]);
             let id = hash_id('j', &[&inputs, &all, &prune_text]);
             // Reference: the same physics with the reference solver keys.
@@ -449,12 +471,17 @@ impl Study {
                     .collect();
                 let rscene = Scene::from_text(&scene_path, &scene_text, &rs)
                     .map_err(|e| c.err("reference", e.reason))?;
+                let rmodel = canonical(
+                    &ref_merged,
+                    &["materials", "roll", "rotor", "reduction"],
+                    &[],
+                );
                 references.insert(
                     reference_id.clone(),
                     Reference {
                         id: reference_id.clone(),
                         overrides: ref_over,
-                        model_id: model_id.clone(),
+                        model_id: hash_id('m', &[&inputs, &rmodel]),
                         scene: rscene,
                     },
                 );
