@@ -642,7 +642,7 @@ pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
         text("integrator", 12, &|g| {
             store::read_str(g, "integrator").unwrap_or_default()
         }),
-        text("modes", 16, &|g| {
+        text("modes", 32, &|g| {
             store::read_str(g, "modes").unwrap_or_default()
         }),
     ];
