@@ -33,6 +33,10 @@ pub struct RunArgs {
     /// Run only shard i of n (jobs whose index modulo n is i), e.g. `--shard 0/4`.
     #[arg(long, value_name = "i/n")]
     shard: Option<String>,
+    /// Replace an existing results file (and the saved jobs of an interrupted run) instead of
+    /// refusing.
+    #[arg(long, conflicts_with = "resume")]
+    overwrite: bool,
 }
 
 /// Arguments of `rotorsweep merge`.
@@ -166,6 +170,15 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
 /// Runs `run`; Ok(true) when every job ended ok.
 pub fn run(a: &RunArgs) -> Result<bool, Box<dyn std::error::Error>> {
     let st = Study::load(&a.study)?;
+    if a.overwrite {
+        for p in [a.output.clone(), campaign::parts_dir(&a.output)] {
+            if p.is_dir() {
+                std::fs::remove_dir_all(&p)?;
+            } else if p.exists() {
+                std::fs::remove_file(&p)?;
+            }
+        }
+    }
     let threads = a.threads.unwrap_or_else(|| {
         std::thread::available_parallelism()
             .map(|n| n.get())

@@ -67,7 +67,8 @@ pub enum CampaignError {
     Usage(String),
 }
 
-fn parts_dir(out: &Path) -> PathBuf {
+/// Where a run on `out` keeps its finished jobs until the file is assembled.
+pub fn parts_dir(out: &Path) -> PathBuf {
     let mut p = out.as_os_str().to_owned();
     p.push(".parts");
     p.into()
