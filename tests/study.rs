@@ -1,36 +1,13 @@
 //! The study engine: expansion and validation of study files, and bit-identical job datasets at 1
 //! and 2 threads and through 2 shards + merge (crash safety is in tests/study_kill.rs).
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use std::path::Path;
+
+use common::{scratch_dir, study_text, write_file};
 use rotorsweep::study::campaign::{self, RunOptions};
 use rotorsweep::study::Study;
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn tmpdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("rotorsweep-study-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// A study text on the reference roll with the given body (t_end short: these test the engine).
-fn study_text(body: &str) -> String {
-    let scene = repo().join("studies/scenes/reference-roll.toml");
-    format!(
-        "name = \"t\"\nscene = {:?}\n[set]\n\"simulation.t_end_s\" = 0.1\n\"simulation.settle_s\" = 0.05\n{body}",
-        scene.display().to_string()
-    )
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
 
 fn line_of(text: &str, needle: &str) -> usize {
     text.lines()
@@ -41,13 +18,13 @@ fn line_of(text: &str, needle: &str) -> usize {
 
 #[test]
 fn expansion_product_zip_range_and_explicit_jobs() {
-    let d = tmpdir("expand");
+    let d = scratch_dir("expand");
     let text = study_text(
         "[[axes]]\nkey = \"speed.hz\"\nrange = { start = 10.0, stop = 11.0, step = 0.5 }\n\
          [[axes]]\nkeys = [\"solver.integrator\", \"solver.hmax\"]\nvalues = [[\"bdf\", 1e-4], [\"gen-alpha\", 2e-4]]\n\
          [[jobs]]\n\"speed.hz\" = 16.4\n",
     );
-    let st = Study::load(&write(&d, "s.toml", &text)).unwrap();
+    let st = Study::load(&write_file(&d, "s.toml", &text)).unwrap();
     // 3 speeds × 2 zipped rows + 1 explicit job.
     assert_eq!(st.jobs.len(), 7);
     assert_eq!(
@@ -87,7 +64,7 @@ fn expansion_product_zip_range_and_explicit_jobs() {
 
 #[test]
 fn validation_errors_name_the_study_file_line_and_key() {
-    let d = tmpdir("errors");
+    let d = scratch_dir("errors");
     let cases: Vec<(&str, String, &str, &str)> = vec![
         (
             "unknown.toml",
@@ -123,7 +100,7 @@ fn validation_errors_name_the_study_file_line_and_key() {
         ),
     ];
     for (name, text, needle, reason) in cases {
-        let p = write(&d, name, &text);
+        let p = write_file(&d, name, &text);
         let e = Study::load(&p).unwrap_err();
         let msg = e.to_string();
         assert!(msg.contains(name), "{name}: {msg}");
@@ -132,7 +109,7 @@ fn validation_errors_name_the_study_file_line_and_key() {
         assert_eq!(e.line, Some(want), "{name}: {msg}");
     }
     // A missing scene file is named.
-    let p = write(
+    let p = write_file(
         &d,
         "noscene.toml",
         "scene = \"nope.toml\"\n[[axes]]\nkey = \"speed.hz\"\nvalues = [1.0]\n",
@@ -175,12 +152,12 @@ fn job_data(path: &Path) -> Vec<(String, Vec<u64>)> {
 
 #[test]
 fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
-    let d = tmpdir("determinism");
+    let d = scratch_dir("determinism");
     let text = study_text(
         "[[axes]]\nkey = \"speed.hz\"\nvalues = [12.0, 16.0]\n[[axes]]\nkey = \"solver.hmax\"\nvalues = [1e-4, 3e-4]\n\
          [reference]\n\"solver.hmax\" = 5e-5\n",
     );
-    let st = Study::load(&write(&d, "s.toml", &text)).unwrap();
+    let st = Study::load(&write_file(&d, "s.toml", &text)).unwrap();
     run_study(&st, &d.join("one.h5"), 1, None);
     run_study(&st, &d.join("two.h5"), 2, None);
     run_study(&st, &d.join("s0.h5"), 2, Some((0, 2)));

@@ -2,40 +2,17 @@
 //! In its own test binary: a child spawned while another test thread holds an HDF5 file open
 //! would inherit that file's lock.
 
-use std::path::{Path, PathBuf};
+mod common;
+
 use std::process::Command;
 use std::time::{Duration, Instant};
 
+use common::{scratch_dir, study_text, write_file};
 use rotorsweep::study::Study;
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn tmpdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("rotorsweep-study-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn study_text(body: &str) -> String {
-    let scene = repo().join("studies/scenes/reference-roll.toml");
-    format!(
-        "name = \"t\"\nscene = {:?}\n[set]\n\"simulation.t_end_s\" = 0.1\n\"simulation.settle_s\" = 0.05\n{body}",
-        scene.display().to_string()
-    )
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
 
 #[test]
 fn sigkill_then_resume_keeps_every_job_exactly_once() {
-    let d = tmpdir("kill");
+    let d = scratch_dir("kill");
     // 10 jobs of ≈ 0.1–0.3 s each on one thread: long enough to kill in the middle.
     let text = study_text(
         "[[axes]]\nkey = \"speed.hz\"\nrange = { start = 10.0, stop = 14.5, step = 0.5 }\n",
@@ -44,7 +21,7 @@ fn sigkill_then_resume_keeps_every_job_exactly_once() {
         "\"simulation.t_end_s\" = 0.1",
         "\"simulation.t_end_s\" = 0.6",
     );
-    let study = write(&d, "s.toml", &text);
+    let study = write_file(&d, "s.toml", &text);
     let out = d.join("out.h5");
     let parts = d.join("out.h5.parts");
     let bin = env!("CARGO_BIN_EXE_rotorsweep");
