@@ -9,16 +9,14 @@
 //! h/(t_{n+1} − t_{n−j}) ‖q − q_pred,j‖ (the (j+1)-th difference), which also drives the order
 //! choice between k−1, k and k+1 after k+1 steps at order k: the order allowing the longest step,
 //! or, when hmax caps the step anyway, the order with the smallest error.
-//! The corrector stops after one iteration when the first correction is below 5 % of the
-//! tolerance, otherwise when the rate ρ measured in this step gives ρ/(1−ρ)‖Δq‖ ≤ 0.05 tolerance;
-//! at most four iterations; a rate above 0.3 refreshes the Newton matrix for the next step (the
-//! contact directions turn with the roll, so a reused matrix ages with the roll angle).
+//! The corrector is `integrators::corrector`; a slow rate refreshes the Newton matrix for the
+//! next step.
 
 use std::collections::VecDeque;
 
 use nalgebra::{DMatrix, DVector};
 
-use super::{finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
+use super::{corrector, finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
 use crate::scene::SolverSettings;
 
 struct Point {
@@ -148,7 +146,7 @@ pub(super) fn run(
         }
         // Corrector: modified Newton on q.
         let mut fresh = false;
-        let mut slow = false;
+        let mut slow: bool;
         let converged = loop {
             if lu.is_none() || (a0 / alpha_lu - 1.0).abs() > 0.3 {
                 pb.newton_matrix(tn, &qp, &vp, (a0 * a0, 1.0, a0), &mut nm);
@@ -160,49 +158,29 @@ pub(super) fn run(
             }
             let lu_ref = lu.as_ref().expect("factorised above");
             q.copy_from(&qp);
-            let mut d0 = 0.0;
-            let mut ok = false;
-            for it in 0..4 {
-                v.copy_from(&hq);
-                v.axpy(a0, &q, 1.0);
-                a.copy_from(&hv);
-                a.axpy(a0, &v, 1.0);
-                pb.force(tn, &q, &v, &mut f);
-                st.rhs_evals += 1;
-                st.newton_iterations += 1;
-                r.gemv(1.0, m, &a, 0.0);
-                r -= &f;
-                tmp.copy_from(&r);
-                if !lu_ref.solve_mut(&mut tmp) {
-                    break;
-                }
-                // The matrix was built for α_lu: scale the correction as DASSL does.
-                let scale = 2.0 / (1.0 + a0 / alpha_lu);
-                q.axpy(-scale, &tmp, 1.0);
-                let d = scale * wnorm(&tmp, w, s.tolerance);
-                if !d.is_finite() {
-                    break;
-                }
-                if it == 0 {
-                    d0 = d;
-                    // One iteration suffices when the first correction is already far below
-                    // the tolerance (whatever the rate, what is left is smaller still).
-                    if d <= 0.05 {
-                        ok = true;
-                        break;
-                    }
-                } else {
-                    let rho = (d / d0).powf(1.0 / it as f64);
-                    if rho > 0.9 {
-                        break;
-                    }
-                    slow = rho > 0.3;
-                    if rho / (1.0 - rho) * d <= 0.05 {
-                        ok = true;
-                        break;
-                    }
-                }
-            }
+            // The matrix was built for α_lu: scale the correction as DASSL does.
+            let scale = 2.0 / (1.0 + a0 / alpha_lu);
+            let out = corrector(
+                lu_ref,
+                &mut q,
+                &mut r,
+                scale,
+                1.0,
+                w,
+                s.tolerance,
+                &mut st,
+                |q, r| {
+                    v.copy_from(&hq);
+                    v.axpy(a0, q, 1.0);
+                    a.copy_from(&hv);
+                    a.axpy(a0, &v, 1.0);
+                    pb.force(tn, q, &v, &mut f);
+                    r.gemv(1.0, m, &a, 0.0);
+                    *r -= &f;
+                },
+            );
+            slow = out.slow;
+            let ok = out.ok;
             if ok || fresh {
                 break ok;
             }

@@ -10,7 +10,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::{finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
+use super::{corrector, finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
 use crate::scene::SolverSettings;
 
 /// Runs generalized-α (see the module doc).
@@ -51,7 +51,6 @@ pub(super) fn run(
     };
     let mut lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>> = None;
     let mut h_lu = 0.0;
-    let mut s_rate = 100.0;
     let mut fails = 0usize;
     let (mut q1, mut v1, mut a1) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
     let (mut f1, mut r, mut tmp) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
@@ -70,6 +69,7 @@ pub(super) fn run(
         fixed_part.axpy(-af, &f0, 1.0);
         a1.copy_from(&a0);
         let mut fresh = false;
+        let mut slow: bool;
         let converged = loop {
             if lu.is_none() || (h / h_lu - 1.0).abs() > 0.3 {
                 // Newton matrix at the predicted state (a₁ = a₀).
@@ -84,55 +84,36 @@ pub(super) fn run(
                 st.factorizations += 1;
                 lu = Some(nm.clone().lu());
                 h_lu = h;
-                s_rate = 100.0;
                 fresh = true;
             }
             let lu_ref = lu.as_ref().expect("factorised above");
             a1.copy_from(&a0);
-            let mut d0 = 0.0;
-            let mut ok = false;
-            for it in 0..4 {
-                q1.copy_from(&q0);
-                q1.axpy(h, &v0, 1.0);
-                q1.axpy(h * h * (0.5 - beta), &a0, 1.0);
-                q1.axpy(h * h * beta, &a1, 1.0);
-                v1.copy_from(&v0);
-                v1.axpy(h * (1.0 - gamma), &a0, 1.0);
-                v1.axpy(h * gamma, &a1, 1.0);
-                pb.force(tn, &q1, &v1, &mut f1);
-                st.rhs_evals += 1;
-                st.newton_iterations += 1;
-                r.gemv(1.0 - am, m, &a1, 0.0);
-                r += &fixed_part;
-                r.axpy(-(1.0 - af), &f1, 1.0);
-                tmp.copy_from(&r);
-                if !lu_ref.solve_mut(&mut tmp) {
-                    break;
-                }
-                a1 -= &tmp;
-                // Size of the correction as a displacement: β h² Δa.
-                let d = beta * h * h * wnorm(&tmp, w, s.tolerance);
-                if !d.is_finite() {
-                    break;
-                }
-                if it == 0 {
-                    d0 = d;
-                    if s_rate * d <= 0.33 || d <= 1e-10 {
-                        ok = true;
-                        break;
-                    }
-                } else {
-                    let rho_c = (d / d0).powf(1.0 / it as f64);
-                    if rho_c > 0.9 {
-                        break;
-                    }
-                    s_rate = rho_c / (1.0 - rho_c);
-                    if s_rate * d <= 0.33 {
-                        ok = true;
-                        break;
-                    }
-                }
-            }
+            // The size of a correction as a displacement is β h² Δa.
+            let out = corrector(
+                lu_ref,
+                &mut a1,
+                &mut r,
+                1.0,
+                beta * h * h,
+                w,
+                s.tolerance,
+                &mut st,
+                |a1, r| {
+                    q1.copy_from(&q0);
+                    q1.axpy(h, &v0, 1.0);
+                    q1.axpy(h * h * (0.5 - beta), &a0, 1.0);
+                    q1.axpy(h * h * beta, a1, 1.0);
+                    v1.copy_from(&v0);
+                    v1.axpy(h * (1.0 - gamma), &a0, 1.0);
+                    v1.axpy(h * gamma, a1, 1.0);
+                    pb.force(tn, &q1, &v1, &mut f1);
+                    r.gemv(1.0 - am, m, a1, 0.0);
+                    *r += &fixed_part;
+                    r.axpy(-(1.0 - af), &f1, 1.0);
+                },
+            );
+            slow = out.slow;
+            let ok = out.ok;
             if ok || fresh {
                 break ok;
             }
@@ -160,6 +141,9 @@ pub(super) fn run(
             st.status = Status::Diverged;
             st.cause = format!("non-finite state at t = {tn:.6} s");
             break;
+        }
+        if slow {
+            lu = None;
         }
         // F at the converged state, for the next step's balance.
         pb.force(tn, &q1, &v1, &mut f1);

@@ -233,6 +233,66 @@ impl Guard {
     }
 }
 
+/// How a corrector run ended.
+struct Corrected {
+    /// Converged.
+    ok: bool,
+    /// Converged slowly (rate above 0.3): the Newton matrix should be refreshed.
+    slow: bool,
+}
+
+/// Modified Newton with a factorised matrix: x ← x − scale · N⁻¹ r(x), at most four iterations.
+/// `size` turns a correction of x into a displacement for the weighted norm. It stops after one
+/// iteration when the first correction is below 5 % of the tolerance (whatever the rate, what
+/// is left is smaller still), otherwise when the rate ρ measured in this run gives
+/// ρ/(1−ρ)‖Δ‖ ≤ 0.05 tolerance; it fails when ρ > 0.9 or a correction is not finite. A rate
+/// measured in an earlier step is not trusted: the contact directions turn with the roll, so a
+/// reused matrix ages with the roll angle.
+#[allow(clippy::too_many_arguments)]
+fn corrector(
+    lu: &nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    x: &mut DVector<f64>,
+    r: &mut DVector<f64>,
+    scale: f64,
+    size: f64,
+    w: &[f64],
+    tol: f64,
+    st: &mut Stats,
+    mut residual: impl FnMut(&DVector<f64>, &mut DVector<f64>),
+) -> Corrected {
+    let mut d0 = 0.0;
+    let mut slow = false;
+    for it in 0..4 {
+        residual(x, r);
+        st.rhs_evals += 1;
+        st.newton_iterations += 1;
+        if !lu.solve_mut(r) {
+            break;
+        }
+        x.axpy(-scale, r, 1.0);
+        let d = scale * size * wnorm(r, w, tol);
+        if !d.is_finite() {
+            break;
+        }
+        if it == 0 {
+            d0 = d;
+            if d <= 0.05 {
+                return Corrected { ok: true, slow };
+            }
+        } else {
+            let rho = (d / d0).powf(1.0 / it as f64);
+            if rho > 0.9 {
+                break;
+            }
+            slow = rho > 0.3;
+            if rho / (1.0 - rho) * d <= 0.05 {
+                return Corrected { ok: true, slow };
+            }
+        }
+    }
+    Corrected { ok: false, slow }
+}
+
 /// Weighted max norm of a position-like vector, relative to `tol`.
 fn wnorm(e: &DVector<f64>, w: &[f64], tol: f64) -> f64 {
     e.iter()
