@@ -210,6 +210,19 @@ fn done_ids(dir: &Path) -> BTreeSet<String> {
 /// Runs a study (module doc).
 pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     let dir = parts_dir(&opts.output);
+    let (si, sn) = opts.shard.unwrap_or((0, 1));
+    if opts.resume && opts.output.exists() && !dir.exists() {
+        // Already assembled: nothing left to run.
+        let n = study.shard(si, sn).len();
+        let statuses = read_statuses(&opts.output)?;
+        let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
+        return Ok(Outcome {
+            jobs: n,
+            ok,
+            failed: n - ok,
+            resumed: n,
+        });
+    }
     if dir.exists() && !opts.resume {
         return Err(CampaignError::Usage(format!(
             "{} exists (an interrupted run?): add --resume to finish it, or remove it",
@@ -223,7 +236,6 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         )));
     }
     std::fs::create_dir_all(&dir)?;
-    let (si, sn) = opts.shard.unwrap_or((0, 1));
     let jobs: Vec<&Job> = study.shard(si, sn);
     let refs: Vec<&super::Reference> = if study.has_reference {
         let needed: BTreeSet<&str> = jobs.iter().map(|j| j.reference_id.as_str()).collect();
@@ -761,8 +773,22 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> 
     };
     let mut jobs_n = 0;
     {
+        let open = |p: &PathBuf| {
+            hdf5::File::open(p).map_err(|e| CampaignError::Usage(format!("{}: {e}", p.display())))
+        };
+        let first = open(&inputs[0])?;
+        let study_text = store::read_str(&first, "study_text").unwrap_or_default();
+        for p in &inputs[1..] {
+            let other = open(p)?;
+            if store::read_str(&other, "study_text").unwrap_or_default() != study_text {
+                return Err(CampaignError::Usage(format!(
+                    "{} comes from another study than {} (study_text differs)",
+                    p.display(),
+                    inputs[0].display()
+                )));
+            }
+        }
         let f = hdf5::File::create(&tmp)?;
-        let first = hdf5::File::open(&inputs[0])?;
         let varying = store::read_str(&first, "varying_keys")?;
         for name in first.attr_names()? {
             if name == "shard" || name == "threads" {
