@@ -462,37 +462,7 @@ fn jeffcott(c: f64, hz: f64) -> Scene {
     let text = format!(
         r#"
 name = "jeffcott-unbalance"
-[materials.steel]
-youngs_modulus_gpa = 210.0
-poisson = 0.3
-density_kg_m3 = 7850.0
-[rotor]
-[[rotor.segments]]
-length_mm = 350.0
-outer_diameter_mm = 30.0
-elements = 8
-material = "steel"
-[[rotor.segments]]
-length_mm = 350.0
-outer_diameter_mm = 30.0
-elements = 8
-material = "steel"
-[[rotor.disks]]
-z_mm = 350.0
-mass_kg = 12.331
-polar_kg_m2 = 0.061654
-diametral_kg_m2 = 0.033396
-[rotor.nodes]
-bearing_a = 0.0
-bearing_b = 700.0
-[[rotor.sensors]]
-name = "disk"
-z_mm = 350.0
-[[rotor.masses]]
-z_mm = 350.0
-radius_mm = 100.0
-angle_deg = 0.0
-mass_g = 20.0
+{rotor}
 
 [[supports]]
 node = "bearing_a"
@@ -527,7 +497,8 @@ t_end_s = {t_end}
 settle_s = {settle}
 sample_rate_hz = {rate}
 gravity_m_s2 = 0.0
-"#
+"#,
+        rotor = common::JEFFCOTT_ROTOR
     );
     scene_from_text("jeffcott-unbalance.toml", &text)
 }

@@ -141,3 +141,39 @@ pub fn write_file(dir: &std::path::Path, name: &str, text: &str) -> std::path::P
     std::fs::write(&p, text).unwrap();
     p
 }
+
+/// The Jeffcott rotor of studies/scenes/jeffcott.toml as scene text: steel shaft Ø30 × 700 mm in
+/// 16 elements, central disk 12.331 kg (Ø200 × 50 mm), bearings named at both ends, a sensor at
+/// the disk and a 20 g unbalance at 100 mm on it; the tests add supports and run keys.
+pub const JEFFCOTT_ROTOR: &str = r#"[materials.steel]
+youngs_modulus_gpa = 210.0
+poisson = 0.3
+density_kg_m3 = 7850.0
+[rotor]
+[[rotor.segments]]
+length_mm = 350.0
+outer_diameter_mm = 30.0
+elements = 8
+material = "steel"
+[[rotor.segments]]
+length_mm = 350.0
+outer_diameter_mm = 30.0
+elements = 8
+material = "steel"
+[[rotor.disks]]
+z_mm = 350.0
+mass_kg = 12.331
+polar_kg_m2 = 0.061654
+diametral_kg_m2 = 0.033396
+[rotor.nodes]
+bearing_a = 0.0
+bearing_b = 700.0
+[[rotor.sensors]]
+name = "disk"
+z_mm = 350.0
+[[rotor.masses]]
+z_mm = 350.0
+radius_mm = 100.0
+angle_deg = 0.0
+mass_g = 20.0
+"#;
