@@ -75,11 +75,7 @@ impl<'a> Recorder<'a> {
                 add(format!("journal/{}/x", s.node), "um");
                 add(format!("journal/{}/y", s.node), "um");
             }
-            let has_mass = match &s.model {
-                SupportModel::Rollers(_) => true,
-                SupportModel::Linear(l) => l.mass.is_some(),
-            };
-            if o.stand_motion && has_mass {
+            if o.stand_motion && s.has_mass() {
                 add(format!("stand/{}/x", s.node), "um");
                 add(format!("stand/{}/y", s.node), "um");
             }
@@ -128,11 +124,7 @@ impl<'a> Recorder<'a> {
                     push(1e6 * stt.journal.x, &mut self.channels);
                     push(1e6 * stt.journal.y, &mut self.channels);
                 }
-                let has_mass = match &s.model {
-                    SupportModel::Rollers(_) => true,
-                    SupportModel::Linear(l) => l.mass.is_some(),
-                };
-                if o.stand_motion && has_mass {
+                if o.stand_motion && s.has_mass() {
                     push(1e6 * stt.stand.x, &mut self.channels);
                     push(1e6 * stt.stand.y, &mut self.channels);
                 }

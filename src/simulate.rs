@@ -123,14 +123,7 @@ pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
             .set
             .iter()
             .filter_map(|kv| parse_override(kv).ok())
-            .map(|(k, v)| {
-                let p = match v {
-                    toml::Value::Float(x) => Param::Number(x),
-                    toml::Value::Integer(i) => Param::Number(i as f64),
-                    other => Param::Text(other.to_string()),
-                };
-                (k, p)
-            })
+            .map(|(k, v)| (k, Param::from_toml(&v)))
             .collect();
         store::write_job(&jobs, &scene.name, &params, integrator, &r)?;
         store::finish_file(path, file, jobs)?;

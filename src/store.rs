@@ -85,6 +85,20 @@ pub enum Param {
     Text(String),
 }
 
+impl Param {
+    /// A scene value as stored: numbers (and booleans as 0/1) as numbers, strings as written,
+    /// anything else as its TOML text.
+    pub fn from_toml(v: &toml::Value) -> Self {
+        match v {
+            toml::Value::Float(x) => Param::Number(*x),
+            toml::Value::Integer(i) => Param::Number(*i as f64),
+            toml::Value::Boolean(b) => Param::Number(f64::from(u8::from(*b))),
+            toml::Value::String(s) => Param::Text(s.clone()),
+            other => Param::Text(other.to_string()),
+        }
+    }
+}
+
 /// Writes one job's group: status, statistics, parameters and datasets.
 pub fn write_job(
     parent: &Group,
@@ -126,17 +140,23 @@ pub fn write_job(
     Ok(())
 }
 
+/// The provenance attributes of every results file: tool, tool_version, created_utc, host and
+/// the command line.
+pub fn provenance(f: &File, command: &str) -> hdf5::Result<()> {
+    attr_str(f, "tool", "rotorsweep")?;
+    attr_str(f, "tool_version", env!("CARGO_PKG_VERSION"))?;
+    attr_str(f, "created_utc", &utc_now())?;
+    attr_str(f, "host", &hostname())?;
+    attr_str(f, "command", command)
+}
+
 /// Creates a results file with its provenance attributes and an empty `jobs` group. The file is
 /// written to `path` + ".part" and renamed by [`finish_file`], so a crash leaves no half file
 /// under the final name.
 pub fn create_file(path: &Path, command: &str, scene_text: &str) -> hdf5::Result<(File, Group)> {
-    let part = part_path(path);
+    let part = with_suffix(path, ".part");
     let f = File::create(&part)?;
-    attr_str(&f, "tool", "rotorsweep")?;
-    attr_str(&f, "tool_version", env!("CARGO_PKG_VERSION"))?;
-    attr_str(&f, "created_utc", &utc_now())?;
-    attr_str(&f, "host", &hostname())?;
-    attr_str(&f, "command", command)?;
+    provenance(&f, command)?;
     attr_str(&f, "scene_text", scene_text)?;
     let jobs = f.create_group("jobs")?;
     Ok((f, jobs))
@@ -147,12 +167,13 @@ pub fn finish_file(path: &Path, file: File, jobs: Group) -> std::io::Result<()> 
     drop(jobs);
     file.close()
         .map_err(|e| std::io::Error::other(e.to_string()))?;
-    std::fs::rename(part_path(path), path)
+    std::fs::rename(with_suffix(path, ".part"), path)
 }
 
-fn part_path(path: &Path) -> std::path::PathBuf {
+/// `path` with `suffix` appended to its file name (`out.h5` → `out.h5.part`).
+pub fn with_suffix(path: &Path, suffix: &str) -> std::path::PathBuf {
     let mut p = path.as_os_str().to_owned();
-    p.push(".part");
+    p.push(suffix);
     p.into()
 }
 

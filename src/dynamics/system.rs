@@ -177,14 +177,7 @@ impl RollSystem {
     pub fn new(scene: &Scene, model: &Model) -> Self {
         let r = &model.reduced;
         let nm = r.len();
-        let n_st = scene
-            .supports
-            .iter()
-            .filter(|s| match &s.model {
-                SupportModel::Rollers(_) => true,
-                SupportModel::Linear(l) => l.mass.is_some(),
-            })
-            .count();
+        let n_st = scene.supports.iter().filter(|s| s.has_mass()).count();
         let n = nm + 2 * n_st;
         let pad = |a: &DMatrix<f64>| {
             let mut out = DMatrix::zeros(n, n);
@@ -512,13 +505,8 @@ impl RollSystem {
             let (w, wd, r) = self.relative(sup, theta, omega, q, v);
             let loc = self.local(sup, theta, omega, w, wd, None);
             // T_q (2 × n): w = R Φ_j p − s; T_Ω = Ω S R Φ_j (the rotation of the journal velocity).
-            let mut tq = DMatrix::zeros(2, n);
-            let rp = r * &sup.rows;
-            tq.view_mut((0, 0), (2, self.nm)).copy_from(&rp);
-            if let Some(i) = sup.stand {
-                tq[(0, i)] = -1.0;
-                tq[(1, i + 1)] = -1.0;
-            }
+            let rp = DMatrix::from_column_slice(2, self.nm, (r * &sup.rows).as_slice());
+            let tq = self.connection(sup, &rp);
             let s_mat = Matrix2::new(0.0, -omega, omega, 0.0);
             let mut tw = DMatrix::zeros(2, n);
             tw.view_mut((0, 0), (2, self.nm)).copy_from(&(s_mat * rp));
@@ -529,6 +517,18 @@ impl RollSystem {
         if let Some((row, ka, ca)) = &self.drive {
             out.ger(b * ka + c * ca, row, row, 1.0);
         }
+    }
+
+    /// The 2 × n map from q to a support's relative journal displacement w = (rows) p − s, with
+    /// `rows` the journal's lateral modal rows (already rotated to the frame of w).
+    fn connection(&self, sup: &SupportSys, rows: &DMatrix<f64>) -> DMatrix<f64> {
+        let mut tq = DMatrix::zeros(2, self.n);
+        tq.view_mut((0, 0), (2, self.nm)).copy_from(rows);
+        if let Some(i) = sup.stand {
+            tq[(0, i)] = -1.0;
+            tq[(1, i + 1)] = -1.0;
+        }
+        tq
     }
 
     /// The Newton matrix at time t.
@@ -612,12 +612,7 @@ impl RollSystem {
             self.newton_matrix_at(state, &q, &v, (0.0, 1.0, 0.0), &mut jac);
             for (sup, kf) in self.supports.iter().zip(&floor) {
                 if let (Law::Contact { .. }, Some(kf)) = (&sup.law, kf) {
-                    let mut tq = DMatrix::zeros(2, self.n);
-                    tq.view_mut((0, 0), (2, self.nm)).copy_from(&sup.rows);
-                    if let Some(i) = sup.stand {
-                        tq[(0, i)] = -1.0;
-                        tq[(1, i + 1)] = -1.0;
-                    }
+                    let tq = self.connection(sup, &sup.rows);
                     jac.gemm(1.0, &tq.transpose(), &(kf * &tq), 1.0);
                 }
             }

@@ -75,6 +75,17 @@ pub struct Support {
     pub model: SupportModel,
 }
 
+impl Support {
+    /// Whether the support has its own moving mass (a stand, or a linear support's mass): two
+    /// more coordinates (x, y) in the dynamic system.
+    pub fn has_mass(&self) -> bool {
+        match &self.model {
+            SupportModel::Rollers(_) => true,
+            SupportModel::Linear(l) => l.mass.is_some(),
+        }
+    }
+}
+
 /// Support models.
 #[derive(Debug, Clone)]
 pub enum SupportModel {

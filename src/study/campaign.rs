@@ -69,9 +69,7 @@ pub enum CampaignError {
 
 /// Where a run on `out` keeps its finished jobs until the file is assembled.
 pub fn parts_dir(out: &Path) -> PathBuf {
-    let mut p = out.as_os_str().to_owned();
-    p.push(".parts");
-    p.into()
+    store::with_suffix(out, ".parts")
 }
 
 /// A unit of work for the pool.
@@ -93,16 +91,7 @@ enum Kind {
 fn params_of(overrides: &[(String, toml::Value)]) -> Vec<(String, Param)> {
     overrides
         .iter()
-        .map(|(k, v)| {
-            let p = match v {
-                toml::Value::Float(x) => Param::Number(*x),
-                toml::Value::Integer(i) => Param::Number(*i as f64),
-                toml::Value::Boolean(b) => Param::Number(f64::from(u8::from(*b))),
-                toml::Value::String(s) => Param::Text(s.clone()),
-                other => Param::Text(other.to_string()),
-            };
-            (k.clone(), p)
-        })
+        .map(|(k, v)| (k.clone(), Param::from_toml(v)))
         .collect()
 }
 
@@ -538,19 +527,11 @@ fn assemble(
     models: &BTreeMap<&str, Result<Arc<Model>, String>>,
     shares: &BTreeMap<String, Vec<f64>>,
 ) -> Result<(), CampaignError> {
-    let tmp = {
-        let mut p = opts.output.as_os_str().to_owned();
-        p.push(".tmp");
-        PathBuf::from(p)
-    };
+    let tmp = store::with_suffix(&opts.output, ".tmp");
     {
         let f = hdf5::File::create(&tmp)?;
-        store::attr_str(&f, "tool", "rotorsweep")?;
-        store::attr_str(&f, "tool_version", env!("CARGO_PKG_VERSION"))?;
-        store::attr_str(&f, "created_utc", &store::utc_now())?;
-        store::attr_str(&f, "host", &store::hostname())?;
+        store::provenance(&f, &opts.command)?;
         store::attr_u64(&f, "threads", opts.threads as u64)?;
-        store::attr_str(&f, "command", &opts.command)?;
         store::attr_str(&f, "study_name", &study.name)?;
         store::attr_str(&f, "study_path", &study.path.display().to_string())?;
         store::attr_str(&f, "study_text", &study.text)?;
@@ -766,11 +747,7 @@ impl Progress {
 /// Joins shard files of one study: jobs, references and models (each once), file attributes of
 /// the first file, and a new summary. Returns the number of jobs.
 pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> {
-    let tmp = {
-        let mut p = output.as_os_str().to_owned();
-        p.push(".tmp");
-        PathBuf::from(p)
-    };
+    let tmp = store::with_suffix(output, ".tmp");
     let mut jobs_n = 0;
     {
         let open = |p: &PathBuf| {
