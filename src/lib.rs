@@ -4,6 +4,7 @@
 //! Craig–Bampton model ([`reduction`], [`model`]) → [`dynamics`] → integrators → study → store →
 //! analysis.
 
+pub mod analysis;
 pub mod dynamics;
 pub mod eigen;
 pub mod error;
