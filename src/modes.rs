@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use rotorsweep::dynamics::linear::{campbell, linear_stages, LinearSystem};
+use rotorsweep::dynamics::linear::{campbell, LinearSystem};
 use rotorsweep::model::Model;
 use rotorsweep::reduction::{ModeKind, ModeSelection};
 use rotorsweep::scene::Scene;
@@ -86,12 +86,7 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     }
     let model = Model::build(&scene, sel.as_ref())?;
     let r = &model.reduced;
-    let stages = linear_stages(&scene, &model.rotor)?;
-    let drive = scene
-        .drive
-        .as_ref()
-        .map(|d| (model.rotor.named[&d.node], d.axial_stiffness));
-    let sys = LinearSystem::new(r, &stages, drive);
+    let sys = LinearSystem::of_scene(&scene, &model)?;
     let standstill = sys.standstill_modes()?;
     let pick = |k: ModeKind| -> Vec<f64> {
         standstill

@@ -64,6 +64,47 @@ pub fn dataset(group: &Group, name: &str, data: &[f64], units: &str) -> hdf5::Re
     attr_str(&ds, "units", units)
 }
 
+/// Writes a 2-D float dataset `rows × cols` (row-major `data`, deflated) with a `units` attribute.
+pub fn dataset_2d(
+    group: &Group,
+    name: &str,
+    (rows, cols): (usize, usize),
+    data: &[f64],
+    units: &str,
+) -> hdf5::Result<()> {
+    let (parent, leaf) = match name.rsplit_once('/') {
+        Some((p, l)) => (subgroup(group, p)?, l),
+        None => (group.clone(), name),
+    };
+    let arr = ndarray::ArrayView2::from_shape((rows, cols), data)
+        .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+    let mut b = parent.new_dataset_builder();
+    if rows * cols > 0 {
+        b = b.chunk((rows, cols)).shuffle().deflate(4);
+    }
+    let ds = b.with_data(arr).create(leaf)?;
+    attr_str(&ds, "units", units)
+}
+
+/// The runout channels of a job group: ("sensor/direction", samples [µm]), in file order.
+pub fn runout_channels(g: &Group) -> Vec<(String, Vec<f64>)> {
+    let mut out = Vec::new();
+    let Ok(r) = g.group("runout") else {
+        return out;
+    };
+    for sensor in r.member_names().unwrap_or_default() {
+        let Ok(sg) = r.group(&sensor) else { continue };
+        for dir in sg.member_names().unwrap_or_default() {
+            if let Ok(ds) = sg.dataset(&dir) {
+                if let Ok(v) = ds.read_raw::<f64>() {
+                    out.push((format!("{sensor}/{dir}"), v));
+                }
+            }
+        }
+    }
+    out
+}
+
 /// Opens or creates a nested group `a/b/c` under `group`.
 pub fn subgroup(group: &Group, path: &str) -> hdf5::Result<Group> {
     let mut g = group.clone();

@@ -164,7 +164,11 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     run_study(&st, &d.join("s1.h5"), 2, Some((1, 2)));
     campaign::merge(&[d.join("s0.h5"), d.join("s1.h5")], &d.join("merged.h5")).unwrap();
     let one = job_data(&d.join("one.h5"));
-    assert_eq!(one.len(), 4 * 7, "4 jobs × (time + 6 runout channels)");
+    assert_eq!(
+        one.len(),
+        4 * 14,
+        "4 jobs × (time + 6 runout channels + spectrum frequencies + 6 spectra)"
+    );
     assert_eq!(one, job_data(&d.join("two.h5")));
     assert_eq!(one, job_data(&d.join("merged.h5")));
     // The merged summary has every job once, in job order.

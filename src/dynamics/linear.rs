@@ -18,6 +18,7 @@ use nalgebra::{DMatrix, Matrix2, Vector2};
 
 use crate::eigen;
 use crate::fe::Rotor;
+use crate::model::Model;
 use crate::reduction::{classify, ModeKind, ReducedModel};
 use crate::scene::{RollerSupport, Scene, SupportModel};
 
@@ -142,6 +143,16 @@ pub fn linear_stages(scene: &Scene, rotor: &Rotor) -> Result<Vec<LinearStage>, L
 }
 
 impl LinearSystem {
+    /// The scene's rotor model on its supports, linearised, with the drive's axial spring.
+    pub fn of_scene(scene: &Scene, model: &Model) -> Result<Self, LinearError> {
+        let stages = linear_stages(scene, &model.rotor)?;
+        let drive = scene
+            .drive
+            .as_ref()
+            .map(|d| (model.rotor.named[&d.node], d.axial_stiffness));
+        Ok(Self::new(&model.reduced, &stages, drive))
+    }
+
     /// Assembles the reduced rotor with its linearised supports and the drive's axial spring.
     pub fn new(model: &ReducedModel, stages: &[LinearStage], drive: Option<(usize, f64)>) -> Self {
         let nm = model.len();

@@ -18,11 +18,12 @@ use std::sync::{mpsc, Arc};
 use rayon::prelude::*;
 
 use super::{Job, Study};
+use crate::dynamics::linear::{campbell, LinearSystem};
 use crate::integrators::{Stats, Status};
 use crate::job::{self, JobResult};
 use crate::model::Model;
 use crate::reduction::{ModeKind, ModeSelection};
-use crate::scene::Scene;
+use crate::scene::{Scene, SpeedProfile};
 use crate::store::{self, Column, Param};
 
 /// How to run a study.
@@ -166,6 +167,12 @@ fn save_part(dir: &Path, w: &Work, r: &JobResult, integrator: &str) -> Result<()
         let f = hdf5::File::create(&tmp)?;
         let mut params = w.params.clone();
         params.push(("model_id".into(), Param::Text(w.model_id.to_string())));
+        // The constant spin speed, for the spectral analysis (NaN for a speed profile).
+        let speed = match w.scene.speed {
+            SpeedProfile::Constant(omega) => omega / std::f64::consts::TAU,
+            _ => f64::NAN,
+        };
+        params.push(("speed_hz".into(), Param::Number(speed)));
         if let Some(p) = w.prune {
             params.push((super::PRUNE_KEY.into(), Param::Number(p)));
         }
@@ -320,13 +327,21 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         });
     }
     for j in &jobs {
+        let mut params = params_of(&j.overrides);
+        if !j.labels.is_empty() {
+            let all: Vec<&str> = j.labels.iter().map(|(_, l)| l.as_str()).collect();
+            params.push(("label".into(), Param::Text(all.join(", "))));
+            for (k, l) in &j.labels {
+                params.push((format!("label:{k}"), Param::Text(l.clone())));
+            }
+        }
         work.push(Work {
             id: j.id.clone(),
             kind: Kind::Job(j.index),
             scene: &j.scene,
             model_id: &j.model_id,
             prune: j.prune,
-            params: params_of(&j.overrides),
+            params,
         });
     }
     let resumed = jobs.iter().filter(|j| done.contains(&j.id)).count();
@@ -389,7 +404,16 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     if let Some(e) = write_error {
         return Err(e);
     }
-    assemble(study, opts, &dir, &jobs, &refs, &models, &shares)?;
+    assemble(
+        study,
+        opts,
+        &dir,
+        &jobs,
+        &refs,
+        &models,
+        &model_scenes,
+        &shares,
+    )?;
     let statuses = read_statuses(&opts.output)?;
     let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
     std::fs::remove_dir_all(&dir)?;
@@ -434,33 +458,14 @@ fn read_statuses(path: &Path) -> Result<Vec<String>, CampaignError> {
     Ok(out)
 }
 
-/// Runout channels of a job group: (name, samples).
-fn runout_channels(g: &hdf5::Group) -> Vec<(String, Vec<f64>)> {
-    let mut out = Vec::new();
-    let Ok(r) = g.group("runout") else {
-        return out;
-    };
-    for sensor in r.member_names().unwrap_or_default() {
-        let Ok(sg) = r.group(&sensor) else { continue };
-        for dir in sg.member_names().unwrap_or_default() {
-            if let Ok(ds) = sg.dataset(&dir) {
-                if let Ok(v) = ds.read_raw::<f64>() {
-                    out.push((format!("{sensor}/{dir}"), v));
-                }
-            }
-        }
-    }
-    out
-}
-
 /// Max and RMS runout difference [µm] between a job and its reference, over the common samples,
 /// the worst channel; NaN when either has no samples.
 fn errors_against(
     job: &hdf5::Group,
     reference: &hdf5::Group,
 ) -> (f64, f64, Vec<(String, f64, f64)>) {
-    let a = runout_channels(job);
-    let b = runout_channels(reference);
+    let a = store::runout_channels(job);
+    let b = store::runout_channels(reference);
     let mut per = Vec::new();
     for (name, x) in &a {
         if let Some((_, y)) = b.iter().find(|(n, _)| n == name) {
@@ -479,13 +484,61 @@ fn errors_against(
     (max, rms, per)
 }
 
+/// Campbell data stored with each model: spin speeds 0 … this [Hz], in this many steps.
+const CAMPBELL_MAX_HZ: f64 = 60.0;
+const CAMPBELL_SPEEDS: usize = 121;
+
+/// A model's linear analysis on its linearised supports: `campbell/speed_hz` [Hz],
+/// `campbell/whirl_hz` [speeds × branches, Hz], `critical_speeds_hz`, and the first bending
+/// frequencies at standstill as attributes (`vertical_hz`, `horizontal_hz`); a failure is
+/// stored as the attribute `linear_error`.
+fn write_linear(g: &hdf5::Group, scene: &Scene, m: &Model) -> hdf5::Result<()> {
+    let sys = match LinearSystem::of_scene(scene, m) {
+        Ok(s) => s,
+        Err(e) => return store::attr_str(g, "linear_error", &e.to_string()),
+    };
+    let first = |k: ModeKind| -> f64 {
+        sys.standstill_modes()
+            .ok()
+            .and_then(|v| {
+                v.iter()
+                    .find(|x| x.kind == k && x.freq_hz > 1e-6)
+                    .map(|x| x.freq_hz)
+            })
+            .unwrap_or(f64::NAN)
+    };
+    store::attr_f64(g, "vertical_hz", first(ModeKind::BendingY))?;
+    store::attr_f64(g, "horizontal_hz", first(ModeKind::BendingX))?;
+    match campbell(&sys, CAMPBELL_MAX_HZ, CAMPBELL_SPEEDS) {
+        Ok(c) => {
+            store::dataset(g, "campbell/speed_hz", &c.speeds_hz, "Hz")?;
+            let branches = c.whirl_hz.iter().map(Vec::len).min().unwrap_or(0);
+            let flat: Vec<f64> = c
+                .whirl_hz
+                .iter()
+                .flat_map(|w| w[..branches].iter().copied())
+                .collect();
+            store::dataset_2d(
+                g,
+                "campbell/whirl_hz",
+                (c.speeds_hz.len(), branches),
+                &flat,
+                "Hz",
+            )?;
+            store::dataset(g, "critical_speeds_hz", &c.critical_hz, "Hz")
+        }
+        Err(e) => store::attr_str(g, "linear_error", &e.to_string()),
+    }
+}
+
 fn write_model(
     group: &hdf5::Group,
     id: &str,
-    m: &Model,
+    (scene, m): (&Scene, &Model),
     shares: Option<&Vec<f64>>,
 ) -> hdf5::Result<()> {
     let g = group.create_group(id)?;
+    write_linear(&g, scene, m)?;
     let r = &m.full;
     store::attr_str(&g, "modes", &m.reduced.counts_label())?;
     store::attr_u64(&g, "elements", m.rotor.elements.len() as u64)?;
@@ -525,6 +578,7 @@ fn assemble(
     jobs: &[&Job],
     refs: &[&super::Reference],
     models: &BTreeMap<&str, Result<Arc<Model>, String>>,
+    model_scenes: &BTreeMap<&str, &Scene>,
     shares: &BTreeMap<String, Vec<f64>>,
 ) -> Result<(), CampaignError> {
     let tmp = store::with_suffix(&opts.output, ".tmp");
@@ -540,8 +594,8 @@ fn assemble(
         store::attr_str(&f, "shard", &format!("{si}/{sn}"))?;
         let mg = f.create_group("models")?;
         for (id, m) in models {
-            if let Ok(m) = m {
-                write_model(&mg, id, m, shares.get(*id))?;
+            if let (Ok(m), Some(scene)) = (m, model_scenes.get(id)) {
+                write_model(&mg, id, (scene, m), shares.get(*id))?;
             }
         }
         let rg = f.create_group("references")?;
@@ -579,6 +633,7 @@ fn assemble(
                 store::attr_f64(&g, &format!("error_rms_um:{name}"), r)?;
             }
         }
+        super::post::analyse(&f)?;
         write_summary(&f, &study.varying)?;
         f.close()?;
     }
@@ -638,6 +693,9 @@ pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
         }),
         text("modes", 32, &|g| {
             store::read_str(g, "modes").unwrap_or_default()
+        }),
+        text("label", 64, &|g| {
+            store::read_str(g, "label").unwrap_or_default()
         }),
     ];
     for key in varying {
@@ -796,6 +854,7 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> 
             }
         }
         let keys: Vec<String> = varying.lines().map(str::to_string).collect();
+        super::post::analyse(&f)?;
         write_summary(&f, &keys)?;
         f.close()?;
     }

@@ -11,6 +11,7 @@
 //! reason; every job's scene is validated before anything runs.
 
 pub mod campaign;
+pub mod post;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -41,6 +42,69 @@ struct StudyFile {
     budget: BudgetFile,
     #[serde(default)]
     pruning: toml::Table,
+    #[serde(default)]
+    analysis: AnalysisSpec,
+}
+
+/// The study's `[analysis]` table: what the post-processing of the results computes.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisSpec {
+    /// Orders of the spin frequency whose lines are measured in every job (1, 2, 3, 4 by
+    /// default; non-integer orders measure other lines, e.g. 0.92 for rollers turning at
+    /// 115/125 of the roll's speed).
+    #[serde(default = "default_orders")]
+    pub orders: Vec<f64>,
+    /// Highest frequency [Hz] kept in stored spectra and maps (default: 8 × the job's speed).
+    pub max_freq_hz: Option<f64>,
+    /// The label (on a labelled axis) of the baseline jobs: every other job on that axis gets
+    /// its 1× trial-mass response against the baseline job with the same other keys.
+    pub baseline: Option<String>,
+}
+
+fn default_orders() -> Vec<f64> {
+    vec![1.0, 2.0, 3.0, 4.0]
+}
+
+impl Default for AnalysisSpec {
+    fn default() -> Self {
+        Self {
+            orders: default_orders(),
+            max_freq_hz: None,
+            baseline: None,
+        }
+    }
+}
+
+/// An axis with labels: its keys (the first one names the label) and one label per value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LabelledAxis {
+    /// The axis's keys.
+    pub keys: Vec<String>,
+    /// The labels, one per value.
+    pub labels: Vec<String>,
+}
+
+/// The `[analysis]` table and the labelled axes of a study's text; `None` when the text is not
+/// a study file.
+pub fn analysis_of_text(text: &str) -> Option<(AnalysisSpec, Vec<LabelledAxis>)> {
+    let raw: StudyFile = toml::from_str(text).ok()?;
+    let labelled = raw
+        .axes
+        .iter()
+        .filter_map(|a| {
+            let keys = match (&a.key, &a.keys) {
+                (Some(k), _) => vec![k.clone()],
+                (None, Some(ks)) if !ks.is_empty() => ks.clone(),
+                _ => return None,
+            };
+            Some(LabelledAxis {
+                keys,
+                labels: a.labels.clone()?,
+            })
+        })
+        .collect();
+    Some((raw.analysis, labelled))
 }
 
 #[derive(Debug, Deserialize)]
@@ -50,6 +114,7 @@ struct AxisFile {
     keys: Option<Vec<String>>,
     values: Option<Vec<toml::Value>>,
     range: Option<RangeFile>,
+    labels: Option<Vec<String>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -82,6 +147,8 @@ pub struct Job {
     pub model_id: String,
     /// Id of the reference run this job is compared with.
     pub reference_id: String,
+    /// Labels of the job's rows on labelled axes: (the axis's first key, label).
+    pub labels: Vec<(String, String)>,
     /// The validated scene.
     pub scene: Scene,
 }
@@ -122,6 +189,8 @@ pub struct Study {
     pub pilot_overrides: Vec<(String, toml::Value)>,
     /// Whether the study names a reference setting (otherwise no errors are computed).
     pub has_reference: bool,
+    /// What the post-processing computes.
+    pub analysis: AnalysisSpec,
 }
 
 /// The pilot overrides as one canonical text (for ids).
@@ -249,6 +318,9 @@ fn axis_values(
             }
         }
         (None, Some(r)) => {
+            if a.labels.is_some() {
+                return Err(c.err(&format!("{key}.labels"), "labels go with `values`"));
+            }
             if keys.len() != 1 {
                 return Err(c.err(&format!("{key}.range"), "a range goes with a single `key`"));
             }
@@ -298,11 +370,20 @@ impl Study {
         let mut base = Vec::new();
         flatten("", &raw.set, &mut base);
         // The product of the axes.
-        let mut combos: Vec<Vec<(String, toml::Value)>> = vec![Vec::new()];
+        type Combo = (Vec<(String, toml::Value)>, Vec<(String, String)>);
+        let mut combos: Vec<Combo> = vec![(Vec::new(), Vec::new())];
         let mut varying = Vec::new();
         let mut axis_of_key = BTreeMap::new();
         for (i, a) in raw.axes.iter().enumerate() {
             let (keys, rows) = axis_values(&c, i, a)?;
+            if let Some(l) = &a.labels {
+                if l.len() != rows.len() {
+                    return Err(c.err(
+                        &format!("axes[{i}].labels"),
+                        format!("{} labels for {} values", l.len(), rows.len()),
+                    ));
+                }
+            }
             for k in &keys {
                 if axis_of_key.insert(k.clone(), i).is_some() {
                     return Err(c.err(&format!("axes[{i}]"), format!("key `{k}` is swept twice")));
@@ -311,9 +392,12 @@ impl Study {
             }
             let mut next = Vec::with_capacity(combos.len() * rows.len());
             for combo in &combos {
-                for row in &rows {
+                for (r, row) in rows.iter().enumerate() {
                     let mut c2 = combo.clone();
-                    c2.extend(keys.iter().cloned().zip(row.iter().cloned()));
+                    c2.0.extend(keys.iter().cloned().zip(row.iter().cloned()));
+                    if let Some(l) = &a.labels {
+                        c2.1.push((keys[0].clone(), l[r].clone()));
+                    }
                     next.push(c2);
                 }
             }
@@ -336,7 +420,7 @@ impl Study {
                     "an explicit job needs at least one key",
                 ));
             }
-            combos.push(o);
+            combos.push((o, Vec::new()));
         }
         let mut reference = Vec::new();
         flatten("", &raw.reference, &mut reference);
@@ -374,7 +458,26 @@ impl Study {
         });
         let mut jobs = Vec::new();
         let mut references: BTreeMap<String, Reference> = BTreeMap::new();
-        for (index, combo) in combos.into_iter().enumerate() {
+        let a = &raw.analysis;
+        if a.orders.is_empty() || a.orders.iter().any(|o| !(o.is_finite() && *o > 0.0)) {
+            return Err(c.err("analysis.orders", "needs one or more positive orders"));
+        }
+        if a.max_freq_hz.is_some_and(|f| !(f.is_finite() && f > 0.0)) {
+            return Err(c.err("analysis.max_freq_hz", "must be a positive frequency"));
+        }
+        if let Some(b) = &a.baseline {
+            let found = raw
+                .axes
+                .iter()
+                .any(|x| x.labels.as_ref().is_some_and(|l| l.contains(b)));
+            if !found {
+                return Err(c.err(
+                    "analysis.baseline",
+                    format!("no axis has the label `{b}` (axes need `labels` for a baseline)"),
+                ));
+            }
+        }
+        for (index, (combo, labels)) in combos.into_iter().enumerate() {
             // Where to point errors: the axis (or explicit job) that set a key.
             let locate_key = |k: &str| -> String {
                 match axis_of_key.get(k) {
@@ -493,6 +596,7 @@ impl Study {
                 prune,
                 model_id,
                 reference_id,
+                labels,
                 scene,
             });
         }
@@ -519,6 +623,7 @@ impl Study {
             references: references.into_values().collect(),
             pilot_overrides: pilot,
             has_reference: !reference.is_empty(),
+            analysis: raw.analysis,
         })
     }
 

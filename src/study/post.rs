@@ -1,0 +1,424 @@
+//! Post-processing of an assembled results file (physics.md §8), after `run` assembles it and
+//! after `merge`: it reads only the file, so shards merged later get the same analysis.
+//!
+//! In: `/jobs/<id>` groups (status, `speed_hz`, `time` [s], `runout/<sensor>/<dir>` [µm], the
+//! varying keys and `label:<key>` as attributes), the file's `varying_keys`, and its
+//! `study_text` (the `[analysis]` table, the labelled axes).
+//! Out, in the same file (every job that ended ok at a constant speed):
+//! - `/jobs/<id>/spectrum/freq_hz` [Hz], `/jobs/<id>/spectrum/<sensor>/<dir>` [µm]: the
+//!   amplitude-correct Hanning spectrum up to `max_freq_hz` (default 8 × the speed);
+//! - `/analysis/lines`: table job_id, channel, order, speed_hz, freq_hz, amplitude_um, phase_deg
+//!   (the line at order × speed; phase relative to roll angle 0);
+//! - `/analysis/sweeps/<n>` for each set of ≥ 3 jobs that differ only in `speed.hz`: `speed_hz`,
+//!   `job_ids`, `orders`, `lines/<sensor>/<dir>` [speeds × orders, µm] and, when the records
+//!   match, `freq_hz` and `map/<sensor>/<dir>` [speeds × frequencies, µm]; attribute `fixed` (the
+//!   other keys' values);
+//! - `/analysis/resonances`: table sweep, channel, order, rank, speed_hz, amplitude_um (the three
+//!   highest interior peaks of each order's amplitude over speed);
+//! - `/analysis/trial_mass`, with an `[analysis] baseline`: table job_id, baseline_id, label,
+//!   channel, speed_hz, amplitude_um, baseline_amplitude_um, amplitude_change_um,
+//!   vector_change_um, vector_phase_deg (1× change against the baseline job).
+
+use std::collections::BTreeMap;
+
+use rustfft::num_complex::Complex64;
+
+use super::{analysis_of_text, AnalysisSpec, LabelledAxis};
+use crate::analysis;
+use crate::store::{self, Column, Param};
+
+/// The key a spectral map sweeps.
+pub const SWEEP_KEY: &str = "speed.hz";
+
+/// Peaks kept per order and channel in the resonance table.
+const RANKS: usize = 3;
+
+/// One job as the analysis sees it.
+struct JobData {
+    id: String,
+    speed_hz: f64,
+    time: Vec<f64>,
+    channels: Vec<(String, Vec<f64>)>,
+    /// Varying key → value as text.
+    values: BTreeMap<String, String>,
+    /// Label per labelled axis key.
+    labels: BTreeMap<String, String>,
+    /// Complex line amplitude per channel and order (orders of the spec).
+    lines: Vec<Vec<Complex64>>,
+    /// The 1× line per channel.
+    one_x: Vec<Complex64>,
+}
+
+impl JobData {
+    fn sample_rate(&self) -> f64 {
+        let n = self.time.len();
+        (n - 1) as f64 / (self.time[n - 1] - self.time[0])
+    }
+}
+
+fn text_of(p: &Param) -> String {
+    match p {
+        Param::Number(x) => format!("{x}"),
+        Param::Text(t) => t.clone(),
+    }
+}
+
+fn read_jobs(
+    f: &hdf5::File,
+    varying: &[String],
+    axes: &[LabelledAxis],
+    orders: &[f64],
+) -> hdf5::Result<Vec<JobData>> {
+    let jobs = f.group("jobs")?;
+    let mut out = Vec::new();
+    for id in jobs.member_names()? {
+        let g = jobs.group(&id)?;
+        let speed_hz = store::read_num(&g, "speed_hz").unwrap_or(f64::NAN);
+        if store::read_str(&g, "status")? != "ok" || !(speed_hz > 0.0 && speed_hz.is_finite()) {
+            continue;
+        }
+        let time = g
+            .dataset("time")
+            .and_then(|d| d.read_raw::<f64>())
+            .unwrap_or_default();
+        if time.len() < 2 || time[time.len() - 1] <= time[0] {
+            continue;
+        }
+        let channels = store::runout_channels(&g);
+        let values = varying
+            .iter()
+            .filter_map(|k| Some((k.clone(), text_of(&store::read_param(&g, k).ok()?))))
+            .collect();
+        let labels = axes
+            .iter()
+            .filter_map(|a| {
+                let k = &a.keys[0];
+                Some((k.clone(), store::read_str(&g, &format!("label:{k}")).ok()?))
+            })
+            .collect();
+        let lines = channels
+            .iter()
+            .map(|(_, x)| {
+                orders
+                    .iter()
+                    .map(|o| analysis::line(x, &time, o * speed_hz))
+                    .collect()
+            })
+            .collect();
+        let one_x = channels
+            .iter()
+            .map(|(_, x)| analysis::line(x, &time, speed_hz))
+            .collect();
+        out.push(JobData {
+            id,
+            speed_hz,
+            time,
+            channels,
+            values,
+            labels,
+            lines,
+            one_x,
+        });
+    }
+    Ok(out)
+}
+
+/// The number of spectrum bins at or below `max_hz`.
+fn bins_below(s: &analysis::Spectrum, max_hz: f64) -> usize {
+    s.freq_hz
+        .iter()
+        .take_while(|f| **f <= max_hz + 1e-9)
+        .count()
+}
+
+fn write_job_spectra(f: &hdf5::File, j: &JobData, spec: &AnalysisSpec) -> hdf5::Result<()> {
+    let g = f.group(&format!("jobs/{}", j.id))?;
+    if g.link_exists("spectrum") || j.channels.is_empty() {
+        return Ok(());
+    }
+    let fs = j.sample_rate();
+    let cap = spec.max_freq_hz.unwrap_or(8.0 * j.speed_hz);
+    let mut freq_written = false;
+    for (name, x) in &j.channels {
+        let s = analysis::spectrum(x, fs);
+        let n = bins_below(&s, cap);
+        if !freq_written {
+            store::dataset(&g, "spectrum/freq_hz", &s.freq_hz[..n], "Hz")?;
+            freq_written = true;
+        }
+        store::dataset(&g, &format!("spectrum/{name}"), &s.amplitude[..n], "um")?;
+    }
+    Ok(())
+}
+
+/// Rows of the lines table.
+fn lines_table(g: &hdf5::Group, jobs: &[JobData], orders: &[f64]) -> hdf5::Result<()> {
+    let mut id = Vec::new();
+    let mut channel = Vec::new();
+    let (mut order, mut speed, mut freq, mut amp, mut phase) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for j in jobs {
+        for (c, (name, _)) in j.channels.iter().enumerate() {
+            for (k, o) in orders.iter().enumerate() {
+                let z = j.lines[c][k];
+                id.push(j.id.clone());
+                channel.push(name.clone());
+                order.push(*o);
+                speed.push(j.speed_hz);
+                freq.push(o * j.speed_hz);
+                amp.push(z.norm());
+                phase.push(z.arg().to_degrees());
+            }
+        }
+    }
+    store::compound_table(
+        g,
+        "lines",
+        &[
+            Column::Text("job_id".into(), 17, id),
+            Column::Text("channel".into(), 48, channel),
+            Column::Number("order".into(), order),
+            Column::Number("speed_hz".into(), speed),
+            Column::Number("freq_hz".into(), freq),
+            Column::Number("amplitude_um".into(), amp),
+            Column::Number("phase_deg".into(), phase),
+        ],
+    )
+}
+
+/// Jobs that differ only in the sweep key, each set ordered by speed (≥ 3 distinct speeds).
+fn sweeps<'a>(jobs: &'a [JobData], varying: &[String]) -> Vec<(String, Vec<&'a JobData>)> {
+    if !varying.iter().any(|k| k == SWEEP_KEY) {
+        return Vec::new();
+    }
+    let mut sets: BTreeMap<String, Vec<&JobData>> = BTreeMap::new();
+    for j in jobs {
+        let fixed: Vec<String> = j
+            .values
+            .iter()
+            .filter(|(k, _)| k.as_str() != SWEEP_KEY)
+            .map(|(k, v)| match j.labels.get(k) {
+                Some(l) => format!("{k}={l}"),
+                None => format!("{k}={v}"),
+            })
+            .collect();
+        sets.entry(fixed.join("; ")).or_default().push(j);
+    }
+    sets.into_iter()
+        .filter_map(|(fixed, mut v)| {
+            v.sort_by(|a, b| a.speed_hz.total_cmp(&b.speed_hz).then(a.id.cmp(&b.id)));
+            v.dedup_by(|a, b| a.speed_hz == b.speed_hz);
+            (v.len() >= 3).then_some((fixed, v))
+        })
+        .collect()
+}
+
+struct ResonanceRows {
+    sweep: Vec<f64>,
+    fixed: Vec<String>,
+    channel: Vec<String>,
+    order: Vec<f64>,
+    rank: Vec<f64>,
+    speed: Vec<f64>,
+    amp: Vec<f64>,
+}
+
+fn write_sweep(
+    g: &hdf5::Group,
+    n: usize,
+    fixed: &str,
+    set: &[&JobData],
+    spec: &AnalysisSpec,
+    res: &mut ResonanceRows,
+) -> hdf5::Result<()> {
+    let sg = g.create_group(&n.to_string())?;
+    store::attr_str(&sg, "fixed", fixed)?;
+    let speeds: Vec<f64> = set.iter().map(|j| j.speed_hz).collect();
+    store::dataset(&sg, "speed_hz", &speeds, "Hz")?;
+    store::string_dataset(
+        &sg,
+        "job_ids",
+        &set.iter().map(|j| j.id.clone()).collect::<Vec<_>>(),
+    )?;
+    store::dataset(&sg, "orders", &spec.orders, "1")?;
+    let names: Vec<&String> = set[0].channels.iter().map(|(n, _)| n).collect();
+    // Spectral maps only when every record has the same length and rate.
+    let same = set.iter().all(|j| {
+        j.time.len() == set[0].time.len()
+            && (j.sample_rate() - set[0].sample_rate()).abs() <= 1e-9 * set[0].sample_rate()
+            && j.channels.len() == names.len()
+    });
+    let max_speed = speeds.iter().copied().fold(0.0, f64::max);
+    let cap = spec.max_freq_hz.unwrap_or(8.0 * max_speed);
+    for (c, name) in names.iter().enumerate() {
+        if !set
+            .iter()
+            .all(|j| j.channels.get(c).map(|x| &x.0) == Some(name))
+        {
+            continue;
+        }
+        let no = spec.orders.len();
+        let mut lines = Vec::with_capacity(set.len() * no);
+        for j in set {
+            lines.extend(j.lines[c].iter().map(|z| z.norm()));
+        }
+        store::dataset_2d(&sg, &format!("lines/{name}"), (set.len(), no), &lines, "um")?;
+        for (k, o) in spec.orders.iter().enumerate() {
+            let amp: Vec<f64> = (0..set.len()).map(|s| lines[s * no + k]).collect();
+            for (r, p) in analysis::peaks(&speeds, &amp)
+                .into_iter()
+                .take(RANKS)
+                .enumerate()
+            {
+                res.sweep.push(n as f64);
+                res.fixed.push(fixed.to_string());
+                res.channel.push(name.to_string());
+                res.order.push(*o);
+                res.rank.push((r + 1) as f64);
+                res.speed.push(p.speed_hz);
+                res.amp.push(p.amplitude);
+            }
+        }
+        if same {
+            let fs = set[0].sample_rate();
+            let mut map = Vec::new();
+            let mut bins = 0;
+            for j in set {
+                let s = analysis::spectrum(&j.channels[c].1, fs);
+                bins = bins_below(&s, cap);
+                if c == 0 && map.is_empty() {
+                    store::dataset(&sg, "freq_hz", &s.freq_hz[..bins], "Hz")?;
+                }
+                map.extend_from_slice(&s.amplitude[..bins]);
+            }
+            store::dataset_2d(&sg, &format!("map/{name}"), (set.len(), bins), &map, "um")?;
+        }
+    }
+    Ok(())
+}
+
+/// The trial-mass table: each job on the baseline's axis against the job with the baseline
+/// label and the same other keys.
+fn trial_mass_table(
+    g: &hdf5::Group,
+    jobs: &[JobData],
+    baseline: &str,
+    axes: &[LabelledAxis],
+) -> hdf5::Result<()> {
+    let Some(axis) = axes.iter().find(|a| a.labels.iter().any(|l| l == baseline)) else {
+        return Ok(());
+    };
+    let key = &axis.keys[0];
+    let others = |j: &JobData| -> Vec<(String, String)> {
+        j.values
+            .iter()
+            .filter(|(k, _)| !axis.keys.contains(k))
+            .map(|(k, v)| (k.clone(), v.clone()))
+            .collect()
+    };
+    let mut cols: [Vec<f64>; 6] = Default::default();
+    let (mut id, mut base_id, mut label, mut channel) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for j in jobs {
+        let Some(l) = j.labels.get(key).filter(|l| l.as_str() != baseline) else {
+            continue;
+        };
+        let mine = others(j);
+        let Some(b) = jobs
+            .iter()
+            .find(|b| b.labels.get(key).map(String::as_str) == Some(baseline) && others(b) == mine)
+        else {
+            continue;
+        };
+        for (c, (name, _)) in j.channels.iter().enumerate() {
+            let Some(bc) = b.channels.iter().position(|(n, _)| n == name) else {
+                continue;
+            };
+            let r = analysis::trial_response(j.one_x[c], b.one_x[bc]);
+            id.push(j.id.clone());
+            base_id.push(b.id.clone());
+            label.push(l.clone());
+            channel.push(name.clone());
+            let row = [
+                j.speed_hz,
+                j.one_x[c].norm(),
+                b.one_x[bc].norm(),
+                r.amplitude_change,
+                r.vector_change,
+                r.vector_phase.to_degrees(),
+            ];
+            for (col, v) in cols.iter_mut().zip(row) {
+                col.push(v);
+            }
+        }
+    }
+    let [speed, amp, base_amp, change, vector, phase] = cols;
+    store::compound_table(
+        g,
+        "trial_mass",
+        &[
+            Column::Text("job_id".into(), 17, id),
+            Column::Text("baseline_id".into(), 17, base_id),
+            Column::Text("label".into(), 64, label),
+            Column::Text("channel".into(), 48, channel),
+            Column::Number("speed_hz".into(), speed),
+            Column::Number("amplitude_um".into(), amp),
+            Column::Number("baseline_amplitude_um".into(), base_amp),
+            Column::Number("amplitude_change_um".into(), change),
+            Column::Number("vector_change_um".into(), vector),
+            Column::Number("vector_phase_deg".into(), phase),
+        ],
+    )
+}
+
+/// Analyses an assembled file in place (module doc); replaces an earlier `/analysis`.
+pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
+    let text = store::read_str(f, "study_text").unwrap_or_default();
+    let (spec, axes) = analysis_of_text(&text).unwrap_or_default();
+    let varying: Vec<String> = store::read_str(f, "varying_keys")
+        .unwrap_or_default()
+        .lines()
+        .filter(|l| !l.is_empty())
+        .map(str::to_string)
+        .collect();
+    let jobs = read_jobs(f, &varying, &axes, &spec.orders)?;
+    for j in &jobs {
+        write_job_spectra(f, j, &spec)?;
+    }
+    if f.link_exists("analysis") {
+        f.unlink("analysis")?;
+    }
+    let g = f.create_group("analysis")?;
+    store::attr_str(&g, "sweep_key", SWEEP_KEY)?;
+    lines_table(&g, &jobs, &spec.orders)?;
+    let sg = g.create_group("sweeps")?;
+    let mut res = ResonanceRows {
+        sweep: Vec::new(),
+        fixed: Vec::new(),
+        channel: Vec::new(),
+        order: Vec::new(),
+        rank: Vec::new(),
+        speed: Vec::new(),
+        amp: Vec::new(),
+    };
+    for (n, (fixed, set)) in sweeps(&jobs, &varying).iter().enumerate() {
+        write_sweep(&sg, n, fixed, set, &spec, &mut res)?;
+    }
+    store::compound_table(
+        &g,
+        "resonances",
+        &[
+            Column::Number("sweep".into(), res.sweep),
+            Column::Text("fixed".into(), 96, res.fixed),
+            Column::Text("channel".into(), 48, res.channel),
+            Column::Number("order".into(), res.order),
+            Column::Number("rank".into(), res.rank),
+            Column::Number("speed_hz".into(), res.speed),
+            Column::Number("amplitude_um".into(), res.amp),
+        ],
+    )?;
+    if let Some(b) = &spec.baseline {
+        trial_mass_table(&g, &jobs, b, &axes)?;
+    }
+    Ok(())
+}
