@@ -10,7 +10,11 @@ A results file (``rotorsweep run STUDY -o OUT.h5``; ``rotorsweep merge`` joins s
   ``journal/…``, ``stand/…``, ``contact/…``, ``modal/…``), each with a ``units`` attribute;
 * ``/models/<model_id>``: the reduced models' modes (``freq_hz``, ``index``, ``labels``,
   ``kinds``, optional ``strain_energy_share``);
-* ``/summary``: one row per job (compound table).
+* ``/summary``: one row per job (compound table);
+* ``/analysis`` (post-processing by ``run`` and ``merge``): compound tables ``lines``,
+  ``resonances`` and, with an ``[analysis] baseline``, ``trial_mass``; ``sweeps/<n>``, one per
+  set of jobs that differ only in ``speed.hz``, with the line amplitudes at the study's orders and
+  the spectral maps (speed × frequency).
 
 ``rotorsweep simulate SCENE -o RUN.h5`` writes ``/jobs/<scene name>`` only; every reader here
 that does not need ``/summary`` or ``/models`` works on it too, and :func:`load_summary` builds
@@ -58,6 +62,26 @@ class Job(TypedDict):
     units: dict[str, str]
 
 
+class Sweep(TypedDict):
+    """One speed sweep (``/analysis/sweeps/<n>``) as :func:`sweeps` returns it."""
+
+    n: int
+    #: The other varying keys' values, "key=value; …" (labels where the axis has labels).
+    fixed: str
+    #: [S] spin speeds [Hz], ascending.
+    speed_hz: np.ndarray
+    #: [S] the job at each speed.
+    job_ids: list[str]
+    #: [K] orders of the lines (multiples of the speed).
+    orders: np.ndarray
+    #: Channel ("centre/vertical", …) → [S × K] line amplitudes [um].
+    lines: dict[str, np.ndarray]
+    #: [F] frequencies of the maps [Hz]; None when the sweep has no maps.
+    freq_hz: np.ndarray | None
+    #: Channel → [S × F] spectral map [um] (amplitude-correct Hanning spectra); {} without maps.
+    maps: dict[str, np.ndarray]
+
+
 class Model(TypedDict):
     """One reduced model as :func:`models` returns it."""
 
@@ -88,6 +112,28 @@ def _read(ds: h5py.Dataset) -> np.ndarray:
     if h5py.check_string_dtype(ds.dtype) is not None:
         return np.asarray(ds.asstr()[()], dtype=object)
     return np.asarray(ds[()])
+
+
+def _table(ds: h5py.Dataset) -> pd.DataFrame:
+    """A compound dataset as a DataFrame; its fixed-length ASCII text columns decoded to str."""
+    table = ds[()]
+    df = pd.DataFrame(table)
+    for name in table.dtype.names or ():
+        if table.dtype[name].kind == "S":
+            df[name] = [b.decode("ascii", "replace") for b in table[name]]
+    return df
+
+
+def _channel_arrays(g: h5py.Group) -> dict[str, np.ndarray]:
+    """The datasets ``<sensor>/<dir>`` under ``g`` by channel name ("centre/vertical", …)."""
+    out: dict[str, np.ndarray] = {}
+
+    def visit(name: str, obj: h5py.HLObject) -> None:
+        if isinstance(obj, h5py.Dataset):
+            out[name] = _read(obj)
+
+    g.visititems(visit)
+    return out
 
 
 def _run_group(f: h5py.File, run_id: str) -> h5py.Group:
@@ -135,11 +181,7 @@ def load_summary(path: PathLike, *, index: bool = False) -> pd.DataFrame:
     """
     with h5py.File(path, "r") as f:
         if "summary" in f:
-            table = f["summary"][()]
-            df = pd.DataFrame(table)
-            for name in table.dtype.names or ():
-                if table.dtype[name].kind == "S":
-                    df[name] = [b.decode("ascii", "replace") for b in table[name]]
+            df = _table(f["summary"])
             # A varying solver.integrator is stored only as the "integrator" column; give it its
             # dotted key too, so that df[varying_keys(path)] works.
             varying = str(_value(f.attrs.get("varying_keys", ""))).split("\n")
@@ -222,4 +264,55 @@ def models(path: PathLike) -> dict[str, Model]:
                 modes["index"] = modes["index"].astype("int64")
             modes.attrs["units"] = units
             out[model_id] = Model(attrs=_attrs(g), modes=modes)
+    return out
+
+
+def job_attrs(path: PathLike) -> pd.DataFrame:
+    """Every job's scalar attributes (status, statistics, reference_id, model_id, the overrides
+    under their dotted keys, ``label:<key>``, …) as Python values: index job_id in job-index
+    order, one column per attribute name (NaN where a job lacks it)."""
+    ids = job_ids(path)
+    with h5py.File(path, "r") as f:
+        rows = {i: _attrs(f["jobs"][i]) for i in ids}
+    df = pd.DataFrame.from_dict(rows, orient="index")
+    df.index.name = "job_id"
+    return df
+
+
+def job_labels(path: PathLike) -> pd.DataFrame:
+    """The jobs' labels on labelled axes: index job_id (job-index order), one str column per
+    labelled axis, named by the axis's first key (the jobs' ``label:<key>`` attributes). No
+    columns when the study has no labelled axis."""
+    labels = job_attrs(path).filter(regex="^label:")
+    return labels.rename(columns=lambda c: c.removeprefix("label:"))
+
+
+def analysis_table(path: PathLike, name: str) -> pd.DataFrame:
+    """The ``/analysis/<name>`` table ("lines", "resonances", "trial_mass") with its text columns
+    (job_id, channel, label, fixed, …) as ``str``; amplitudes in um, speeds and frequencies in
+    Hz, phases in degrees. An empty DataFrame when the file has no such table."""
+    with h5py.File(path, "r") as f:
+        key = f"analysis/{name}"
+        return _table(f[key]) if key in f else pd.DataFrame()
+
+
+def sweeps(path: PathLike) -> list[Sweep]:
+    """The speed sweeps of ``/analysis/sweeps``, by ascending ``n``; [] when there are none."""
+    out: list[Sweep] = []
+    with h5py.File(path, "r") as f:
+        groups = f.get("analysis/sweeps", {})
+        for n in sorted(groups, key=int):
+            g = groups[n]
+            out.append(
+                Sweep(
+                    n=int(n),
+                    fixed=str(_value(g.attrs.get("fixed", ""))),
+                    speed_hz=_read(g["speed_hz"]),
+                    job_ids=[str(i) for i in _read(g["job_ids"])],
+                    orders=_read(g["orders"]),
+                    lines=_channel_arrays(g["lines"]),
+                    freq_hz=_read(g["freq_hz"]) if "freq_hz" in g else None,
+                    maps=_channel_arrays(g["map"]) if "map" in g else {},
+                )
+            )
     return out

@@ -1,0 +1,205 @@
+"""scripts/plots.py on results files of two small studies run by the real binary (found as in
+test_results.py), each 0.6 s of simulated time (0.3 s recorded) at three speeds:
+
+* trial masses: the ideal roll without and with 100 g at the centre (axis roll.masses labelled
+  "reference" / "100 g", [analysis] baseline "reference") → two speed sweeps with maps, the
+  trial-mass table, 6 jobs;
+* solvers: the reference roll with bdf and gen-alpha and a [reference] → two speed sweeps, errors
+  against the reference, a varying solver.integrator, 6 jobs.
+
+Both run in about a second once built; rendering takes a few seconds.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import matplotlib.image
+import numpy as np
+import pandas as pd
+import pytest
+
+import plots
+import rotorsweep_py as rp
+from test_results import ROOT, run_ok
+
+
+def study(name: str, scene: str, rest: str) -> str:
+    """A study file: ``scene`` (a file of studies/scenes), 0.6 s with 0.3 s recorded, at three
+    speeds, then ``rest`` (more axes, [analysis], [reference])."""
+    return f"""\
+name = "{name}"
+scene = "{(ROOT / "studies" / "scenes" / scene).as_posix()}"
+
+[set]
+"simulation.t_end_s" = 0.6
+"simulation.settle_s" = 0.3
+
+[[axes]]
+key = "speed.hz"
+values = [10.0, 14.0, 18.0]
+
+{rest}"""
+
+
+TRIAL_STUDY = study(
+    "py-trial-mass",
+    "ideal-roll.toml",
+    """\
+[[axes]]
+key = "roll.masses"
+values = [[], [{ z_mm = 2250.0, radius_mm = 160.0, angle_deg = 0.0, mass_g = 100.0 }]]
+labels = ["reference", "100 g"]
+
+[analysis]
+baseline = "reference"
+max_freq_hz = 100.0
+""",
+)
+SOLVER_STUDY = study(
+    "py-solvers",
+    "reference-roll.toml",
+    """\
+[[axes]]
+key = "solver.integrator"
+values = ["bdf", "gen-alpha"]
+
+[reference]
+"solver.hmax" = 5e-5
+"solver.tolerance" = 1e-9
+
+[analysis]
+orders = [1.0, 2.0, 3.0, 4.0, 0.92]
+max_freq_hz = 100.0
+""",
+)
+SWEEP_PLOTS = ["spectral_map-0.png", "harmonics-0.png", "spectral_map-1.png", "harmonics-1.png"]
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+def run_study(d: Path, text: str) -> Path:
+    (d / "study.toml").write_text(text)
+    run_ok("run", "study.toml", "-o", "out.h5", "--threads", "2", cwd=d)
+    return d / "out.h5"
+
+
+@pytest.fixture(scope="module")
+def trial_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return run_study(tmp_path_factory.mktemp("trial"), TRIAL_STUDY)
+
+
+@pytest.fixture(scope="module")
+def solver_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return run_study(tmp_path_factory.mktemp("solvers"), SOLVER_STUDY)
+
+
+def check_png(path: Path) -> np.ndarray:
+    """The image of a written PNG [rows × columns × RGBA, 0…1] after checking that it is one."""
+    assert path.read_bytes()[:8] == PNG_MAGIC, f"{path} is not a PNG"
+    assert 10_000 < path.stat().st_size < 3_000_000, f"{path}: {path.stat().st_size} bytes"
+    img = matplotlib.image.imread(path)
+    assert img.ndim == 3 and img.shape[2] in (3, 4), f"{path}: shape {img.shape}"
+    assert 300 <= img.shape[0] <= 2500 and 400 <= img.shape[1] <= 2500, f"{path}: {img.shape}"
+    return img
+
+
+def check_map(path: Path) -> None:
+    """The inside of the first panel of a spectral map is an image, not a blank axes."""
+    img = check_png(path)
+    h, w = img.shape[:2]
+    inside = img[int(0.3 * h) : int(0.8 * h), int(0.12 * w) : int(0.4 * w), :3]
+    assert inside.var() > 0, f"{path}: the map is blank"
+    colours = np.unique(inside.reshape(-1, 3), axis=0)
+    assert len(colours) > 10, f"{path}: only {len(colours)} colours in the map"
+
+
+def test_trial_mass_study(trial_results: Path, tmp_path: Path) -> None:
+    written = plots.render(trial_results, tmp_path / "plots")
+    assert [p.name for p in written] == [*SWEEP_PLOTS, "trial_mass.png", "timing.png"]
+    assert all(p.parent == tmp_path / "plots" for p in written)
+    for p in written:
+        check_png(p)
+    check_map(written[0])
+    check_map(written[2])
+    # The trial-mass table the plot draws: both directions of three sensors at three speeds.
+    table = rp.analysis_table(trial_results, "trial_mass")
+    assert set(table["label"]) == {"100 g"} and len(table) == 3 * 6
+    assert np.all(table["vector_change_um"] > 0)
+
+
+def test_solver_study_from_the_command_line(solver_results: Path, tmp_path: Path) -> None:
+    out = tmp_path / "pngs"
+    p = subprocess.run(
+        [sys.executable, ROOT / "scripts" / "plots.py", solver_results, "-o", out,
+         "--channel", "drive/horizontal"],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert p.returncode == 0, p.stderr
+    names = [*SWEEP_PLOTS, "work_precision.png", "timing.png", "stability.png"]
+    assert p.stdout.split() == [str(out / n) for n in names]
+    for n in names:
+        check_png(out / n)
+    check_map(out / "spectral_map-0.png")
+    check_map(out / "spectral_map-1.png")
+    # The sweeps the maps come from: one per integrator, the speeds ascending.
+    sweeps = rp.sweeps(solver_results)
+    assert [s["fixed"] for s in sweeps] == ["solver.integrator=bdf", "solver.integrator=gen-alpha"]
+    for s in sweeps:
+        assert list(s["speed_hz"]) == [10.0, 14.0, 18.0]
+        assert s["maps"]["drive/horizontal"].shape == (3, len(s["freq_hz"]))
+        assert s["lines"]["drive/horizontal"].shape == (3, len(s["orders"]))
+
+
+def test_default_folder_is_beside_the_file(trial_results: Path, tmp_path: Path) -> None:
+    copy = tmp_path / "trial.h5"
+    copy.write_bytes(trial_results.read_bytes())
+    assert plots.main([str(copy)]) == 0
+    assert (tmp_path / "trial-plots" / "trial_mass.png").is_file()
+
+
+def test_not_a_results_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    text = tmp_path / "notes.h5"
+    text.write_text("not HDF5\n")
+    bare = tmp_path / "bare.h5"
+    with h5py.File(bare, "w") as f:
+        f["x"] = np.zeros(3)
+    for path in (text, bare, tmp_path / "missing.h5"):
+        assert plots.main([str(path), "-o", str(tmp_path / "out")]) == 1
+        err = capsys.readouterr().err
+        assert str(path) in err and "error" in err, err
+    assert not (tmp_path / "out").exists()
+
+
+def test_unknown_channel(solver_results: Path, tmp_path: Path) -> None:
+    with pytest.raises(plots.PlotError, match="no channel 'nowhere/vertical'.*centre/vertical"):
+        plots.render(solver_results, tmp_path, channel="nowhere/vertical")
+    with pytest.raises(plots.PlotError, match="SENSOR/DIR"):
+        plots.render(solver_results, tmp_path, channel="centre")
+
+
+def test_settings_name_labels_and_the_other_keys() -> None:
+    """Labels stand for their axis (zipped keys included); other keys are written as key=value."""
+    summary = pd.DataFrame(
+        {
+            "job_id": ["a", "b", "c", "d"],
+            "contact.scale": [1.0, 1.0, 1000.0, 1000.0],
+            "solver.hmax": [1e-4, 1e-4, 5e-5, 5e-5],
+            "speed.hz": [10.0, 12.5, 10.0, 12.5],
+            "solver.integrator": ["bdf", "bdf", "bdf", "rk45"],
+        }
+    )
+    labels = pd.DataFrame(
+        {"contact.scale": ["nominal", "nominal", "x1000", "x1000"]},
+        index=pd.Index(["a", "b", "c", "d"], name="job_id"),
+    )
+    keys = ["contact.scale", "solver.hmax", "speed.hz", "solver.integrator"]
+    names = plots.settings(summary, labels, keys)
+    assert list(names.index) == ["a", "b", "c", "d"]
+    assert names["a"] == "nominal, speed.hz=10, solver.integrator=bdf"
+    assert names["d"] == "x1000, speed.hz=12.5, solver.integrator=rk45"
+    hmax = plots.settings(summary, labels, ["solver.hmax"])
+    assert list(hmax) == ["solver.hmax=0.0001"] * 2 + ["solver.hmax=5e-05"] * 2
+    assert list(plots.settings(summary, labels.iloc[:, :0], [])) == [""] * 4
