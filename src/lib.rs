@@ -13,6 +13,7 @@ pub mod integrators;
 pub mod job;
 pub mod model;
 pub mod reduction;
+pub mod report;
 pub mod scene;
 pub mod section;
 pub mod store;

@@ -2,6 +2,7 @@
 
 mod campaign_cli;
 mod modes;
+mod report_cli;
 mod simulate;
 
 use std::process::ExitCode;
@@ -31,6 +32,8 @@ enum Command {
     Run(campaign_cli::RunArgs),
     /// Join shard files of one study into one file.
     Merge(campaign_cli::MergeArgs),
+    /// Tables of a study results file: solver cost and error, resonances, trial masses, stability.
+    Report(report_cli::Args),
 }
 
 fn main() -> ExitCode {
@@ -46,6 +49,7 @@ fn main() -> ExitCode {
         Command::Plan(a) => campaign_cli::plan(&a).map(|()| true),
         Command::Run(a) => campaign_cli::run(&a),
         Command::Merge(a) => campaign_cli::merge(&a).map(|()| true),
+        Command::Report(a) => report_cli::run(&a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

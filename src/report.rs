@@ -1,0 +1,855 @@
+//! Tables of a study results file, for `rotorsweep report`.
+//!
+//! In: an assembled results file of `rotorsweep run` or `merge` (only read): the `/jobs/<id>`
+//! attributes (status, cause, integrator, statistics, errors against the reference, the varying
+//! keys and axis labels), `/models/<id>` (critical speeds, first bending frequencies),
+//! `/analysis/sweeps/<n>` (line amplitudes over speed) and `/analysis/trial_mass`.
+//! Out: a [`Report`] of neutral [`Table`]s, rendered as markdown, CSV or JSON:
+//! - `solver`: per job, CPU time [s], CPU time relative to the cheapest ok job, Newton iterations
+//!   per step, steps, rejected steps, max and RMS runout error against the reference [µm]
+//!   (the thesis's Tables 5.2–5.4; transposed in markdown up to 8 jobs);
+//! - `resonances`: per speed sweep, direction and integer order k ≥ 2, the speed [Hz] where
+//!   order k of the centre runout peaks nearest to the model's critical speed / k, and the
+//!   amplitude [µm] of order k at each sensor's own such peak (the thesis's Table 5.1);
+//! - `trial_mass`: per trial-mass job, the vertical 1× amplitude change and vector change
+//!   against the baseline [µm] at each sensor;
+//! - `stability`: per integrator and other setting, the status, max error [µm] and CPU time [s]
+//!   (a matrix in markdown, long form in CSV and JSON).
+//!
+//! Each table appears only when the file holds what it needs.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+use hdf5::types::{FixedAscii, VarLenUnicode};
+use hdf5::{File, Group};
+use serde::Serialize;
+
+use crate::analysis;
+use crate::error::InputError;
+use crate::store::{self, Param};
+use crate::study::{analysis_of_text, LabelledAxis};
+
+/// The key that names the integrator.
+const INTEGRATOR_KEY: &str = "solver.integrator";
+
+/// Up to this many jobs, markdown shows the solver table transposed (one column per job).
+const TRANSPOSE_MAX: usize = 8;
+
+/// Causes longer than this are cut in the stability matrix.
+const SHORT_CAUSE: usize = 40;
+
+/// One cell of a table.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Cell {
+    /// Text.
+    Text(String),
+    /// A measured value; NaN when there is none (empty in CSV, `–` in markdown, null in JSON).
+    Number(f64),
+    /// A count.
+    Count(u64),
+}
+
+impl Serialize for Cell {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Cell::Text(t) => s.serialize_str(t),
+            Cell::Number(x) if x.is_finite() => s.serialize_f64(*x),
+            Cell::Number(_) => s.serialize_none(),
+            Cell::Count(n) => s.serialize_u64(*n),
+        }
+    }
+}
+
+/// A grid of text: how markdown shows a table whose long form reads badly there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    /// Column headings.
+    pub columns: Vec<String>,
+    /// Rows of cell text.
+    pub rows: Vec<Vec<String>>,
+}
+
+/// A table: named columns (units in the names), rows of cells.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Table {
+    /// Short name (`--table NAME`).
+    pub name: String,
+    /// One line saying what the table holds, with units.
+    pub title: String,
+    /// Column names.
+    pub columns: Vec<String>,
+    /// Rows, one cell per column.
+    pub rows: Vec<Vec<Cell>>,
+    /// The markdown form when it differs from the rows (transposed, or a matrix).
+    #[serde(skip)]
+    pub markdown: Option<Grid>,
+}
+
+/// Output formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Markdown tables under headings.
+    Markdown,
+    /// CSV, each table after a `# title` line, tables apart by a blank line.
+    Csv,
+    /// One JSON object `{"study", "tables": [{"name", "title", "columns", "rows"}]}`.
+    Json,
+}
+
+impl FromStr for Format {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "md" | "markdown" => Ok(Format::Markdown),
+            "csv" => Ok(Format::Csv),
+            "json" => Ok(Format::Json),
+            _ => Err(format!("unknown format `{s}` (md, csv or json)")),
+        }
+    }
+}
+
+/// The tables of one results file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Report {
+    /// The file read.
+    pub file: PathBuf,
+    /// The study's name.
+    pub study: String,
+    /// One line: job count by status, and the varying keys.
+    pub overview: String,
+    /// The tables the file has data for.
+    pub tables: Vec<Table>,
+}
+
+/// One job as the tables see it.
+struct Job {
+    status: String,
+    cause: String,
+    integrator: String,
+    /// The labels and other varying values that tell this job from the others.
+    setting: String,
+    /// The same without the integrator.
+    other: String,
+    cpu_time_s: f64,
+    iterations_per_step: f64,
+    steps: f64,
+    rejected_steps: f64,
+    error_max_um: f64,
+    error_rms_um: f64,
+}
+
+/// A number as short text: `1e-4` rather than `0.0001`, `16.4` as written.
+fn short(x: f64) -> String {
+    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// A measured value to `sig` significant digits (scientific below 1e-3 and from 1e6).
+fn significant(x: f64, sig: usize) -> String {
+    if !x.is_finite() {
+        return "–".into();
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let mag = x.abs().log10().floor();
+    if !(-3.0..6.0).contains(&mag) {
+        return format!("{x:.*e}", sig - 1);
+    }
+    let decimals = (sig as f64 - 1.0 - mag).max(0.0) as usize;
+    format!("{x:.decimals$}")
+}
+
+/// The labels of the job's labelled axes and `key=value` of its other varying keys, in axis
+/// order; without the integrator when `skip_integrator` (the other keys of a labelled axis
+/// that holds it then show as `key=value`).
+fn setting(g: &Group, varying: &[String], axes: &[LabelledAxis], skip_integrator: bool) -> String {
+    let mut parts = Vec::new();
+    let mut labelled_done: Vec<usize> = Vec::new();
+    for k in varying {
+        if skip_integrator && k == INTEGRATOR_KEY {
+            continue;
+        }
+        if let Some(a) = axes.iter().position(|a| a.keys.contains(k)) {
+            let with_integrator = axes[a].keys.iter().any(|x| x == INTEGRATOR_KEY);
+            if !(skip_integrator && with_integrator) {
+                if !labelled_done.contains(&a) {
+                    labelled_done.push(a);
+                    let attr = format!("label:{}", axes[a].keys[0]);
+                    if let Ok(l) = store::read_str(g, &attr) {
+                        parts.push(l);
+                    }
+                }
+                continue;
+            }
+        }
+        match store::read_param(g, k) {
+            Ok(Param::Number(x)) => parts.push(format!("{k}={}", short(x))),
+            Ok(Param::Text(t)) => parts.push(format!("{k}={t}")),
+            Err(_) => {}
+        }
+    }
+    parts.join(", ")
+}
+
+/// The jobs in job order.
+fn read_jobs(f: &File, varying: &[String], axes: &[LabelledAxis]) -> hdf5::Result<Vec<Job>> {
+    let jobs = f.group("jobs")?;
+    let mut out = Vec::new();
+    for id in jobs.member_names()? {
+        let g = jobs.group(&id)?;
+        let num = |name: &str| store::read_num(&g, name).unwrap_or(f64::NAN);
+        let text = |name: &str| store::read_str(&g, name).unwrap_or_default();
+        let mut all = setting(&g, varying, axes, false);
+        if all.is_empty() {
+            all = format!("job {id}");
+        }
+        let job = Job {
+            status: text("status"),
+            cause: text("cause"),
+            integrator: text("integrator"),
+            setting: all,
+            other: setting(&g, varying, axes, true),
+            cpu_time_s: num("cpu_time_s"),
+            iterations_per_step: num("iterations_per_step"),
+            steps: num("steps"),
+            rejected_steps: num("rejected_steps"),
+            error_max_um: num("error_max_um"),
+            error_rms_um: num("error_rms_um"),
+        };
+        out.push((num("job_index"), id, job));
+    }
+    out.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    Ok(out.into_iter().map(|(_, _, j)| j).collect())
+}
+
+/// A count stored as a float attribute; NaN (missing) reads as a missing number.
+fn count(x: f64) -> Cell {
+    if x.is_finite() && x >= 0.0 {
+        Cell::Count(x as u64)
+    } else {
+        Cell::Number(f64::NAN)
+    }
+}
+
+fn solver_table(jobs: &[Job]) -> Table {
+    let cheapest = jobs
+        .iter()
+        .filter(|j| j.status == "ok" && j.cpu_time_s > 0.0)
+        .map(|j| j.cpu_time_s)
+        .fold(f64::NAN, f64::min);
+    let columns = [
+        "setting",
+        "status",
+        "cpu_time_s",
+        "relative",
+        "iterations_per_step",
+        "steps",
+        "rejected_steps",
+        "error_max_um",
+        "error_rms_um",
+        "cause",
+    ];
+    let rows: Vec<Vec<Cell>> = jobs
+        .iter()
+        .map(|j| {
+            vec![
+                Cell::Text(j.setting.clone()),
+                Cell::Text(j.status.clone()),
+                Cell::Number(j.cpu_time_s),
+                Cell::Number(j.cpu_time_s / cheapest),
+                Cell::Number(j.iterations_per_step),
+                count(j.steps),
+                count(j.rejected_steps),
+                Cell::Number(j.error_max_um),
+                Cell::Number(j.error_rms_um),
+                Cell::Text(if j.status == "ok" {
+                    String::new()
+                } else {
+                    j.cause.clone()
+                }),
+            ]
+        })
+        .collect();
+    let markdown = (jobs.len() <= TRANSPOSE_MAX).then(|| {
+        let mut shown = vec![
+            ("CPU time [s]", "cpu_time_s"),
+            ("relative", "relative"),
+            ("iterations/step", "iterations_per_step"),
+            ("max error [µm]", "error_max_um"),
+            ("RMS error [µm]", "error_rms_um"),
+            ("status", "status"),
+        ];
+        if jobs.iter().any(|j| j.status != "ok") {
+            shown.push(("cause", "cause"));
+        }
+        Grid {
+            columns: std::iter::once("setting".to_string())
+                .chain(jobs.iter().map(|j| j.setting.clone()))
+                .collect(),
+            rows: shown
+                .iter()
+                .map(|(heading, name)| {
+                    let c = columns.iter().position(|x| x == name).unwrap_or(0);
+                    std::iter::once(heading.to_string())
+                        .chain(rows.iter().map(|r| md_cell(&r[c])))
+                        .collect()
+                })
+                .collect(),
+        }
+    });
+    Table {
+        name: "solver".into(),
+        title: "Solver cost and accuracy per job (thesis Tables 5.2–5.4): CPU time [s], relative \
+                to the cheapest ok job, Newton iterations per step, steps, rejected steps, max and \
+                RMS runout error against the reference [µm]"
+            .into(),
+        columns: columns.iter().map(|c| c.to_string()).collect(),
+        rows,
+        markdown,
+    }
+}
+
+/// `text` cut to `n` characters with an ellipsis.
+fn cut(text: &str, n: usize) -> String {
+    if text.chars().count() <= n {
+        text.to_string()
+    } else {
+        format!("{}…", text.chars().take(n).collect::<String>())
+    }
+}
+
+/// The matrix cell of one job: `ok 1.2 µm 0.48 s`, `diverged: cause`, `budget 30 s`.
+fn outcome(j: &Job) -> String {
+    match j.status.as_str() {
+        "ok" if j.error_max_um.is_finite() => format!(
+            "ok {} µm {} s",
+            significant(j.error_max_um, 2),
+            significant(j.cpu_time_s, 2)
+        ),
+        "ok" => format!("ok {} s", significant(j.cpu_time_s, 2)),
+        "budget" => format!("budget {} s", significant(j.cpu_time_s, 2)),
+        s => format!("{s}: {}", cut(&j.cause, SHORT_CAUSE)),
+    }
+}
+
+fn stability_table(jobs: &[Job]) -> Table {
+    let mut integrators: Vec<&str> = Vec::new();
+    let mut settings: Vec<&str> = Vec::new();
+    let mut cells: BTreeMap<(usize, usize), Vec<String>> = BTreeMap::new();
+    let mut rows = Vec::new();
+    for j in jobs {
+        let i = position_or_push(&mut integrators, &j.integrator);
+        let s = position_or_push(&mut settings, &j.other);
+        cells.entry((i, s)).or_default().push(outcome(j));
+        rows.push(vec![
+            Cell::Text(j.integrator.clone()),
+            Cell::Text(j.other.clone()),
+            Cell::Text(j.status.clone()),
+            Cell::Number(j.error_max_um),
+            Cell::Number(j.cpu_time_s),
+            Cell::Text(j.cause.clone()),
+        ]);
+    }
+    let grid = Grid {
+        columns: std::iter::once("integrator")
+            .chain(settings.iter().copied())
+            .map(str::to_string)
+            .collect(),
+        rows: integrators
+            .iter()
+            .enumerate()
+            .map(|(i, name)| {
+                std::iter::once(name.to_string())
+                    .chain(
+                        (0..settings.len())
+                            .map(|s| cells.get(&(i, s)).map(|v| v.join("; ")).unwrap_or_default()),
+                    )
+                    .collect()
+            })
+            .collect(),
+    };
+    Table {
+        name: "stability".into(),
+        title: "Outcome per integrator and setting: status, max runout error against the \
+                reference [µm], CPU time [s]"
+            .into(),
+        columns: [
+            "integrator",
+            "setting",
+            "status",
+            "error_max_um",
+            "cpu_time_s",
+            "cause",
+        ]
+        .iter()
+        .map(|c| c.to_string())
+        .collect(),
+        rows,
+        markdown: Some(grid),
+    }
+}
+
+/// The index of `item` in `list`, appending it first when absent.
+fn position_or_push<'a>(list: &mut Vec<&'a str>, item: &'a str) -> usize {
+    list.iter().position(|x| *x == item).unwrap_or_else(|| {
+        list.push(item);
+        list.len() - 1
+    })
+}
+
+/// The vertical and horizontal critical speeds [Hz] of a model: of its `critical_speeds_hz`,
+/// the ones nearest to its first vertical and horizontal bending frequencies.
+fn criticals(f: &File, model_id: &str) -> [Option<f64>; 2] {
+    let Ok(g) = f.group(&format!("models/{model_id}")) else {
+        return [None, None];
+    };
+    let crit: Vec<f64> = g
+        .dataset("critical_speeds_hz")
+        .and_then(|d| d.read_raw::<f64>())
+        .unwrap_or_default();
+    ["vertical_hz", "horizontal_hz"].map(|attr| {
+        let first = store::read_num(&g, attr).ok().filter(|x| x.is_finite())?;
+        crit.iter()
+            .copied()
+            .min_by(|a, b| (a - first).abs().total_cmp(&(b - first).abs()))
+    })
+}
+
+/// The peak nearest to `near` [Hz], or the highest one without it.
+fn pick(peaks: Vec<analysis::Peak>, near: Option<f64>) -> Option<analysis::Peak> {
+    match near {
+        Some(c) => peaks
+            .into_iter()
+            .min_by(|a, b| (a.speed_hz - c).abs().total_cmp(&(b.speed_hz - c).abs())),
+        None => peaks.into_iter().next(),
+    }
+}
+
+/// The order sensors are shown in: `centre` first, then by name.
+fn sensor_rank(name: &str) -> (bool, &str) {
+    (name != "centre", name)
+}
+
+/// The sweep groups in number order.
+fn sweep_groups(f: &File) -> hdf5::Result<Vec<Group>> {
+    let Ok(g) = f.group("analysis/sweeps") else {
+        return Ok(Vec::new());
+    };
+    let mut names = g.member_names()?;
+    names.sort_by_key(|n| n.parse::<u64>().unwrap_or(u64::MAX));
+    names.iter().map(|n| g.group(n)).collect()
+}
+
+fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
+    let mut columns: Vec<String> = ["sweep", "direction", "order", "expected_hz", "speed_hz"]
+        .iter()
+        .map(|c| c.to_string())
+        .collect();
+    let mut names: Vec<String> = Vec::new();
+    let mut rows = Vec::new();
+    for (n, sg) in sweep_groups(f)?.iter().enumerate() {
+        let speeds: Vec<f64> = sg.dataset("speed_hz")?.read_raw()?;
+        let orders: Vec<f64> = sg.dataset("orders")?.read_raw()?;
+        let fixed = store::read_str(sg, "fixed").unwrap_or_default();
+        let sweep = if fixed.is_empty() {
+            format!("sweep {n}")
+        } else {
+            fixed
+        };
+        let ids: Vec<VarLenUnicode> = sg.dataset("job_ids")?.read_raw()?;
+        let crit = ids
+            .first()
+            .and_then(|id| f.group(&format!("jobs/{id}")).ok())
+            .and_then(|g| store::read_str(&g, "model_id").ok())
+            .map_or([None, None], |m| criticals(f, &m));
+        let lines = sg.group("lines")?;
+        if names.is_empty() {
+            names = lines.member_names()?;
+            names.sort_by(|a, b| sensor_rank(a).cmp(&sensor_rank(b)));
+        }
+        for (d, dir) in ["vertical", "horizontal"].iter().enumerate() {
+            let data: Vec<Option<Vec<f64>>> = names
+                .iter()
+                .map(|s| {
+                    lines
+                        .dataset(&format!("{s}/{dir}"))
+                        .and_then(|ds| ds.read_raw::<f64>())
+                        .ok()
+                })
+                .collect();
+            for (k, order) in orders.iter().enumerate() {
+                if order.fract() != 0.0 || *order < 2.0 {
+                    continue;
+                }
+                let expected = crit[d].map(|c| c / order);
+                let found: Vec<Option<analysis::Peak>> = data
+                    .iter()
+                    .map(|m| {
+                        let m = m.as_ref()?;
+                        let amp: Vec<f64> = (0..speeds.len())
+                            .map(|s| m.get(s * orders.len() + k).copied().unwrap_or(f64::NAN))
+                            .collect();
+                        pick(analysis::peaks(&speeds, &amp), expected)
+                    })
+                    .collect();
+                let mut row = vec![
+                    Cell::Text(sweep.clone()),
+                    Cell::Text(dir.to_string()),
+                    Cell::Count(*order as u64),
+                    Cell::Number(expected.unwrap_or(f64::NAN)),
+                    Cell::Number(found[0].map_or(f64::NAN, |p| p.speed_hz)),
+                ];
+                row.extend(
+                    found
+                        .iter()
+                        .map(|p| Cell::Number(p.map_or(f64::NAN, |p| p.amplitude))),
+                );
+                rows.push(row);
+            }
+        }
+    }
+    if rows.is_empty() {
+        return Ok(None);
+    }
+    columns.extend(names.iter().map(|s| format!("{s}_um")));
+    Ok(Some(Table {
+        name: "resonances".into(),
+        title: format!(
+            "Harmonic resonances per speed sweep (thesis Table 5.1): speed [Hz] where order k of \
+             the {} runout peaks nearest to the model's critical speed / k (expected_hz), and \
+             the amplitude [µm] of order k at each sensor's own such peak",
+            names[0]
+        ),
+        columns,
+        rows,
+        markdown: None,
+    }))
+}
+
+/// The columns of `/analysis/trial_mass` the table uses (HDF5 converts records member by member
+/// by name, and fixed-length strings of other widths by padding or cutting).
+#[derive(hdf5::H5Type, Clone, Copy)]
+#[repr(C)]
+struct TrialRow {
+    job_id: FixedAscii<17>,
+    label: FixedAscii<64>,
+    channel: FixedAscii<48>,
+    speed_hz: f64,
+    amplitude_change_um: f64,
+    vector_change_um: f64,
+}
+
+/// The trial-mass table; the labels come from the jobs' `label:<label_key>` attributes when
+/// there (the table's fixed-length ASCII drops characters such as `°`).
+fn trial_mass_table(f: &File, label_key: Option<&str>) -> hdf5::Result<Option<Table>> {
+    let Ok(ds) = f.dataset("analysis/trial_mass") else {
+        return Ok(None);
+    };
+    let records: Vec<TrialRow> = ds.read_raw()?;
+    let mut sensors: Vec<&str> = Vec::new();
+    // Job → (label, speed, sensor index → (amplitude change, vector change)).
+    type Changes = BTreeMap<usize, (f64, f64)>;
+    let mut per_job: BTreeMap<&str, (String, f64, Changes)> = BTreeMap::new();
+    for r in &records {
+        let Some(sensor) = r.channel.as_str().strip_suffix("/vertical") else {
+            continue;
+        };
+        let s = position_or_push(&mut sensors, sensor);
+        per_job
+            .entry(r.job_id.as_str())
+            .or_insert_with(|| {
+                let label = label_key
+                    .and_then(|k| {
+                        let g = f.group(&format!("jobs/{}", r.job_id.as_str())).ok()?;
+                        store::read_str(&g, &format!("label:{k}")).ok()
+                    })
+                    .unwrap_or_else(|| r.label.as_str().to_string());
+                (label, r.speed_hz, BTreeMap::new())
+            })
+            .2
+            .insert(s, (r.amplitude_change_um, r.vector_change_um));
+    }
+    if per_job.is_empty() {
+        return Ok(None);
+    }
+    let mut jobs: Vec<_> = per_job.into_values().collect();
+    jobs.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut shown: Vec<usize> = (0..sensors.len()).collect();
+    shown.sort_by(|a, b| sensor_rank(sensors[*a]).cmp(&sensor_rank(sensors[*b])));
+    let mut columns = vec!["label".to_string(), "speed_hz".to_string()];
+    for s in &shown {
+        columns.push(format!("{}_amplitude_change_um", sensors[*s]));
+        columns.push(format!("{}_vector_change_um", sensors[*s]));
+    }
+    let rows = jobs
+        .iter()
+        .map(|(label, speed, ch)| {
+            let mut row = vec![Cell::Text(label.clone()), Cell::Number(*speed)];
+            for s in &shown {
+                let (a, v) = ch.get(s).copied().unwrap_or((f64::NAN, f64::NAN));
+                row.extend([Cell::Number(a), Cell::Number(v)]);
+            }
+            row
+        })
+        .collect();
+    Ok(Some(Table {
+        name: "trial_mass".into(),
+        title: "Trial-mass 1× response against the baseline, vertical runout [µm]: amplitude \
+                change |A|−|A₀| and vector change |A−A₀| per sensor"
+            .into(),
+        columns,
+        rows,
+        markdown: None,
+    }))
+}
+
+/// Reads the tables of the results file at `path`. Errors name the file.
+pub fn read(path: &Path) -> Result<Report, InputError> {
+    std::fs::metadata(path).map_err(|e| InputError::new(path, e.to_string()))?;
+    let f =
+        File::open(path).map_err(|e| InputError::new(path, format!("not an HDF5 file ({e})")))?;
+    let not_results = || {
+        InputError::new(
+            path,
+            "not a study results file of `rotorsweep run` (no `study_name` attribute or no \
+             `jobs` group)",
+        )
+    };
+    let study = store::read_str(&f, "study_name").map_err(|_| not_results())?;
+    if f.group("jobs").is_err() {
+        return Err(not_results());
+    }
+    let text = store::read_str(&f, "study_text").unwrap_or_default();
+    let (spec, axes) = analysis_of_text(&text).unwrap_or_default();
+    let label_key = spec.baseline.as_ref().and_then(|b| {
+        axes.iter()
+            .find(|a| a.labels.contains(b))
+            .map(|a| a.keys[0].as_str())
+    });
+    let varying: Vec<String> = store::read_str(&f, "varying_keys")
+        .unwrap_or_default()
+        .lines()
+        .filter(|l| !l.is_empty())
+        .map(str::to_string)
+        .collect();
+    let failed = |e: hdf5::Error| InputError::new(path, format!("reading the results: {e}"));
+    let jobs = read_jobs(&f, &varying, &axes).map_err(failed)?;
+    let mut tables = Vec::new();
+    if !jobs.is_empty() {
+        tables.push(solver_table(&jobs));
+    }
+    tables.extend(resonance_table(&f).map_err(failed)?);
+    tables.extend(trial_mass_table(&f, label_key).map_err(failed)?);
+    if varying.iter().any(|k| k == INTEGRATOR_KEY) && varying.len() >= 2 {
+        tables.push(stability_table(&jobs));
+    }
+    let (mut names, mut counts): (Vec<&str>, Vec<usize>) = (Vec::new(), Vec::new());
+    for j in &jobs {
+        let i = position_or_push(&mut names, &j.status);
+        counts.resize(names.len(), 0);
+        counts[i] += 1;
+    }
+    let statuses: Vec<String> = names
+        .iter()
+        .zip(&counts)
+        .map(|(s, n)| format!("{n} {s}"))
+        .collect();
+    let overview = format!(
+        "{} jobs ({}); varying: {}",
+        jobs.len(),
+        statuses.join(", "),
+        if varying.is_empty() {
+            "nothing".to_string()
+        } else {
+            varying.join(", ")
+        }
+    );
+    Ok(Report {
+        file: path.to_path_buf(),
+        study,
+        overview,
+        tables,
+    })
+}
+
+/// A cell as markdown shows it: 4 significant digits, `–` for no value.
+fn md_cell(c: &Cell) -> String {
+    match c {
+        Cell::Text(t) => t.clone(),
+        Cell::Number(x) => significant(*x, 4),
+        Cell::Count(n) => n.to_string(),
+    }
+}
+
+/// A cell as CSV holds it: full precision, empty for no value, quoted when needed.
+fn csv_cell(c: &Cell) -> String {
+    match c {
+        Cell::Text(t) if t.contains([',', '"', '\n', '\r']) => {
+            format!("\"{}\"", t.replace('"', "\"\""))
+        }
+        Cell::Text(t) => t.clone(),
+        Cell::Number(x) if x.is_finite() => format!("{x}"),
+        Cell::Number(_) => String::new(),
+        Cell::Count(n) => n.to_string(),
+    }
+}
+
+/// A markdown table, columns padded; `right` aligns the numeric columns right.
+fn md_grid(out: &mut String, columns: &[String], rows: &[Vec<String>], right: &[bool]) {
+    let clean = |s: &str| s.replace('|', "\\|").replace(['\n', '\r'], " ");
+    let head: Vec<String> = columns.iter().map(|c| clean(c)).collect();
+    let body: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| r.iter().map(|c| clean(c)).collect())
+        .collect();
+    let width: Vec<usize> = (0..head.len())
+        .map(|c| {
+            body.iter()
+                .filter_map(|r| r.get(c))
+                .chain(std::iter::once(&head[c]))
+                .map(|s| s.chars().count())
+                .max()
+                .unwrap_or(0)
+                .max(3)
+        })
+        .collect();
+    let line = |out: &mut String, cells: &[String]| {
+        out.push('|');
+        for (c, w) in width.iter().enumerate() {
+            let s = cells.get(c).map_or("", String::as_str);
+            if right.get(c) == Some(&true) {
+                let _ = write!(out, " {s:>w$} |");
+            } else {
+                let _ = write!(out, " {s:<w$} |");
+            }
+        }
+        out.push('\n');
+    };
+    line(out, &head);
+    out.push('|');
+    for (c, w) in width.iter().enumerate() {
+        let dashes = "-".repeat(*w);
+        if right.get(c) == Some(&true) {
+            let _ = write!(out, " {}: |", &dashes[1..]);
+        } else {
+            let _ = write!(out, " {dashes} |");
+        }
+    }
+    out.push('\n');
+    for r in &body {
+        line(out, r);
+    }
+}
+
+fn markdown(out: &mut String, t: &Table) {
+    let _ = writeln!(out, "## {} (`{}`)\n", t.title, t.name);
+    match &t.markdown {
+        Some(g) => md_grid(out, &g.columns, &g.rows, &[]),
+        None => {
+            let right: Vec<bool> = (0..t.columns.len())
+                .map(|c| {
+                    t.rows
+                        .iter()
+                        .all(|r| !matches!(r.get(c), Some(Cell::Text(_))))
+                })
+                .collect();
+            let rows: Vec<Vec<String>> = t
+                .rows
+                .iter()
+                .map(|r| r.iter().map(md_cell).collect())
+                .collect();
+            md_grid(out, &t.columns, &rows, &right);
+        }
+    }
+}
+
+fn csv(out: &mut String, t: &Table) {
+    let header: Vec<String> = t
+        .columns
+        .iter()
+        .map(|c| csv_cell(&Cell::Text(c.clone())))
+        .collect();
+    let _ = writeln!(out, "{}", header.join(","));
+    for r in &t.rows {
+        let cells: Vec<String> = r.iter().map(csv_cell).collect();
+        let _ = writeln!(out, "{}", cells.join(","));
+    }
+}
+
+impl Report {
+    /// The names of the tables this report has.
+    pub fn table_names(&self) -> Vec<&str> {
+        self.tables.iter().map(|t| t.name.as_str()).collect()
+    }
+
+    /// The report as text: every table, or only the table `only` (an error naming the file and
+    /// the tables it has when there is no such table).
+    pub fn render(&self, format: Format, only: Option<&str>) -> Result<String, InputError> {
+        let tables: Vec<&Table> = match only {
+            None => self.tables.iter().collect(),
+            Some(name) => vec![self.tables.iter().find(|t| t.name == name).ok_or_else(|| {
+                InputError::new(
+                    &self.file,
+                    format!(
+                        "no table `{name}` in this file (it has: {})",
+                        self.table_names().join(", ")
+                    ),
+                )
+            })?],
+        };
+        let mut out = String::new();
+        match format {
+            Format::Markdown => {
+                if only.is_none() {
+                    let _ = writeln!(
+                        out,
+                        "# Study {}\n\n`{}`: {}\n",
+                        self.study,
+                        self.file.display(),
+                        self.overview
+                    );
+                }
+                for (i, t) in tables.iter().enumerate() {
+                    if i > 0 {
+                        out.push('\n');
+                    }
+                    markdown(&mut out, t);
+                }
+            }
+            Format::Csv => {
+                for (i, t) in tables.iter().enumerate() {
+                    if i > 0 {
+                        out.push('\n');
+                    }
+                    if only.is_none() {
+                        let _ = writeln!(out, "# {}", t.title);
+                    }
+                    csv(&mut out, t);
+                }
+            }
+            Format::Json => {
+                #[derive(Serialize)]
+                struct Doc<'a> {
+                    study: &'a str,
+                    tables: Vec<&'a Table>,
+                }
+                let doc = Doc {
+                    study: &self.study,
+                    tables,
+                };
+                out = serde_json::to_string(&doc)
+                    .map_err(|e| InputError::new(&self.file, e.to_string()))?;
+                out.push('\n');
+            }
+        }
+        Ok(out)
+    }
+}

@@ -1,0 +1,253 @@
+//! `rotorsweep report` on tiny studies run through the library (the reference roll, 0.1 s per job
+//! as the `study_text` helper sets): 3 speeds × 2 integrators with a tight BDF reference per
+//! speed and one explicit job that runs out of its step budget; and 3 speeds × a trial mass
+//! against its baseline.
+
+mod common;
+
+use common::{scratch_dir, study_text, write_file};
+use rotorsweep::report::{self, Cell, Format, Report};
+use rotorsweep::study::campaign::{self, RunOptions};
+use rotorsweep::study::Study;
+
+/// The study's axes give 3 × 2 = 6 jobs; the explicit job (`max_steps = 5`, status `budget`)
+/// is the 7th.
+const JOBS: usize = 7;
+
+/// Runs the study with `body` after `study_text`'s `[set]`; returns its folder and report.
+fn run_study(name: &str, body: &str, ok: usize) -> (std::path::PathBuf, Report) {
+    let d = scratch_dir(name);
+    let study = Study::load(&write_file(&d, "s.toml", &study_text(body))).unwrap();
+    let out = d.join("out.h5");
+    let opts = RunOptions {
+        output: out.clone(),
+        threads: 2,
+        resume: false,
+        shard: None,
+        command: "test".into(),
+    };
+    let outcome = campaign::run(&study, &opts).unwrap();
+    assert_eq!(outcome.ok, ok);
+    let r = report::read(&out).unwrap();
+    (d, r)
+}
+
+/// The markdown table under the heading that ends with `(`name`)`: its lines.
+fn md_table<'a>(md: &'a str, name: &str) -> Vec<&'a str> {
+    let heading = format!("(`{name}`)");
+    md.lines()
+        .skip_while(|l| !(l.starts_with("## ") && l.ends_with(&heading)))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .collect()
+}
+
+/// The cells of a markdown table line.
+fn md_cells(line: &str) -> Vec<&str> {
+    line.trim_matches('|').split('|').map(str::trim).collect()
+}
+
+#[test]
+fn report_tables_in_markdown_csv_and_json() {
+    let (d, r) = run_study(
+        "report",
+        "[[axes]]\nkey = \"speed.hz\"\nvalues = [12.0, 14.0, 16.0]\n\
+         [[axes]]\nkey = \"solver.integrator\"\nvalues = [\"bdf\", \"gen-alpha\"]\n\
+         [[jobs]]\n\"speed.hz\" = 12.0\n\"solver.integrator\" = \"bdf\"\n\"solver.max_steps\" = 5\n\
+         [reference]\n\"solver.integrator\" = \"bdf\"\n\"solver.tolerance\" = 1e-10\n\"solver.hmax\" = 2e-5\n",
+        JOBS - 1,
+    );
+    assert_eq!(
+        r.table_names(),
+        vec!["solver", "resonances", "stability"],
+        "no trial_mass: the study has no [analysis] baseline"
+    );
+
+    // Markdown: 7 jobs ≤ 8, so the solver table is transposed: a heading column plus one
+    // column per job; rows CPU time, relative, iterations/step, max and RMS error, status, and
+    // cause (one job did not end ok).
+    let md = r.render(Format::Markdown, None).unwrap();
+    let solver = md_table(&md, "solver");
+    assert_eq!(md_cells(solver[0]).len(), 1 + JOBS, "{md}");
+    let headings: Vec<&str> = solver[2..].iter().map(|l| md_cells(l)[0]).collect();
+    assert_eq!(
+        headings,
+        vec![
+            "CPU time [s]",
+            "relative",
+            "iterations/step",
+            "max error [µm]",
+            "RMS error [µm]",
+            "status",
+            "cause"
+        ]
+    );
+    let statuses = md_cells(solver[7]);
+    assert_eq!(statuses.iter().filter(|s| **s == "ok").count(), JOBS - 1);
+    assert_eq!(statuses.iter().filter(|s| **s == "budget").count(), 1);
+    // The stability matrix: one row per integrator, one column per setting without the
+    // integrator: the 3 speeds, and the budget job's own (its max_steps varies too).
+    let stability = md_table(&md, "stability");
+    assert_eq!(
+        stability.len(),
+        2 + 2,
+        "header, rule, bdf, gen-alpha:\n{md}"
+    );
+    assert_eq!(
+        md_cells(stability[0]),
+        vec![
+            "integrator",
+            "speed.hz=12",
+            "speed.hz=14",
+            "speed.hz=16",
+            "speed.hz=12, solver.max_steps=5"
+        ]
+    );
+    let bdf = md_cells(stability[2]);
+    assert!(
+        bdf[1].starts_with("ok ") && bdf[4].starts_with("budget "),
+        "{md}"
+    );
+    assert_eq!(
+        md_cells(stability[3])[4],
+        "",
+        "no gen-alpha job with max_steps"
+    );
+
+    // CSV of one table: a header and one line per job, no title line, so pandas reads it.
+    let csv = r.render(Format::Csv, Some("solver")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 1 + JOBS, "{csv}");
+    assert_eq!(
+        lines[0],
+        "setting,status,cpu_time_s,relative,iterations_per_step,steps,rejected_steps,\
+         error_max_um,error_rms_um,cause"
+    );
+    // Every job's setting is `speed.hz=…, solver.integrator=…` (and `solver.max_steps=…` for the
+    // explicit job): quoted, as it holds commas.
+    assert!(
+        lines[1].starts_with("\"speed.hz=12, solver.integrator=bdf"),
+        "{csv}"
+    );
+    // All tables: each after a `# title` line, tables apart by one blank line.
+    let all = r.render(Format::Csv, None).unwrap();
+    assert_eq!(all.lines().filter(|l| l.starts_with("# ")).count(), 3);
+    assert_eq!(all.lines().filter(|l| l.is_empty()).count(), 2);
+
+    // JSON: the study and its tables, numbers as numbers.
+    let json: serde_json::Value =
+        serde_json::from_str(&r.render(Format::Json, None).unwrap()).unwrap();
+    assert_eq!(json["study"], "t", "the name `study_text` gives");
+    let tables = json["tables"].as_array().unwrap();
+    let names: Vec<&str> = tables.iter().map(|t| t["name"].as_str().unwrap()).collect();
+    assert_eq!(names, r.table_names());
+    let solver = &tables[0];
+    let col = |name: &str| {
+        solver["columns"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .position(|c| c == name)
+            .unwrap()
+    };
+    let rows = solver["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), JOBS);
+    // relative = CPU time / the least CPU time of the ok jobs: exactly 1 for that job (x / x),
+    // and no ok job below it.
+    let relative: Vec<f64> = rows
+        .iter()
+        .filter(|row| row[col("status")] == "ok")
+        .map(|row| row[col("relative")].as_f64().unwrap())
+        .collect();
+    assert_eq!(relative.iter().copied().fold(f64::INFINITY, f64::min), 1.0);
+    // The budget job stopped after max_steps = 5 steps, and has no error against the reference
+    // (NaN in the file, null here); its cause is given.
+    let budget = rows
+        .iter()
+        .find(|row| row[col("status")] == "budget")
+        .unwrap();
+    assert_eq!(budget[col("steps")], 5);
+    assert!(budget[col("error_max_um")].is_null());
+    assert!(!budget[col("cause")].as_str().unwrap().is_empty());
+    // The ok jobs have finite errors against their speed's reference.
+    assert!(rows
+        .iter()
+        .filter(|row| row[col("status")] == "ok")
+        .all(|row| row[col("error_max_um")]
+            .as_f64()
+            .is_some_and(f64::is_finite)));
+
+    // Resonances: 2 sweeps (one per integrator: bdf's 3 ok speeds, gen-alpha's 3) × 2 directions
+    // × the integer orders ≥ 2 of the default orders 1, 2, 3, 4.
+    let res = &tables[1];
+    assert_eq!(res["rows"].as_array().unwrap().len(), 2 * 2 * 3, "{res}");
+    assert_eq!(
+        res["columns"],
+        serde_json::json!([
+            "sweep",
+            "direction",
+            "order",
+            "expected_hz",
+            "speed_hz",
+            "centre_um",
+            "drive_um",
+            "tending_um"
+        ])
+    );
+    // Long form of the stability table: one row per job.
+    assert_eq!(tables[2]["rows"].as_array().unwrap().len(), JOBS);
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn trial_mass_table_per_job_against_the_baseline() {
+    let (d, r) = run_study(
+        "report-trial",
+        "[[axes]]\nkey = \"roll.masses\"\n\
+         values = [[], [{ z_mm = 2250.0, radius_mm = 160.0, angle_deg = 0.0, mass_g = 100.0 }]]\n\
+         labels = [\"none\", \"100 g 0°\"]\n\
+         [[axes]]\nkey = \"speed.hz\"\nvalues = [16.0, 12.0, 14.0]\n\
+         [analysis]\nbaseline = \"none\"\n",
+        6,
+    );
+    let t = r.tables.iter().find(|t| t.name == "trial_mass").unwrap();
+    let mut columns = vec!["label".to_string(), "speed_hz".to_string()];
+    for s in ["centre", "drive", "tending"] {
+        columns.push(format!("{s}_amplitude_change_um"));
+        columns.push(format!("{s}_vector_change_um"));
+    }
+    assert_eq!(t.columns, columns);
+    // One row per trial-mass job (3 speeds), sorted by speed; the label as the study wrote it
+    // (the file's table keeps ASCII only: "100 g 0").
+    let speeds: Vec<Cell> = t.rows.iter().map(|row| row[1].clone()).collect();
+    assert_eq!(speeds, [12.0, 14.0, 16.0].map(Cell::Number));
+    assert!(t
+        .rows
+        .iter()
+        .all(|row| row[0] == Cell::Text("100 g 0°".into())));
+    // A 100 g mass at the centre changes the 1× response there.
+    assert!(t
+        .rows
+        .iter()
+        .all(|row| matches!(row[3], Cell::Number(v) if v > 0.0)));
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn errors_name_the_file() {
+    let d = scratch_dir("report-errors");
+    let missing = d.join("missing.h5");
+    let e = report::read(&missing).unwrap_err().to_string();
+    assert!(e.starts_with(&missing.display().to_string()), "{e}");
+    // An HDF5 file that is not a study's results.
+    let other = d.join("other.h5");
+    hdf5::File::create(&other).unwrap();
+    let e = report::read(&other).unwrap_err().to_string();
+    assert!(e.starts_with(&other.display().to_string()), "{e}");
+    assert!(e.contains("not a study results file"), "{e}");
+    // A text file.
+    let text = write_file(&d, "study.toml", "name = \"x\"\n");
+    let e = report::read(&text).unwrap_err().to_string();
+    assert!(e.contains("not an HDF5 file"), "{e}");
+    std::fs::remove_dir_all(d).unwrap();
+}
