@@ -11,35 +11,12 @@ mod common;
 use std::f64::consts::PI;
 use std::path::Path;
 
-use common::{channel, hann_amplitude, scene_from_text};
+use common::{channel, first_bending_hz, hann_amplitude, scene_from_text};
 use nalgebra::DVector;
-use rotorsweep::dynamics::linear::{linear_stages, LinearSystem};
 use rotorsweep::dynamics::system::RollSystem;
 use rotorsweep::integrators::Status;
 use rotorsweep::model::Model;
-use rotorsweep::reduction::ModeKind;
 use rotorsweep::scene::{Scene, SupportModel};
-
-/// First vertical (bending-y) and horizontal (bending-x) bending frequency [Hz] of a scene's
-/// model on its linearised supports at standstill, as `rotorsweep modes` reports them.
-fn first_bending_hz(scene: &Scene, model: &Model) -> (f64, f64) {
-    let stages = linear_stages(scene, &model.rotor).expect("linear supports");
-    let drive = scene
-        .drive
-        .as_ref()
-        .map(|d| (model.rotor.named[&d.node], d.axial_stiffness));
-    let modes = LinearSystem::new(&model.reduced, &stages, drive)
-        .standstill_modes()
-        .expect("eigen-solution");
-    let first = |k: ModeKind| {
-        modes
-            .iter()
-            .find(|m| m.kind == k && m.freq_hz > 1.0)
-            .expect("a bending mode")
-            .freq_hz
-    };
-    (first(ModeKind::BendingY), first(ModeKind::BendingX))
-}
 
 // ---------------------------------------------------------------------------------------------
 // Check 4: half-critical 2Ω response of an asymmetric roll under gravity.
@@ -464,32 +441,7 @@ fn jeffcott(c: f64, hz: f64) -> Scene {
 name = "jeffcott-unbalance"
 {rotor}
 
-[[supports]]
-node = "bearing_a"
-type = "linear"
-spring = {{ kx_n_per_m = 1e9, ky_n_per_m = 1e9 }}
-[[supports]]
-node = "bearing_b"
-type = "linear"
-spring = {{ kx_n_per_m = 1e9, ky_n_per_m = 1e9 }}
-# The Jeffcott damper: stationary, at the disk, no stiffness.
-[[supports]]
-node = "disk"
-type = "linear"
-spring = {{ kx_n_per_m = 0.0, ky_n_per_m = 0.0, cx_ns_per_m = {c}, cy_ns_per_m = {c} }}
-[drive]
-node = "bearing_a"
-axial_stiffness_n_per_m = 1e7
-
-[reduction]
-boundary = ["bearing_a", "bearing_b"]
-modes = "8n+12st"
-# No modal damping below 1 kHz: modal damping acts in the rotating frame, where the synchronous
-# unbalance response stands still, so it would not damp it (and above the critical speed it
-# destabilises the forward whirl). The stiff modes above 1 kHz keep 100 % for the integrator.
-[damping]
-bands = [{{ below_hz = 1000.0, ratio = 0.0 }}]
-above_ratio = 1.0
+{mounting}
 [speed]
 hz = {hz}
 [simulation]
@@ -498,7 +450,8 @@ settle_s = {settle}
 sample_rate_hz = {rate}
 gravity_m_s2 = 0.0
 "#,
-        rotor = common::JEFFCOTT_ROTOR
+        rotor = common::JEFFCOTT_ROTOR,
+        mounting = common::jeffcott_mounting(c),
     );
     scene_from_text("jeffcott-unbalance.toml", &text)
 }

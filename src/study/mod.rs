@@ -552,13 +552,14 @@ impl Study {
             let all = canonical(&merged, &[], &[]);
             let id = hash_id('j', &[&inputs, &all, &prune_text]);
             // Reference: the same physics with the reference solver keys.
+            // The jobs' budget does not bind the reference; the reference may set its own.
             let mut ref_over = overrides.clone();
+            ref_over
+                .retain(|(k, _)| !k.starts_with("solver.cpu_budget") && k != "solver.max_steps");
             for (k, v) in &reference {
                 ref_over.retain(|(ok, _)| ok != k);
                 ref_over.push((k.clone(), v.clone()));
             }
-            ref_over
-                .retain(|(k, _)| !k.starts_with("solver.cpu_budget") && k != "solver.max_steps");
             let mut ref_merged = toml::Value::Table(scene_table.clone());
             for (k, v) in &ref_over {
                 set_path(&mut ref_merged, k, v.clone()).map_err(|r| c.err("reference", r))?;

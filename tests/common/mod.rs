@@ -177,3 +177,60 @@ radius_mm = 100.0
 angle_deg = 0.0
 mass_g = 20.0
 "#;
+
+/// The first vertical and horizontal bending frequencies [Hz] of a scene's model on its
+/// linearised supports at standstill, as `rotorsweep modes` reports them.
+pub fn first_bending_hz(
+    scene: &rotorsweep::scene::Scene,
+    model: &rotorsweep::model::Model,
+) -> (f64, f64) {
+    use rotorsweep::dynamics::linear::LinearSystem;
+    use rotorsweep::reduction::ModeKind;
+    let modes = LinearSystem::of_scene(scene, model)
+        .expect("linear supports")
+        .standstill_modes()
+        .expect("eigen-solution");
+    let first = |k: ModeKind| {
+        modes
+            .iter()
+            .find(|m| m.kind == k && m.freq_hz > 1.0)
+            .expect("a bending mode")
+            .freq_hz
+    };
+    (first(ModeKind::BendingY), first(ModeKind::BendingX))
+}
+
+/// The Jeffcott rotor's mounting (check 7): stiff isotropic bearings (1e9 N/m, 30 times the
+/// shaft's 48EI/L³), a stationary damper `c` [Ns/m] at the disk, the drive's axial spring, the
+/// reduction and the modal damping, as scene text.
+pub fn jeffcott_mounting(c: f64) -> String {
+    format!(
+        r#"[[supports]]
+node = "bearing_a"
+type = "linear"
+spring = {{ kx_n_per_m = 1e9, ky_n_per_m = 1e9 }}
+[[supports]]
+node = "bearing_b"
+type = "linear"
+spring = {{ kx_n_per_m = 1e9, ky_n_per_m = 1e9 }}
+# The Jeffcott damper: stationary, at the disk, no stiffness.
+[[supports]]
+node = "disk"
+type = "linear"
+spring = {{ kx_n_per_m = 0.0, ky_n_per_m = 0.0, cx_ns_per_m = {c}, cy_ns_per_m = {c} }}
+[drive]
+node = "bearing_a"
+axial_stiffness_n_per_m = 1e7
+
+[reduction]
+boundary = ["bearing_a", "bearing_b"]
+modes = "8n+12st"
+# No modal damping below 1 kHz: modal damping acts in the rotating frame, where the synchronous
+# unbalance response stands still, so it would not damp it (and above the critical speed it
+# destabilises the forward whirl). The stiff modes above 1 kHz keep 100 % for the integrator.
+[damping]
+bands = [{{ below_hz = 1000.0, ratio = 0.0 }}]
+above_ratio = 1.0
+"#
+    )
+}

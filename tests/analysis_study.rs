@@ -1,0 +1,157 @@
+//! The post-processing of a study file against closed forms (physics.md §8, §9 check 7): a
+//! Jeffcott rotor swept through its critical speed with and without a 20 g trial mass. The
+//! trial-mass vector change is the response to the mass alone, which for this linear rotor is the
+//! closed-form unbalance response; the order-1 resonance lies at the damped peak; spectra and maps
+//! are stored per job and per sweep.
+
+mod common;
+
+use std::f64::consts::PI;
+
+use common::{first_bending_hz, scene_from_text, scratch_dir, write_file, JEFFCOTT_ROTOR};
+use rotorsweep::model::Model;
+use rotorsweep::study::{campaign, Study};
+
+/// The Jeffcott rotor of check 7 (tests/dynamics_checks.rs: shaft Ø30 × 700 mm, 12.331 kg disk,
+/// bearings 1e9 N/m, a stationary damper `c` at the disk, gravity off), without unbalance.
+fn scene(c: f64) -> String {
+    let rotor = JEFFCOTT_ROTOR.replace(
+        "[[rotor.masses]]\nz_mm = 350.0\nradius_mm = 100.0\nangle_deg = 0.0\nmass_g = 20.0\n",
+        "",
+    );
+    let mounting = common::jeffcott_mounting(c);
+    format!(
+        r#"name = "jeffcott-trial"
+{rotor}
+{mounting}
+[speed]
+hz = 40.0
+[simulation]
+t_end_s = 2.85
+settle_s = 0.85
+sample_rate_hz = 2000.0
+gravity_m_s2 = 0.0
+"#
+    )
+}
+
+/// The numeric columns of `/analysis/trial_mass` (HDF5 converts by field name).
+#[derive(hdf5::H5Type, Clone, Copy, Debug)]
+#[repr(C)]
+struct TrialRow {
+    speed_hz: f64,
+    amplitude_um: f64,
+    baseline_amplitude_um: f64,
+    amplitude_change_um: f64,
+    vector_change_um: f64,
+}
+
+/// The numeric columns of `/analysis/resonances`.
+#[derive(hdf5::H5Type, Clone, Copy, Debug)]
+#[repr(C)]
+struct ResonanceRow {
+    order: f64,
+    rank: f64,
+    speed_hz: f64,
+}
+
+#[test]
+fn trial_mass_response_and_resonance_match_the_jeffcott_closed_form() {
+    let d = scratch_dir("analysis-study");
+    // ω and the effective mass as in check 7: the model's first bending frequency, Rayleigh's
+    // disk + 17/35 of the shaft (+ the 20 g mass).
+    let probe = scene_from_text("probe.toml", &scene(1.0));
+    let model = Model::build(&probe, None).expect("model");
+    let (fv, fh) = first_bending_hz(&probe, &model);
+    let f1 = 0.5 * (fv + fh);
+    let m_shaft = 7850.0 * PI / 4.0 * 0.030f64.powi(2) * 0.700;
+    let m = 12.331 + 0.020 + 17.0 / 35.0 * m_shaft;
+    let zeta = 0.05;
+    let c = 2.0 * zeta * m * 2.0 * PI * f1;
+    write_file(&d, "jeffcott.toml", &scene(c));
+    let ratios = [0.9, 0.95, 1.0, 1.05, 1.1];
+    let speeds: Vec<String> = ratios.iter().map(|r| format!("{:.6}", r * f1)).collect();
+    let study = format!(
+        r#"name = "jeffcott-trial"
+scene = "jeffcott.toml"
+[[axes]]
+key = "rotor.masses"
+values = [[], [{{ z_mm = 350.0, radius_mm = 100.0, angle_deg = 0.0, mass_g = 20.0 }}]]
+labels = ["none", "20 g"]
+[[axes]]
+key = "speed.hz"
+values = [{}]
+[analysis]
+baseline = "none"
+orders = [1.0, 2.0]
+"#,
+        speeds.join(", ")
+    );
+    let st = Study::load(&write_file(&d, "study.toml", &study)).expect("study");
+    let out = d.join("out.h5");
+    let opts = campaign::RunOptions {
+        output: out.clone(),
+        threads: 2,
+        resume: false,
+        shard: None,
+        command: "test".into(),
+    };
+    let outcome = campaign::run(&st, &opts).expect("campaign");
+    assert_eq!(outcome.ok, 10);
+    let f = hdf5::File::open(&out).unwrap();
+    // Trial-mass table: per speed, the vector change equals the closed form
+    // |X| = (m_u r_u / M) r² / √((1 − r²)² + (2ζr)²) within 1 % (check 7's tolerance: Rayleigh's
+    // mass and the massive shaft), vertical and horizontal alike.
+    let tm: Vec<TrialRow> = f
+        .dataset("analysis/trial_mass")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    assert_eq!(
+        tm.len(),
+        5 * 2,
+        "5 speeds × 2 channels (disk vertical, horizontal)"
+    );
+    let e_um = 1e6 * 0.020 * 0.100 / m;
+    for t in &tm {
+        let r = t.speed_hz / f1;
+        let closed = e_um * r * r / ((1.0 - r * r).powi(2) + (2.0 * zeta * r).powi(2)).sqrt();
+        eprintln!(
+            "Ω = {r:.2} ω: vector change {:.4} um, closed form {closed:.4} um",
+            t.vector_change_um
+        );
+        assert!(
+            (t.vector_change_um / closed - 1.0).abs() < 0.01,
+            "Ω = {r:.2} ω: vector change {} um against {closed} um",
+            t.vector_change_um
+        );
+        // Without unbalance and gravity the baseline barely moves; the amplitude change is the
+        // difference of the two stored amplitudes.
+        assert!(t.baseline_amplitude_um < 1e-3 * t.amplitude_um, "{t:?}");
+        assert!((t.amplitude_change_um - (t.amplitude_um - t.baseline_amplitude_um)).abs() < 1e-12);
+    }
+    // Resonance of order 1 in the sweep with the mass: the displacement peak of the closed form is
+    // at Ω = ω/√(1 − 2ζ²); the parabola through the samples 0.05 ω apart finds it to a quarter
+    // of the spacing.
+    let res: Vec<ResonanceRow> = f
+        .dataset("analysis/resonances")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    let peak = f1 / (1.0 - 2.0 * zeta * zeta).sqrt();
+    let found: Vec<f64> = res
+        .iter()
+        .filter(|r| r.order == 1.0 && r.rank == 1.0)
+        .map(|r| r.speed_hz)
+        .collect();
+    assert!(!found.is_empty(), "an order-1 resonance");
+    for s in &found {
+        eprintln!("order-1 resonance {s:.4} Hz, closed-form peak {peak:.4} Hz");
+        assert!((s - peak).abs() < 0.0125 * f1, "{s} Hz against {peak} Hz");
+    }
+    // Two sweeps (with and without the mass), each with a spectral map over the 5 speeds.
+    let sweeps = f.group("analysis/sweeps").unwrap().member_names().unwrap();
+    assert_eq!(sweeps.len(), 2);
+    let map = f.dataset("analysis/sweeps/0/map/disk/vertical").unwrap();
+    assert_eq!(map.shape()[0], 5);
+}
