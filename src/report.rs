@@ -9,7 +9,8 @@
 //!   per step, steps, rejected steps, max and RMS runout error against the reference [µm]
 //!   (the thesis's Tables 5.2–5.4; transposed in markdown up to 8 jobs);
 //! - `resonances`: per speed sweep, direction and integer order k ≥ 2, the speed [Hz] where
-//!   order k of the centre runout peaks nearest to the model's critical speed / k, and the
+//!   order k of the centre runout peaks nearest to (within 10 % of) the model's critical
+//!   speed / k, and the
 //!   amplitude [µm] of order k at each sensor's own such peak (the thesis's Table 5.1);
 //! - `trial_mass`: per trial-mass job, the vertical 1× amplitude change and vector change
 //!   against the baseline [µm] at each sensor;
@@ -423,11 +424,18 @@ fn criticals(f: &File, model_id: &str) -> [Option<f64>; 2] {
     })
 }
 
-/// The peak nearest to `near` [Hz], or the highest one without it.
+/// How far [share of the expected speed] a peak may lie from critical/k and still be taken as
+/// that sub-critical resonance (10 %: the horizontal and vertical lines of a roll lie 5–7 %
+/// apart, so a peak further off belongs to something else).
+const RESONANCE_WINDOW: f64 = 0.1;
+
+/// The peak nearest to `near` [Hz] within [`RESONANCE_WINDOW`] of it, or the highest one
+/// without `near`.
 fn pick(peaks: Vec<analysis::Peak>, near: Option<f64>) -> Option<analysis::Peak> {
     match near {
         Some(c) => peaks
             .into_iter()
+            .filter(|p| (p.speed_hz - c).abs() <= RESONANCE_WINDOW * c)
             .min_by(|a, b| (a.speed_hz - c).abs().total_cmp(&(b.speed_hz - c).abs())),
         None => peaks.into_iter().next(),
     }
@@ -524,7 +532,8 @@ fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
         name: "resonances".into(),
         title: format!(
             "Harmonic resonances per speed sweep (thesis Table 5.1): speed [Hz] where order k of \
-             the {} runout peaks nearest to the model's critical speed / k (expected_hz), and \
+             the {} runout peaks nearest to the model's critical speed / k (expected_hz, within \
+             10 %; – when no peak is that close), and \
              the amplitude [µm] of order k at each sensor's own such peak",
             names[0]
         ),
