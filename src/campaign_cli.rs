@@ -146,7 +146,13 @@ pub fn plan(a: &PlanArgs) -> Result<(), Box<dyn std::error::Error>> {
                 }
             })
             .collect();
-        println!("  {:>3}  {}  {}", j.index, j.id, over.join(" "));
+        let labels: Vec<&str> = j.labels.iter().map(|(_, l)| l.as_str()).collect();
+        let labels = if labels.is_empty() {
+            String::new()
+        } else {
+            format!("[{}]  ", labels.join(", "))
+        };
+        println!("  {:>3}  {}  {labels}{}", j.index, j.id, over.join(" "));
     }
     Ok(())
 }
