@@ -1,5 +1,5 @@
 //! Signal analysis of sampled runout (physics.md §8): amplitude-correct Hanning spectra, the
-//! complex amplitude of any line (harmonics k·Ω, roller lines), resonance peaks over a speed
+//! complex amplitudes of chosen lines (harmonics k·Ω, roller lines), resonance peaks over a speed
 //! sweep, and the trial-mass 1× response against a baseline.
 //!
 //! In: uniformly sampled signals (any unit; runout in µm) with their sample rate [Hz] or their
@@ -8,6 +8,7 @@
 //! (modulus in the signal's unit, phase [rad] relative to t = 0, i.e. to roll angle 0 for a
 //! constant speed), peaks (speed [Hz], amplitude). Pure functions, no I/O.
 
+use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
 
@@ -62,22 +63,51 @@ pub fn spectrum(x: &[f64], fs: f64) -> Spectrum {
     Spectrum { freq_hz, amplitude }
 }
 
-/// The complex amplitude of the line at `f_hz` in `x` sampled at times `t` [s], Hanning-windowed:
-/// 2 Σ w_i x_i e^{−i2πf t_i} / Σw. For x = A cos(2πf t + φ) it is A e^{iφ} up to the leakage of
-/// the negative-frequency image (the window's sidelobes at 2f, negligible when the record holds
-/// several periods). Zero for an empty record.
-pub fn line(x: &[f64], t: &[f64], f_hz: f64) -> Complex64 {
+/// The complex amplitudes of the lines at `freqs_hz` in `x` sampled at times `t` [s], fitted
+/// together with the mean by Hann-weighted least squares: x ≈ m + Σ_k A_k cos(2π f_k t + φ_k),
+/// returned as A_k e^{iφ_k} (phase relative to t = 0). A signal made of these lines is recovered
+/// exactly however close they lie (a roller line at 0.92 × the spin frequency next to 1×);
+/// other content leaks in through the window's sidelobes only. Lines the record cannot tell
+/// apart (the same frequency twice, 0 Hz, the Nyquist sine) share the minimum-norm solution.
+/// Zeros for fewer than two samples.
+pub fn lines(x: &[f64], t: &[f64], freqs_hz: &[f64]) -> Vec<Complex64> {
     let n = x.len().min(t.len());
-    if n == 0 {
-        return Complex64::new(0.0, 0.0);
+    let k = freqs_hz.len();
+    if n < 2 {
+        return vec![Complex64::new(0.0, 0.0); k];
     }
     let w = hanning(n);
-    let sw: f64 = w.iter().sum();
+    let m = 2 * k + 1;
     let tau = std::f64::consts::TAU;
-    let s: Complex64 = (0..n)
-        .map(|i| Complex64::from_polar(w[i] * x[i], -tau * f_hz * t[i]))
-        .sum();
-    s * (2.0 / sw)
+    let mut a = DMatrix::<f64>::zeros(m, m);
+    let mut b = DVector::<f64>::zeros(m);
+    let mut phi = vec![0.0; m];
+    for i in 0..n {
+        phi[0] = 1.0;
+        for (j, f) in freqs_hz.iter().enumerate() {
+            let (s, c) = (tau * f * t[i]).sin_cos();
+            phi[1 + 2 * j] = c;
+            phi[2 + 2 * j] = s;
+        }
+        for r in 0..m {
+            let wr = w[i] * phi[r];
+            b[r] += wr * x[i];
+            for c in r..m {
+                a[(r, c)] += wr * phi[c];
+            }
+        }
+    }
+    a.fill_lower_triangle_with_upper_triangle();
+    // Relative cut-off for the pseudo-inverse: the Gram matrix's scale is Σw = n/2.
+    let eps = 1e-12 * n as f64;
+    let sol = a
+        .svd(true, true)
+        .solve(&b, eps)
+        .unwrap_or_else(|_| DVector::zeros(m));
+    // c cos ωt + s sin ωt = A cos(ωt + φ) with A cos φ = c, A sin φ = −s.
+    (0..k)
+        .map(|j| Complex64::new(sol[1 + 2 * j], -sol[2 + 2 * j]))
+        .collect()
 }
 
 /// A peak of an amplitude curve over speed.
@@ -91,43 +121,60 @@ pub struct Peak {
     pub index: usize,
 }
 
-/// Interior local maxima of `amp` over ascending `speeds`, highest first. A sample is a peak
-/// when it is above its left neighbour and not below its right one (plateaus count once).
+/// Interior local maxima of `amp` over ascending `speeds`, highest first. A sample (or a run of
+/// equal samples) is a peak when the curve rises into it and falls after it; a single sample is
+/// refined by the parabola through it and its neighbours, a flat top is reported at its middle.
 /// Samples at the ends of the sweep are not peaks: the resonance may lie outside it.
 pub fn peaks(speeds: &[f64], amp: &[f64]) -> Vec<Peak> {
     let n = speeds.len().min(amp.len());
     let mut out = Vec::new();
-    for i in 1..n.saturating_sub(1) {
-        let (a, b, c) = (amp[i - 1], amp[i], amp[i + 1]);
-        if !(b > a && b >= c) {
-            continue;
+    let mut i = 1;
+    while i + 1 < n {
+        // The run of samples equal to amp[i].
+        let mut j = i;
+        while j + 1 < n && amp[j + 1] == amp[i] {
+            j += 1;
         }
-        let (x0, x1, x2) = (speeds[i - 1], speeds[i], speeds[i + 1]);
-        // The parabola through the three points, in divided differences.
-        let d1 = (b - a) / (x1 - x0);
-        let d2 = (c - b) / (x2 - x1);
-        let curv = (d2 - d1) / (x2 - x0);
-        let (mut s, mut v) = (x1, b);
-        if curv < 0.0 {
-            let xv = 0.5 * (x0 + x1) - d1 / (2.0 * curv);
-            if (x0..=x2).contains(&xv) {
-                s = xv;
-                v = a + d1 * (xv - x0) + curv * (xv - x0) * (xv - x1);
-            }
+        let rises = amp[i] > amp[i - 1];
+        let falls = j + 1 < n && amp[j + 1] < amp[j];
+        if rises && falls {
+            out.push(if j > i {
+                Peak {
+                    speed_hz: 0.5 * (speeds[i] + speeds[j]),
+                    amplitude: amp[i],
+                    index: i,
+                }
+            } else {
+                refine(speeds, amp, i)
+            });
         }
-        out.push(Peak {
-            speed_hz: s,
-            amplitude: v.max(b),
-            index: i,
-        });
+        i = j + 1;
     }
     out.sort_by(|p, q| q.amplitude.total_cmp(&p.amplitude));
     out
 }
 
-/// The highest interior peak of `amp` over `speeds` (the resonance of one harmonic), if any.
-pub fn resonance(speeds: &[f64], amp: &[f64]) -> Option<Peak> {
-    peaks(speeds, amp).into_iter().next()
+/// The vertex of the parabola through samples i − 1, i, i + 1 (a strict local maximum at i).
+fn refine(speeds: &[f64], amp: &[f64], i: usize) -> Peak {
+    let (a, b, c) = (amp[i - 1], amp[i], amp[i + 1]);
+    let (x0, x1, x2) = (speeds[i - 1], speeds[i], speeds[i + 1]);
+    // The parabola in divided differences.
+    let d1 = (b - a) / (x1 - x0);
+    let d2 = (c - b) / (x2 - x1);
+    let curv = (d2 - d1) / (x2 - x0);
+    let (mut s, mut v) = (x1, b);
+    if curv < 0.0 {
+        let xv = 0.5 * (x0 + x1) - d1 / (2.0 * curv);
+        if (x0..=x2).contains(&xv) {
+            s = xv;
+            v = a + d1 * (xv - x0) + curv * (xv - x0) * (xv - x1);
+        }
+    }
+    Peak {
+        speed_hz: s,
+        amplitude: v.max(b),
+        index: i,
+    }
 }
 
 /// The 1× trial-mass response of one channel: the change of a job's complex 1× amplitude
@@ -202,27 +249,40 @@ mod tests {
     }
 
     #[test]
-    fn line_reads_amplitude_and_phase_off_bin() {
-        // 16.4 Hz × 2 over 8.192 s is between bins; the exact-frequency line still reads A e^{iφ}
-        // to the image leakage (< 1e-6 of A for 268 periods under a Hann window).
+    fn lines_read_amplitude_and_phase_off_bin_and_close_together() {
+        // 16.4 Hz × 2 over 8.192 s is between bins; the fit reads A e^{iφ} of a pure tone on a
+        // mean to rounding (the model is exact for it).
         let (n, fs) = (8192, 1000.0);
-        let (x, t) = tone(n, fs, 32.8, 113.0, -1.1);
-        let c = line(&x, &t, 32.8);
-        assert!((c.norm() - 113.0).abs() < 1e-4, "{}", c.norm());
-        assert!((c.arg() + 1.1).abs() < 1e-6);
-        // A second tone 8 % away (a roller line at 0.92·k·Ω, 21.5 bins off) leaks through the Hann
-        // sidelobes (envelope ∝ 1/k³: 1.6e-3 µm of its 50 µm here, checked with numpy), no more.
+        let (mut x, t) = tone(n, fs, 32.8, 113.0, -1.1);
+        x.iter_mut().for_each(|v| *v += 40.0);
+        let c = lines(&x, &t, &[32.8])[0];
+        assert!((c.norm() - 113.0).abs() < 1e-8, "{}", c.norm());
+        assert!((c.arg() + 1.1).abs() < 1e-10);
+        // A roller line at 0.92 × 7.2 Hz, 4.7 bins below a 1× line 20 times stronger: fitted
+        // together both are exact; a Hann DFT at 0.92 × 7.2 Hz would be off by up to 0.18 µm
+        // (the sidelobe at 4.7 bins is 2.5e-3 of the 74 µm, computed with numpy).
+        let (one, _) = tone(n, fs, 7.2, 74.0, 0.4);
+        let (rol, _) = tone(n, fs, 0.92 * 7.2, 3.5, -2.0);
+        let xy: Vec<f64> = one.iter().zip(&rol).map(|(a, b)| a + b).collect();
+        let c = lines(&xy, &t, &[7.2, 0.92 * 7.2]);
+        assert!((c[0].norm() - 74.0).abs() < 1e-8 && (c[0].arg() - 0.4).abs() < 1e-10);
+        assert!((c[1].norm() - 3.5).abs() < 1e-8 && (c[1].arg() + 2.0).abs() < 1e-10);
+        // A tone left out of the fit, 21.5 bins away, leaks through the Hann sidelobes
+        // (envelope ∝ 1/k³: 1.6e-3 of its 50 µm), no more.
         let (y, _) = tone(n, fs, 0.92 * 32.8, 50.0, 0.3);
         let xy: Vec<f64> = x.iter().zip(&y).map(|(a, b)| a + b).collect();
-        assert!((line(&xy, &t, 32.8).norm() - 113.0).abs() < 5e-3);
-        assert!((line(&xy, &t, 0.92 * 32.8).norm() - 50.0).abs() < 5e-3);
+        assert!((lines(&xy, &t, &[32.8])[0].norm() - 113.0).abs() < 5e-3);
         // A record that starts later keeps the phase relative to t = 0.
         let t2: Vec<f64> = t.iter().map(|t| t + 3.0).collect();
         let x2: Vec<f64> = t2
             .iter()
             .map(|t| 113.0 * (std::f64::consts::TAU * 32.8 * t - 1.1).cos())
             .collect();
-        assert!((line(&x2, &t2, 32.8).arg() + 1.1).abs() < 1e-6);
+        assert!((lines(&x2, &t2, &[32.8])[0].arg() + 1.1).abs() < 1e-8);
+        // The same frequency twice shares the line; too short a record gives zeros.
+        let c = lines(&x2, &t2, &[32.8, 32.8]);
+        assert!(((c[0] + c[1]).norm() - 113.0).abs() < 1e-6);
+        assert_eq!(lines(&x2[..1], &t2[..1], &[32.8])[0].norm(), 0.0);
     }
 
     #[test]
@@ -240,7 +300,7 @@ mod tests {
                 1.0 / ((1.0 - r * r).powi(2) + (2.0 * z * r).powi(2)).sqrt()
             })
             .collect();
-        let p = resonance(&speeds, &amp).expect("a peak");
+        let p = peaks(&speeds, &amp)[0];
         let exact = fnat * (1.0 - 2.0 * z * z).sqrt();
         assert!((p.speed_hz - exact).abs() < 0.05, "{}", p.speed_hz);
         assert!(p.amplitude >= amp[p.index]);
@@ -251,11 +311,17 @@ mod tests {
         // y = 5 − (x − 1.37)², sampled at 1.0, 1.2, … : the vertex (1.37, 5) exactly.
         let x: Vec<f64> = (0..8).map(|i| 1.0 + 0.2 * i as f64).collect();
         let y: Vec<f64> = x.iter().map(|x| 5.0 - (x - 1.37).powi(2)).collect();
-        let p = resonance(&x, &y).unwrap();
+        let p = peaks(&x, &y)[0];
         assert!((p.speed_hz - 1.37).abs() < 1e-12);
         assert!((p.amplitude - 5.0).abs() < 1e-12);
-        // A monotone curve has no interior peak.
-        assert!(resonance(&x, &x).is_none());
+        // A monotone curve has no interior peak, not even through a plateau; a flat top is one
+        // peak at its middle, at its own height.
+        assert!(peaks(&x, &x).is_empty());
+        let s5 = [0.0, 1.0, 2.0, 3.0, 4.0];
+        assert!(peaks(&s5[..4], &[1.0, 2.0, 2.0, 3.0]).is_empty());
+        let flat = peaks(&s5, &[1.0, 2.0, 2.0, 2.0, 1.0]);
+        assert_eq!(flat.len(), 1);
+        assert_eq!((flat[0].speed_hz, flat[0].amplitude), (2.0, 2.0));
         // Two peaks come highest first.
         let two = [0.0, 2.0, 0.0, 3.0, 0.0];
         let ps = peaks(&[0.0, 1.0, 2.0, 3.0, 4.0], &two);

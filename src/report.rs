@@ -2,16 +2,16 @@
 //!
 //! In: an assembled results file of `rotorsweep run` or `merge` (only read): the `/jobs/<id>`
 //! attributes (status, cause, integrator, statistics, errors against the reference, the varying
-//! keys and axis labels), `/models/<id>` (critical speeds, first bending frequencies),
+//! keys and axis labels), `/linear/<id>` (critical speeds, first bending frequencies),
 //! `/analysis/sweeps/<n>` (line amplitudes over speed) and `/analysis/trial_mass`.
 //! Out: a [`Report`] of neutral [`Table`]s, rendered as markdown, CSV or JSON:
 //! - `solver`: per job, CPU time [s], CPU time relative to the cheapest ok job, Newton iterations
-//!   per step, steps, rejected steps, max and RMS runout error against the reference [µm]
+//!   per step, steps, rejected steps, max, RMS and peak-amplitude runout error against the reference [µm]
 //!   (the thesis's Tables 5.2–5.4; transposed in markdown up to 8 jobs);
 //! - `resonances`: per speed sweep, direction and integer order k ≥ 2, the speed [Hz] where
 //!   order k of the centre runout peaks nearest to (within 10 % of) the model's critical
-//!   speed / k, and the
-//!   amplitude [µm] of order k at each sensor's own such peak (the thesis's Table 5.1);
+//!   speed / k, and the amplitude [µm] of order k at each sensor's own such peak (the thesis's
+//!   Table 5.1);
 //! - `trial_mass`: per trial-mass job, the vertical 1× amplitude change and vector change
 //!   against the baseline [µm] at each sensor;
 //! - `stability`: per integrator and other setting, the status, max error [µm] and CPU time [s]
@@ -141,6 +141,7 @@ struct Job {
     rejected_steps: f64,
     error_max_um: f64,
     error_rms_um: f64,
+    error_peak_um: f64,
 }
 
 /// A number as short text: `1e-4` rather than `0.0001`, `16.4` as written.
@@ -224,6 +225,7 @@ fn read_jobs(f: &File, varying: &[String], axes: &[LabelledAxis]) -> hdf5::Resul
             rejected_steps: num("rejected_steps"),
             error_max_um: num("error_max_um"),
             error_rms_um: num("error_rms_um"),
+            error_peak_um: num("error_peak_um"),
         };
         out.push((num("job_index"), id, job));
     }
@@ -256,6 +258,7 @@ fn solver_table(jobs: &[Job]) -> Table {
         "rejected_steps",
         "error_max_um",
         "error_rms_um",
+        "error_peak_um",
         "cause",
     ];
     let rows: Vec<Vec<Cell>> = jobs
@@ -271,6 +274,7 @@ fn solver_table(jobs: &[Job]) -> Table {
                 count(j.rejected_steps),
                 Cell::Number(j.error_max_um),
                 Cell::Number(j.error_rms_um),
+                Cell::Number(j.error_peak_um),
                 Cell::Text(if j.status == "ok" {
                     String::new()
                 } else {
@@ -286,6 +290,7 @@ fn solver_table(jobs: &[Job]) -> Table {
             ("iterations/step", "iterations_per_step"),
             ("max error [µm]", "error_max_um"),
             ("RMS error [µm]", "error_rms_um"),
+            ("peak amplitude error [µm]", "error_peak_um"),
             ("status", "status"),
         ];
         if jobs.iter().any(|j| j.status != "ok") {
@@ -309,8 +314,8 @@ fn solver_table(jobs: &[Job]) -> Table {
     Table {
         name: "solver".into(),
         title: "Solver cost and accuracy per job (thesis Tables 5.2–5.4): CPU time [s], relative \
-                to the cheapest ok job, Newton iterations per step, steps, rejected steps, max and \
-                RMS runout error against the reference [µm]"
+                to the cheapest ok job, Newton iterations per step, steps, rejected steps, max, \
+                RMS and peak-amplitude runout error against the reference [µm]"
             .into(),
         columns: columns.iter().map(|c| c.to_string()).collect(),
         rows,
@@ -406,10 +411,11 @@ fn position_or_push<'a>(list: &mut Vec<&'a str>, item: &'a str) -> usize {
     })
 }
 
-/// The vertical and horizontal critical speeds [Hz] of a model: of its `critical_speeds_hz`,
-/// the ones nearest to its first vertical and horizontal bending frequencies.
-fn criticals(f: &File, model_id: &str) -> [Option<f64>; 2] {
-    let Ok(g) = f.group(&format!("models/{model_id}")) else {
+/// The vertical and horizontal critical speeds [Hz] of a linearised system (`/linear/<id>`): of
+/// its `critical_speeds_hz`, the ones nearest to its first vertical and horizontal bending
+/// frequencies.
+fn criticals(f: &File, linear_id: &str) -> [Option<f64>; 2] {
+    let Ok(g) = f.group(&format!("linear/{linear_id}")) else {
         return [None, None];
     };
     let crit: Vec<f64> = g
@@ -476,9 +482,12 @@ fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
         let crit = ids
             .first()
             .and_then(|id| f.group(&format!("jobs/{id}")).ok())
-            .and_then(|g| store::read_str(&g, "model_id").ok())
+            .and_then(|g| store::read_str(&g, "linear_id").ok())
             .map_or([None, None], |m| criticals(f, &m));
-        let lines = sg.group("lines")?;
+        // A sweep without runout channels has no lines.
+        let Ok(lines) = sg.group("lines") else {
+            continue;
+        };
         if names.is_empty() {
             names = lines.member_names()?;
             names.sort_by(|a, b| sensor_rank(a).cmp(&sensor_rank(b)));

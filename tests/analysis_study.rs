@@ -39,17 +39,20 @@ gravity_m_s2 = 0.0
 #[derive(hdf5::H5Type, Clone, Copy, Debug)]
 #[repr(C)]
 struct TrialRow {
+    channel: hdf5::types::FixedAscii<48>,
     speed_hz: f64,
     amplitude_um: f64,
     baseline_amplitude_um: f64,
     amplitude_change_um: f64,
     vector_change_um: f64,
+    vector_phase_deg: f64,
 }
 
 /// The numeric columns of `/analysis/resonances`.
 #[derive(hdf5::H5Type, Clone, Copy, Debug)]
 #[repr(C)]
 struct ResonanceRow {
+    sweep: f64,
     order: f64,
     rank: f64,
     speed_hz: f64,
@@ -129,6 +132,17 @@ orders = [1.0, 2.0]
         // difference of the two stored amplitudes.
         assert!(t.baseline_amplitude_um < 1e-3 * t.amplitude_um, "{t:?}");
         assert!((t.amplitude_change_um - (t.amplitude_um - t.baseline_amplitude_um)).abs() < 1e-12);
+        // Phase against roll angle 0 (the mass at body 0° = +x at t = 0, spin x → y): the
+        // horizontal response lags the force by ψ = atan2(2ζr, 1 − r²), the vertical one is a
+        // quarter turn later (within 1°: the massive shaft, as for the amplitude).
+        let psi = (2.0 * zeta * r).atan2(1.0 - r * r).to_degrees();
+        let expect = if t.channel.as_str().ends_with("horizontal") {
+            -psi
+        } else {
+            -psi - 90.0
+        };
+        let diff = (t.vector_phase_deg - expect + 540.0).rem_euclid(360.0) - 180.0;
+        assert!(diff.abs() < 1.0, "{t:?}: phase against {expect}°");
     }
     // Resonance of order 1 in the sweep with the mass: the displacement peak of the closed form is
     // at Ω = ω/√(1 − 2ζ²); the parabola through the samples 0.05 ω apart finds it to a quarter
@@ -139,12 +153,24 @@ orders = [1.0, 2.0]
         .read_raw()
         .unwrap();
     let peak = f1 / (1.0 - 2.0 * zeta * zeta).sqrt();
+    let with_mass = (0..2)
+        .find(|n| {
+            let g = f.group(&format!("analysis/sweeps/{n}")).unwrap();
+            rotorsweep::store::read_str(&g, "fixed")
+                .unwrap()
+                .contains("20 g")
+        })
+        .expect("the sweep with the mass") as f64;
     let found: Vec<f64> = res
         .iter()
-        .filter(|r| r.order == 1.0 && r.rank == 1.0)
+        .filter(|r| r.sweep == with_mass && r.order == 1.0 && r.rank == 1.0)
         .map(|r| r.speed_hz)
         .collect();
-    assert!(!found.is_empty(), "an order-1 resonance");
+    assert_eq!(
+        found.len(),
+        2,
+        "an order-1 resonance, vertical and horizontal"
+    );
     for s in &found {
         eprintln!("order-1 resonance {s:.4} Hz, closed-form peak {peak:.4} Hz");
         assert!((s - peak).abs() < 0.0125 * f1, "{s} Hz against {peak} Hz");

@@ -78,11 +78,12 @@ fn report_tables_in_markdown_csv_and_json() {
             "iterations/step",
             "max error [µm]",
             "RMS error [µm]",
+            "peak amplitude error [µm]",
             "status",
             "cause"
         ]
     );
-    let statuses = md_cells(solver[7]);
+    let statuses = md_cells(solver[8]);
     assert_eq!(statuses.iter().filter(|s| **s == "ok").count(), JOBS - 1);
     assert_eq!(statuses.iter().filter(|s| **s == "budget").count(), 1);
     // The stability matrix: one row per integrator, one column per setting without the
@@ -121,7 +122,7 @@ fn report_tables_in_markdown_csv_and_json() {
     assert_eq!(
         lines[0],
         "setting,status,cpu_time_s,relative,iterations_per_step,steps,rejected_steps,\
-         error_max_um,error_rms_um,cause"
+         error_max_um,error_rms_um,error_peak_um,cause"
     );
     // Every job's setting is `speed.hz=…, solver.integrator=…` (and `solver.max_steps=…` for the
     // explicit job): quoted, as it holds commas.

@@ -130,8 +130,8 @@ fn run_study(study: &Study, out: &Path, threads: usize, shard: Option<(usize, us
     campaign::run(study, &opts).unwrap();
 }
 
-/// Every job dataset as raw f64 bits, by "job_id/path".
-fn job_data(path: &Path) -> Vec<(String, Vec<u64>)> {
+/// Every float dataset under `group` as raw f64 bits, by path.
+fn group_data(path: &Path, group: &str) -> Vec<(String, Vec<u64>)> {
     fn walk(g: &hdf5::Group, prefix: &str, out: &mut Vec<(String, Vec<u64>)>) {
         for name in g.member_names().unwrap() {
             let p = format!("{prefix}/{name}");
@@ -145,7 +145,7 @@ fn job_data(path: &Path) -> Vec<(String, Vec<u64>)> {
     }
     let f = hdf5::File::open(path).unwrap();
     let mut out = Vec::new();
-    walk(&f.group("jobs").unwrap(), "", &mut out);
+    walk(&f.group(group).unwrap(), "", &mut out);
     out.sort_by(|a, b| a.0.cmp(&b.0));
     out
 }
@@ -163,6 +163,7 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     run_study(&st, &d.join("s0.h5"), 2, Some((0, 2)));
     run_study(&st, &d.join("s1.h5"), 2, Some((1, 2)));
     campaign::merge(&[d.join("s0.h5"), d.join("s1.h5")], &d.join("merged.h5")).unwrap();
+    let job_data = |p: &Path| group_data(p, "jobs");
     let one = job_data(&d.join("one.h5"));
     assert_eq!(
         one.len(),
@@ -171,6 +172,15 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     );
     assert_eq!(one, job_data(&d.join("two.h5")));
     assert_eq!(one, job_data(&d.join("merged.h5")));
+    // The linearised systems (Campbell data, critical speeds) too.
+    let linear = group_data(&d.join("one.h5"), "linear");
+    assert_eq!(
+        linear.len(),
+        3,
+        "one system: Campbell speeds, whirl, critical speeds"
+    );
+    assert_eq!(linear, group_data(&d.join("two.h5"), "linear"));
+    assert_eq!(linear, group_data(&d.join("merged.h5"), "linear"));
     // The merged summary has every job once, in job order.
     let f = hdf5::File::open(d.join("merged.h5")).unwrap();
     let n = f.dataset("summary").unwrap().shape()[0];

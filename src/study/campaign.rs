@@ -79,6 +79,7 @@ struct Work<'a> {
     kind: Kind,
     scene: &'a Scene,
     model_id: &'a str,
+    linear_id: Option<&'a str>,
     prune: Option<f64>,
     params: Vec<(String, Param)>,
 }
@@ -167,6 +168,9 @@ fn save_part(dir: &Path, w: &Work, r: &JobResult, integrator: &str) -> Result<()
         let f = hdf5::File::create(&tmp)?;
         let mut params = w.params.clone();
         params.push(("model_id".into(), Param::Text(w.model_id.to_string())));
+        if let Some(l) = w.linear_id {
+            params.push(("linear_id".into(), Param::Text(l.to_string())));
+        }
         // The constant spin speed, for the spectral analysis (NaN for a speed profile).
         let speed = match w.scene.speed {
             SpeedProfile::Constant(omega) => omega / std::f64::consts::TAU,
@@ -322,6 +326,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             kind: Kind::Reference,
             scene: &r.scene,
             model_id: &r.model_id,
+            linear_id: None,
             prune: None,
             params: params_of(&r.overrides),
         });
@@ -340,6 +345,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             kind: Kind::Job(j.index),
             scene: &j.scene,
             model_id: &j.model_id,
+            linear_id: Some(&j.linear_id),
             prune: j.prune,
             params,
         });
@@ -404,16 +410,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     if let Some(e) = write_error {
         return Err(e);
     }
-    assemble(
-        study,
-        opts,
-        &dir,
-        &jobs,
-        &refs,
-        &models,
-        &model_scenes,
-        &shares,
-    )?;
+    assemble(study, opts, &dir, &jobs, &refs, &models, &shares)?;
     let statuses = read_statuses(&opts.output)?;
     let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
     std::fs::remove_dir_all(&dir)?;
@@ -458,14 +455,39 @@ fn read_statuses(path: &Path) -> Result<Vec<String>, CampaignError> {
     Ok(out)
 }
 
-/// Max and RMS runout difference [µm] between a job and its reference, over the common samples,
-/// the worst channel; NaN when either has no samples.
+/// A job's runout error against its reference [µm] (physics.md §8): the max and RMS of the
+/// difference over the common samples, and the error of the peak amplitude (half the
+/// peak-to-peak runout).
+#[derive(Clone, Copy)]
+struct RunoutError {
+    max: f64,
+    rms: f64,
+    peak: f64,
+}
+
+impl RunoutError {
+    const NONE: Self = Self {
+        max: f64::NAN,
+        rms: f64::NAN,
+        peak: f64::NAN,
+    };
+}
+
+/// The runout error per channel and the worst over channels; NaN when nothing compares.
 fn errors_against(
     job: &hdf5::Group,
     reference: &hdf5::Group,
-) -> (f64, f64, Vec<(String, f64, f64)>) {
+) -> (RunoutError, Vec<(String, RunoutError)>) {
     let a = store::runout_channels(job);
     let b = store::runout_channels(reference);
+    let half_pp = |v: &[f64]| {
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                (l.min(*x), h.max(*x))
+            });
+        0.5 * (hi - lo)
+    };
     let mut per = Vec::new();
     for (name, x) in &a {
         if let Some((_, y)) = b.iter().find(|(n, _)| n == name) {
@@ -474,25 +496,36 @@ fn errors_against(
                 continue;
             }
             let d: Vec<f64> = (0..n).map(|i| x[i] - y[i]).collect();
-            let max = d.iter().map(|v| v.abs()).fold(0.0, f64::max);
-            let rms = (d.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
-            per.push((name.clone(), max, rms));
+            per.push((
+                name.clone(),
+                RunoutError {
+                    max: d.iter().map(|v| v.abs()).fold(0.0, f64::max),
+                    rms: (d.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt(),
+                    peak: (half_pp(&x[..n]) - half_pp(&y[..n])).abs(),
+                },
+            ));
         }
     }
-    let max = per.iter().map(|p| p.1).fold(f64::NAN, f64::max);
-    let rms = per.iter().map(|p| p.2).fold(f64::NAN, f64::max);
-    (max, rms, per)
+    let worst = |f: fn(&RunoutError) -> f64| per.iter().map(|p| f(&p.1)).fold(f64::NAN, f64::max);
+    let all = RunoutError {
+        max: worst(|e| e.max),
+        rms: worst(|e| e.rms),
+        peak: worst(|e| e.peak),
+    };
+    (all, per)
 }
 
-/// Campbell data stored with each model: spin speeds 0 … this [Hz], in this many steps.
-const CAMPBELL_MAX_HZ: f64 = 60.0;
-const CAMPBELL_SPEEDS: usize = 121;
+/// Campbell data of each linearised system: spin speeds 0 … this [Hz] (the `modes` command's
+/// default range), in this many steps.
+const CAMPBELL_MAX_HZ: f64 = 100.0;
+const CAMPBELL_SPEEDS: usize = 201;
 
-/// A model's linear analysis on its linearised supports: `campbell/speed_hz` [Hz],
-/// `campbell/whirl_hz` [speeds × branches, Hz], `critical_speeds_hz`, and the first bending
-/// frequencies at standstill as attributes (`vertical_hz`, `horizontal_hz`); a failure is
-/// stored as the attribute `linear_error`.
-fn write_linear(g: &hdf5::Group, scene: &Scene, m: &Model) -> hdf5::Result<()> {
+/// A job's model on its linearised supports (`/linear/<linear_id>`): `campbell/speed_hz` [Hz],
+/// `campbell/whirl_hz` [speeds × branches, Hz], `critical_speeds_hz`, and as attributes the
+/// `model_id` and the first bending frequencies at standstill (`vertical_hz`, `horizontal_hz`);
+/// a failure is stored as the attribute `linear_error`.
+fn write_linear(g: &hdf5::Group, model_id: &str, scene: &Scene, m: &Model) -> hdf5::Result<()> {
+    store::attr_str(g, "model_id", model_id)?;
     let sys = match LinearSystem::of_scene(scene, m) {
         Ok(s) => s,
         Err(e) => return store::attr_str(g, "linear_error", &e.to_string()),
@@ -534,11 +567,10 @@ fn write_linear(g: &hdf5::Group, scene: &Scene, m: &Model) -> hdf5::Result<()> {
 fn write_model(
     group: &hdf5::Group,
     id: &str,
-    (scene, m): (&Scene, &Model),
+    m: &Model,
     shares: Option<&Vec<f64>>,
 ) -> hdf5::Result<()> {
     let g = group.create_group(id)?;
-    write_linear(&g, scene, m)?;
     let r = &m.full;
     store::attr_str(&g, "modes", &m.reduced.counts_label())?;
     store::attr_u64(&g, "elements", m.rotor.elements.len() as u64)?;
@@ -578,7 +610,6 @@ fn assemble(
     jobs: &[&Job],
     refs: &[&super::Reference],
     models: &BTreeMap<&str, Result<Arc<Model>, String>>,
-    model_scenes: &BTreeMap<&str, &Scene>,
     shares: &BTreeMap<String, Vec<f64>>,
 ) -> Result<(), CampaignError> {
     let tmp = store::with_suffix(&opts.output, ".tmp");
@@ -594,8 +625,19 @@ fn assemble(
         store::attr_str(&f, "shard", &format!("{si}/{sn}"))?;
         let mg = f.create_group("models")?;
         for (id, m) in models {
-            if let (Ok(m), Some(scene)) = (m, model_scenes.get(id)) {
-                write_model(&mg, id, (scene, m), shares.get(*id))?;
+            if let Ok(m) = m {
+                write_model(&mg, id, m, shares.get(*id))?;
+            }
+        }
+        // One linearised system per distinct model, supports, drive and gravity.
+        let lg = f.create_group("linear")?;
+        let mut linear: BTreeMap<&str, &Job> = BTreeMap::new();
+        for j in jobs {
+            linear.entry(j.linear_id.as_str()).or_insert(j);
+        }
+        for (lid, j) in linear {
+            if let Some(Ok(m)) = models.get(j.model_id.as_str()) {
+                write_linear(&lg.create_group(lid)?, &j.model_id, &j.scene, m)?;
             }
         }
         let rg = f.create_group("references")?;
@@ -608,7 +650,7 @@ fn assemble(
             let part = hdf5::File::open(dir.join(format!("{}.h5", j.id)))?;
             store::copy_object(&part, "job", &jg, &j.id)?;
             let g = jg.group(&j.id)?;
-            let (max, rms, per) = match rg.group(&j.reference_id) {
+            let (err, per) = match rg.group(&j.reference_id) {
                 Ok(rgp) if study.has_reference => {
                     let status = store::read_str(&rgp, "status").unwrap_or_default();
                     if status == "ok" {
@@ -620,20 +662,21 @@ fn assemble(
                             "error_cause",
                             &format!("reference {status}: {cause}"),
                         )?;
-                        (f64::NAN, f64::NAN, Vec::new())
+                        (RunoutError::NONE, Vec::new())
                     }
                 }
-                _ => (f64::NAN, f64::NAN, Vec::new()),
+                _ => (RunoutError::NONE, Vec::new()),
             };
-            store::attr_f64(&g, "error_max_um", max)?;
-            store::attr_f64(&g, "error_rms_um", rms)?;
             store::attr_str(&g, "reference_id", &j.reference_id)?;
-            for (name, m, r) in per {
-                store::attr_f64(&g, &format!("error_max_um:{name}"), m)?;
-                store::attr_f64(&g, &format!("error_rms_um:{name}"), r)?;
+            for (suffix, e) in std::iter::once((String::new(), err))
+                .chain(per.into_iter().map(|(n, e)| (format!(":{n}"), e)))
+            {
+                store::attr_f64(&g, &format!("error_max_um{suffix}"), e.max)?;
+                store::attr_f64(&g, &format!("error_rms_um{suffix}"), e.rms)?;
+                store::attr_f64(&g, &format!("error_peak_um{suffix}"), e.peak)?;
             }
         }
-        super::post::analyse(&f)?;
+        analyse_or_note(&f, &opts.output);
         write_summary(&f, &study.varying)?;
         f.close()?;
     }
@@ -641,8 +684,20 @@ fn assemble(
     Ok(())
 }
 
+/// Analyses the file being assembled (`post`); a failure there costs the analysis, not the
+/// finished jobs: it is printed and kept as the file's `analysis_error` attribute.
+fn analyse_or_note(f: &hdf5::File, out: &Path) {
+    if let Err(e) = super::post::analyse(f) {
+        let msg = format!("analysing {}: {e}", out.display());
+        eprintln!("warning: {msg}");
+        if let Err(e2) = store::attr_str(f, "analysis_error", &msg) {
+            eprintln!("warning: {}: cannot note it either: {e2}", out.display());
+        }
+    }
+}
+
 /// The numeric statistics every summary row carries, in order.
-const STAT_COLUMNS: [&str; 11] = [
+const STAT_COLUMNS: [&str; 12] = [
     "cpu_time_s",
     "wall_time_s",
     "steps",
@@ -654,6 +709,7 @@ const STAT_COLUMNS: [&str; 11] = [
     "t_end_s",
     "error_max_um",
     "error_rms_um",
+    "error_peak_um",
 ];
 
 /// (Re)writes `/summary` from the job groups' attributes, ordered by job index.
@@ -837,12 +893,13 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> 
         }
         let sources: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
         store::attr_str(&f, "merged_from", &sources.join("\n"))?;
-        for group in ["models", "references", "jobs"] {
+        for group in ["models", "linear", "references", "jobs"] {
             let dst = f.create_group(group)?;
             let mut seen = BTreeSet::new();
             for p in inputs {
                 let src = hdf5::File::open(p)?;
-                let sg = src.group(group)?;
+                // Files from before /linear existed have none to copy.
+                let Ok(sg) = src.group(group) else { continue };
                 for name in sg.member_names()? {
                     if seen.insert(name.clone()) {
                         store::copy_object(&sg, &name, &dst, &name)?;
@@ -854,7 +911,7 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> 
             }
         }
         let keys: Vec<String> = varying.lines().map(str::to_string).collect();
-        super::post::analyse(&f)?;
+        analyse_or_note(&f, output);
         write_summary(&f, &keys)?;
         f.close()?;
     }

@@ -147,6 +147,9 @@ pub struct Job {
     pub model_id: String,
     /// Id of the reference run this job is compared with.
     pub reference_id: String,
+    /// Id of the job's linearised system (its model on its supports, drive and gravity): the
+    /// Campbell data and critical speeds stored under `/linear/<id>`.
+    pub linear_id: String,
     /// Labels of the job's rows on labelled axes: (the axis's first key, label).
     pub labels: Vec<(String, String)>,
     /// The validated scene.
@@ -189,8 +192,6 @@ pub struct Study {
     pub pilot_overrides: Vec<(String, toml::Value)>,
     /// Whether the study names a reference setting (otherwise no errors are computed).
     pub has_reference: bool,
-    /// What the post-processing computes.
-    pub analysis: AnalysisSpec,
 }
 
 /// The pilot overrides as one canonical text (for ids).
@@ -377,10 +378,18 @@ impl Study {
         for (i, a) in raw.axes.iter().enumerate() {
             let (keys, rows) = axis_values(&c, i, a)?;
             if let Some(l) = &a.labels {
+                let key = format!("axes[{i}].labels");
                 if l.len() != rows.len() {
                     return Err(c.err(
-                        &format!("axes[{i}].labels"),
+                        &key,
                         format!("{} labels for {} values", l.len(), rows.len()),
+                    ));
+                }
+                let mut seen = std::collections::BTreeSet::new();
+                if let Some(bad) = l.iter().find(|x| x.trim().is_empty() || !seen.insert(*x)) {
+                    return Err(c.err(
+                        &key,
+                        format!("label `{bad}` is empty or given twice (labels name the rows)"),
                     ));
                 }
             }
@@ -462,6 +471,9 @@ impl Study {
         if a.orders.is_empty() || a.orders.iter().any(|o| !(o.is_finite() && *o > 0.0)) {
             return Err(c.err("analysis.orders", "needs one or more positive orders"));
         }
+        if (1..a.orders.len()).any(|i| a.orders[..i].contains(&a.orders[i])) {
+            return Err(c.err("analysis.orders", "an order is given twice"));
+        }
         if a.max_freq_hz.is_some_and(|f| !(f.is_finite() && f > 0.0)) {
             return Err(c.err("analysis.max_freq_hz", "must be a positive frequency"));
         }
@@ -540,6 +552,24 @@ impl Study {
             let inputs = scene_inputs(&scene_path, &merged);
             let model_part = canonical(&merged, &["materials", "roll", "rotor", "reduction"], &[]);
             let model_id = hash_id('m', &[&inputs, &model_part]);
+            let linear_part = canonical(
+                &merged,
+                &[
+                    "materials",
+                    "roll",
+                    "rotor",
+                    "reduction",
+                    "supports",
+                    "drive",
+                ],
+                &[],
+            );
+            let gravity = merged
+                .get("simulation")
+                .and_then(|s| s.get("gravity_m_s2"))
+                .map(value_text)
+                .unwrap_or_default();
+            let linear_id = hash_id('l', &[&inputs, &linear_part, &gravity]);
             let physics = if ref_sets_modes {
                 canonical(&merged, &[], &["solver", "reduction"])
             } else {
@@ -597,6 +627,7 @@ impl Study {
                 prune,
                 model_id,
                 reference_id,
+                linear_id,
                 labels,
                 scene,
             });
@@ -624,7 +655,6 @@ impl Study {
             references: references.into_values().collect(),
             pilot_overrides: pilot,
             has_reference: !reference.is_empty(),
-            analysis: raw.analysis,
         })
     }
 

@@ -8,12 +8,13 @@
 //! - `/jobs/<id>/spectrum/freq_hz` [Hz], `/jobs/<id>/spectrum/<sensor>/<dir>` [µm]: the
 //!   amplitude-correct Hanning spectrum up to `max_freq_hz` (default 8 × the speed);
 //! - `/analysis/lines`: table job_id, channel, order, speed_hz, freq_hz, amplitude_um, phase_deg
-//!   (the line at order × speed; phase relative to roll angle 0);
+//!   (the line at order × speed, all orders fitted together, `analysis::lines`; phase relative
+//!   to roll angle 0);
 //! - `/analysis/sweeps/<n>` for each set of ≥ 3 jobs that differ only in `speed.hz`: `speed_hz`,
 //!   `job_ids`, `orders`, `lines/<sensor>/<dir>` [speeds × orders, µm] and, when the records
 //!   match, `freq_hz` and `map/<sensor>/<dir>` [speeds × frequencies, µm]; attribute `fixed` (the
 //!   other keys' values);
-//! - `/analysis/resonances`: table sweep, channel, order, rank, speed_hz, amplitude_um (the three
+//! - `/analysis/resonances`: table sweep, fixed, channel, order, rank, speed_hz, amplitude_um (the three
 //!   highest interior peaks of each order's amplitude over speed);
 //! - `/analysis/trial_mass`, with an `[analysis] baseline`: table job_id, baseline_id, label,
 //!   channel, speed_hz, amplitude_um, baseline_amplitude_um, amplitude_change_um,
@@ -85,6 +86,9 @@ fn read_jobs(
             continue;
         }
         let channels = store::runout_channels(&g);
+        if channels.is_empty() {
+            continue;
+        }
         let values = varying
             .iter()
             .filter_map(|k| Some((k.clone(), text_of(&store::read_param(&g, k).ok()?))))
@@ -96,19 +100,21 @@ fn read_jobs(
                 Some((k.clone(), store::read_str(&g, &format!("label:{k}")).ok()?))
             })
             .collect();
-        let lines = channels
+        // The study's orders, and 1× for the trial-mass response, fitted together.
+        let mut freqs: Vec<f64> = orders.iter().map(|o| o * speed_hz).collect();
+        let one = orders.iter().position(|o| *o == 1.0).unwrap_or_else(|| {
+            freqs.push(speed_hz);
+            orders.len()
+        });
+        let (lines, one_x) = channels
             .iter()
             .map(|(_, x)| {
-                orders
-                    .iter()
-                    .map(|o| analysis::line(x, &time, o * speed_hz))
-                    .collect()
+                let mut z = analysis::lines(x, &time, &freqs);
+                let one_x = z[one];
+                z.truncate(orders.len());
+                (z, one_x)
             })
-            .collect();
-        let one_x = channels
-            .iter()
-            .map(|(_, x)| analysis::line(x, &time, speed_hz))
-            .collect();
+            .unzip();
         out.push(JobData {
             id,
             speed_hz,
