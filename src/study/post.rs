@@ -34,12 +34,19 @@ pub const SWEEP_KEY: &str = "speed.hz";
 /// Peaks kept per order and channel in the resonance table.
 const RANKS: usize = 3;
 
-/// One job as the analysis sees it.
+/// One job as the analysis sees it: its lines and its spectra up to the study's frequency cap
+/// (not its samples: memory stays small however long the records and large the study).
 struct JobData {
     id: String,
     speed_hz: f64,
-    time: Vec<f64>,
-    channels: Vec<(String, Vec<f64>)>,
+    /// Samples per channel and sample rate [Hz] of the record.
+    samples: usize,
+    rate_hz: f64,
+    /// Runout channel names ("sensor/dir").
+    names: Vec<String>,
+    /// Spectrum bins [Hz] up to the study's cap, and each channel's amplitudes there [µm].
+    freq_hz: Vec<f64>,
+    spectra: Vec<Vec<f64>>,
     /// Varying key → value as text.
     values: BTreeMap<String, String>,
     /// Label per labelled axis key.
@@ -50,13 +57,6 @@ struct JobData {
     one_x: Vec<Complex64>,
 }
 
-impl JobData {
-    fn sample_rate(&self) -> f64 {
-        let n = self.time.len();
-        (n - 1) as f64 / (self.time[n - 1] - self.time[0])
-    }
-}
-
 fn text_of(p: &Param) -> String {
     match p {
         Param::Number(x) => format!("{x}"),
@@ -64,20 +64,36 @@ fn text_of(p: &Param) -> String {
     }
 }
 
+/// The constant speed [Hz] of a job that ended ok, if it has one.
+fn analysable_speed(g: &hdf5::Group) -> Option<f64> {
+    let speed_hz = store::read_num(g, "speed_hz").ok()?;
+    let ok = store::read_str(g, "status").ok()? == "ok";
+    (ok && speed_hz > 0.0 && speed_hz.is_finite()).then_some(speed_hz)
+}
+
+/// Reads every analysable job (ok, constant speed, runout recorded), one at a time: fits its
+/// lines, writes its spectra into its group (unless a merged shard already did) and keeps them
+/// up to the study's cap (`max_freq_hz`, or 8 × the highest speed).
 fn read_jobs(
     f: &hdf5::File,
     varying: &[String],
     axes: &[LabelledAxis],
-    orders: &[f64],
+    spec: &AnalysisSpec,
 ) -> hdf5::Result<Vec<JobData>> {
+    let orders = &spec.orders;
     let jobs = f.group("jobs")?;
+    let ids = jobs.member_names()?;
+    let top_speed = ids
+        .iter()
+        .filter_map(|id| analysable_speed(&jobs.group(id).ok()?))
+        .fold(0.0, f64::max);
+    let study_cap = spec.max_freq_hz.unwrap_or(8.0 * top_speed);
     let mut out = Vec::new();
-    for id in jobs.member_names()? {
+    for id in ids {
         let g = jobs.group(&id)?;
-        let speed_hz = store::read_num(&g, "speed_hz").unwrap_or(f64::NAN);
-        if store::read_str(&g, "status")? != "ok" || !(speed_hz > 0.0 && speed_hz.is_finite()) {
+        let Some(speed_hz) = analysable_speed(&g) else {
             continue;
-        }
+        };
         let time = g
             .dataset("time")
             .and_then(|d| d.read_raw::<f64>())
@@ -115,11 +131,29 @@ fn read_jobs(
                 (z, one_x)
             })
             .unzip();
+        let n = time.len();
+        let rate_hz = (n - 1) as f64 / (time[n - 1] - time[0]);
+        let full: Vec<analysis::Spectrum> = channels
+            .iter()
+            .map(|(_, x)| analysis::spectrum(x, rate_hz))
+            .collect();
+        let names: Vec<String> = channels.into_iter().map(|(name, _)| name).collect();
+        if !g.link_exists("spectrum") {
+            let own = bins_below(&full[0], spec.max_freq_hz.unwrap_or(8.0 * speed_hz));
+            store::dataset(&g, "spectrum/freq_hz", &full[0].freq_hz[..own], "Hz")?;
+            for (name, s) in names.iter().zip(&full) {
+                store::dataset(&g, &format!("spectrum/{name}"), &s.amplitude[..own], "um")?;
+            }
+        }
+        let keep = bins_below(&full[0], study_cap);
         out.push(JobData {
             id,
             speed_hz,
-            time,
-            channels,
+            samples: n,
+            rate_hz,
+            freq_hz: full[0].freq_hz[..keep].to_vec(),
+            spectra: full.iter().map(|s| s.amplitude[..keep].to_vec()).collect(),
+            names,
             values,
             labels,
             lines,
@@ -137,26 +171,6 @@ fn bins_below(s: &analysis::Spectrum, max_hz: f64) -> usize {
         .count()
 }
 
-fn write_job_spectra(f: &hdf5::File, j: &JobData, spec: &AnalysisSpec) -> hdf5::Result<()> {
-    let g = f.group(&format!("jobs/{}", j.id))?;
-    if g.link_exists("spectrum") || j.channels.is_empty() {
-        return Ok(());
-    }
-    let fs = j.sample_rate();
-    let cap = spec.max_freq_hz.unwrap_or(8.0 * j.speed_hz);
-    let mut freq_written = false;
-    for (name, x) in &j.channels {
-        let s = analysis::spectrum(x, fs);
-        let n = bins_below(&s, cap);
-        if !freq_written {
-            store::dataset(&g, "spectrum/freq_hz", &s.freq_hz[..n], "Hz")?;
-            freq_written = true;
-        }
-        store::dataset(&g, &format!("spectrum/{name}"), &s.amplitude[..n], "um")?;
-    }
-    Ok(())
-}
-
 /// Rows of the lines table.
 fn lines_table(g: &hdf5::Group, jobs: &[JobData], orders: &[f64]) -> hdf5::Result<()> {
     let mut id = Vec::new();
@@ -164,7 +178,7 @@ fn lines_table(g: &hdf5::Group, jobs: &[JobData], orders: &[f64]) -> hdf5::Resul
     let (mut order, mut speed, mut freq, mut amp, mut phase) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for j in jobs {
-        for (c, (name, _)) in j.channels.iter().enumerate() {
+        for (c, name) in j.names.iter().enumerate() {
             for (k, o) in orders.iter().enumerate() {
                 let z = j.lines[c][k];
                 id.push(j.id.clone());
@@ -247,20 +261,17 @@ fn write_sweep(
         &set.iter().map(|j| j.id.clone()).collect::<Vec<_>>(),
     )?;
     store::dataset(&sg, "orders", &spec.orders, "1")?;
-    let names: Vec<&String> = set[0].channels.iter().map(|(n, _)| n).collect();
+    let names = &set[0].names;
     // Spectral maps only when every record has the same length and rate.
     let same = set.iter().all(|j| {
-        j.time.len() == set[0].time.len()
-            && (j.sample_rate() - set[0].sample_rate()).abs() <= 1e-9 * set[0].sample_rate()
-            && j.channels.len() == names.len()
+        j.samples == set[0].samples
+            && (j.rate_hz - set[0].rate_hz).abs() <= 1e-9 * set[0].rate_hz
+            && j.names.len() == names.len()
     });
     let max_speed = speeds.iter().copied().fold(0.0, f64::max);
     let cap = spec.max_freq_hz.unwrap_or(8.0 * max_speed);
     for (c, name) in names.iter().enumerate() {
-        if !set
-            .iter()
-            .all(|j| j.channels.get(c).map(|x| &x.0) == Some(name))
-        {
+        if !set.iter().all(|j| j.names.get(c) == Some(name)) {
             continue;
         }
         let no = spec.orders.len();
@@ -286,16 +297,14 @@ fn write_sweep(
             }
         }
         if same {
-            let fs = set[0].sample_rate();
-            let mut map = Vec::new();
-            let mut bins = 0;
+            let freq = &set[0].freq_hz;
+            let bins = freq.iter().take_while(|f| **f <= cap + 1e-9).count();
+            if c == 0 {
+                store::dataset(&sg, "freq_hz", &freq[..bins], "Hz")?;
+            }
+            let mut map = Vec::with_capacity(set.len() * bins);
             for j in set {
-                let s = analysis::spectrum(&j.channels[c].1, fs);
-                bins = bins_below(&s, cap);
-                if c == 0 && map.is_empty() {
-                    store::dataset(&sg, "freq_hz", &s.freq_hz[..bins], "Hz")?;
-                }
-                map.extend_from_slice(&s.amplitude[..bins]);
+                map.extend_from_slice(&j.spectra[c][..bins]);
             }
             store::dataset_2d(&sg, &format!("map/{name}"), (set.len(), bins), &map, "um")?;
         }
@@ -336,8 +345,8 @@ fn trial_mass_table(
         else {
             continue;
         };
-        for (c, (name, _)) in j.channels.iter().enumerate() {
-            let Some(bc) = b.channels.iter().position(|(n, _)| n == name) else {
+        for (c, name) in j.names.iter().enumerate() {
+            let Some(bc) = b.names.iter().position(|n| n == name) else {
                 continue;
             };
             let r = analysis::trial_response(j.one_x[c], b.one_x[bc]);
@@ -387,10 +396,7 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
         .filter(|l| !l.is_empty())
         .map(str::to_string)
         .collect();
-    let jobs = read_jobs(f, &varying, &axes, &spec.orders)?;
-    for j in &jobs {
-        write_job_spectra(f, j, &spec)?;
-    }
+    let jobs = read_jobs(f, &varying, &axes, &spec)?;
     if f.link_exists("analysis") {
         f.unlink("analysis")?;
     }
