@@ -64,6 +64,18 @@ impl SpeedProfile {
             }
         }
     }
+
+    /// The speed Ω [rad/s] and roll-angle offset δ [rad] (θ = Ω t + δ) when Ω is constant over
+    /// [t0, t1] (a ramp or step that ends before t0 counts); `None` when it changes there.
+    pub fn constant_over(&self, t0: f64, t1: f64) -> Option<(f64, f64)> {
+        let constant = match self {
+            Self::Constant(_) => true,
+            Self::Ramp { t0: r0, t1: r1, .. } => *r1 <= t0 || *r0 >= t1,
+            Self::Steps { times, .. } => !times.iter().any(|s| *s > t0 && *s < t1),
+        };
+        let (theta, w, _) = self.at(t0);
+        constant.then_some((w, theta - w * t0))
+    }
 }
 
 /// Modal damping ratio by frequency band: ratio of the first band whose upper edge lies above
@@ -336,5 +348,38 @@ pub(super) fn outputs(o: &OutputsFile) -> Outputs {
         contact_forces: o.contact_forces,
         stand_motion: o.stand_motion,
         modal: o.modal,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn speed_is_constant_over_a_record_after_a_ramp_and_the_angle_offset_follows() {
+        // A ramp 0 → 10 rad/s over [1, 3] s: θ(3) = ½·10·2 = 10 rad, so after it θ = 10 t − 20.
+        let ramp = SpeedProfile::Ramp {
+            from: 0.0,
+            to: 10.0,
+            t0: 1.0,
+            t1: 3.0,
+        };
+        let (w, d) = ramp
+            .constant_over(4.0, 8.0)
+            .expect("constant after the ramp");
+        assert!((w - 10.0).abs() < 1e-12 && (d + 20.0).abs() < 1e-12);
+        assert!(ramp.constant_over(2.0, 8.0).is_none());
+        // Steps 5 then 7 rad/s from 2 s: constant over [3, 9] with θ = 7 t − 4 (θ(2) = 10).
+        let steps = SpeedProfile::Steps {
+            times: vec![0.0, 2.0],
+            speeds: vec![5.0, 7.0],
+        };
+        let (w, d) = steps.constant_over(3.0, 9.0).unwrap();
+        assert!((w - 7.0).abs() < 1e-12 && (d + 4.0).abs() < 1e-12);
+        assert!(steps.constant_over(1.0, 9.0).is_none());
+        assert_eq!(
+            SpeedProfile::Constant(3.0).constant_over(0.5, 1.0),
+            Some((3.0, 0.0))
+        );
     }
 }

@@ -23,7 +23,7 @@ use crate::integrators::{Stats, Status};
 use crate::job::{self, JobResult};
 use crate::model::Model;
 use crate::reduction::{ModeKind, ModeSelection};
-use crate::scene::{Scene, SpeedProfile};
+use crate::scene::Scene;
 use crate::store::{self, Column, Param};
 
 /// How to run a study.
@@ -171,12 +171,18 @@ fn save_part(dir: &Path, w: &Work, r: &JobResult, integrator: &str) -> Result<()
         if let Some(l) = w.linear_id {
             params.push(("linear_id".into(), Param::Text(l.to_string())));
         }
-        // The constant spin speed, for the spectral analysis (NaN for a speed profile).
-        let speed = match w.scene.speed {
-            SpeedProfile::Constant(omega) => omega / std::f64::consts::TAU,
-            _ => f64::NAN,
-        };
+        // The spin speed over the record and the roll angle's offset from Ω·t, for the
+        // spectral analysis (NaN when the speed changes while recording).
+        let sim = &w.scene.simulation;
+        let (speed, offset) = w
+            .scene
+            .speed
+            .constant_over(sim.settle, sim.t_end)
+            .map_or((f64::NAN, f64::NAN), |(omega, d)| {
+                (omega / std::f64::consts::TAU, d)
+            });
         params.push(("speed_hz".into(), Param::Number(speed)));
+        params.push(("roll_angle_offset_rad".into(), Param::Number(offset)));
         if let Some(p) = w.prune {
             params.push((super::PRUNE_KEY.into(), Param::Number(p)));
         }

@@ -9,7 +9,9 @@
 //!   amplitude-correct Hanning spectrum up to `max_freq_hz` (default 8 × the speed);
 //! - `/analysis/lines`: table job_id, channel, order, speed_hz, freq_hz, amplitude_um, phase_deg
 //!   (the line at order × speed, all orders fitted together, `analysis::lines`; phase relative
-//!   to roll angle 0);
+//!   to roll angle 0). A job is analysed when it ended ok and its speed was constant while it
+//!   recorded (a ramp or speed step may end before `settle_s`): attributes `speed_hz` and
+//!   `roll_angle_offset_rad` (θ = Ω t + δ) say so;
 //! - `/analysis/sweeps/<n>` for each set of ≥ 3 jobs that differ only in `speed.hz`: `speed_hz`,
 //!   `job_ids`, `orders`, `lines/<sensor>/<dir>` [speeds × orders, µm] and, when the records
 //!   match, `freq_hz` and `map/<sensor>/<dir>` [speeds × frequencies, µm]; attribute `fixed` (the
@@ -122,10 +124,15 @@ fn read_jobs(
             freqs.push(speed_hz);
             orders.len()
         });
+        // Phases against the roll angle θ = Ω t + δ: a line at order o turns back by o·δ.
+        let delta = store::read_num(&g, "roll_angle_offset_rad").unwrap_or(0.0);
         let (lines, one_x) = channels
             .iter()
             .map(|(_, x)| {
                 let mut z = analysis::lines(x, &time, &freqs);
+                for (zk, fk) in z.iter_mut().zip(&freqs) {
+                    *zk *= Complex64::from_polar(1.0, -fk / speed_hz * delta);
+                }
                 let one_x = z[one];
                 z.truncate(orders.len());
                 (z, one_x)
