@@ -573,9 +573,9 @@ fn trial_mass_table(f: &File, label_key: Option<&str>) -> hdf5::Result<Option<Ta
     };
     let records: Vec<TrialRow> = ds.read_raw()?;
     let mut sensors: Vec<&str> = Vec::new();
-    // Job → (label, speed, sensor index → (amplitude change, vector change)).
+    // Job → (label, speed, job index, sensor index → (amplitude change, vector change)).
     type Changes = BTreeMap<usize, (f64, f64)>;
-    let mut per_job: BTreeMap<&str, (String, f64, Changes)> = BTreeMap::new();
+    let mut per_job: BTreeMap<&str, (String, f64, f64, Changes)> = BTreeMap::new();
     for r in &records {
         let Some(sensor) = r.channel.as_str().strip_suffix("/vertical") else {
             continue;
@@ -584,22 +584,33 @@ fn trial_mass_table(f: &File, label_key: Option<&str>) -> hdf5::Result<Option<Ta
         per_job
             .entry(r.job_id.as_str())
             .or_insert_with(|| {
+                let g = f.group(&format!("jobs/{}", r.job_id.as_str())).ok();
                 let label = label_key
-                    .and_then(|k| {
-                        let g = f.group(&format!("jobs/{}", r.job_id.as_str())).ok()?;
-                        store::read_str(&g, &format!("label:{k}")).ok()
-                    })
+                    .and_then(|k| store::read_str(g.as_ref()?, &format!("label:{k}")).ok())
                     .unwrap_or_else(|| r.label.as_str().to_string());
-                (label, r.speed_hz, BTreeMap::new())
+                let index = g
+                    .and_then(|g| store::read_num(&g, "job_index").ok())
+                    .unwrap_or(f64::NAN);
+                (label, r.speed_hz, index, BTreeMap::new())
             })
-            .2
+            .3
             .insert(s, (r.amplitude_change_um, r.vector_change_um));
     }
     if per_job.is_empty() {
         return Ok(None);
     }
     let mut jobs: Vec<_> = per_job.into_values().collect();
-    jobs.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    // The labels in the study's order (that of their first job), each by speed.
+    let mut first: BTreeMap<String, f64> = BTreeMap::new();
+    for j in &jobs {
+        let e = first.entry(j.0.clone()).or_insert(j.2);
+        *e = e.min(j.2);
+    }
+    jobs.sort_by(|a, b| {
+        first[&a.0]
+            .total_cmp(&first[&b.0])
+            .then(a.1.total_cmp(&b.1))
+    });
     let mut shown: Vec<usize> = (0..sensors.len()).collect();
     shown.sort_by(|a, b| sensor_rank(sensors[*a]).cmp(&sensor_rank(sensors[*b])));
     let mut columns = vec!["label".to_string(), "speed_hz".to_string()];
@@ -609,7 +620,7 @@ fn trial_mass_table(f: &File, label_key: Option<&str>) -> hdf5::Result<Option<Ta
     }
     let rows = jobs
         .iter()
-        .map(|(label, speed, ch)| {
+        .map(|(label, speed, _, ch)| {
             let mut row = vec![Cell::Text(label.clone()), Cell::Number(*speed)];
             for s in &shown {
                 let (a, v) = ch.get(s).copied().unwrap_or((f64::NAN, f64::NAN));
