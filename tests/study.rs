@@ -67,6 +67,39 @@ fn validation_errors_name_the_study_file_line_and_key() {
     let d = scratch_dir("errors");
     let cases: Vec<(&str, String, &str, &str)> = vec![
         (
+            "duplabel.toml",
+            study_text(
+                "[[axes]]\nkey = \"speed.hz\"\nvalues = [10.0, 12.0]\nlabels = [\"a\", \"a\"]\n",
+            ),
+            "labels = [",
+            "given twice",
+        ),
+        (
+            "nobaseline.toml",
+            study_text(
+                "[[axes]]\nkey = \"speed.hz\"\nvalues = [10.0]\n[analysis]\nbaseline = \"ref\"\n",
+            ),
+            "baseline = ",
+            "no axis has the label `ref`",
+        ),
+        (
+            // 3 × 200 Hz = 600 Hz is above the 500 Hz Nyquist frequency of 1 kHz sampling.
+            "nyquist.toml",
+            study_text(
+                "[[axes]]\nkey = \"speed.hz\"\nvalues = [200.0]\n[analysis]\norders = [1.0, 3.0]\n",
+            ),
+            "orders = ",
+            "Nyquist",
+        ),
+        (
+            "duporder.toml",
+            study_text(
+                "[[axes]]\nkey = \"speed.hz\"\nvalues = [10.0]\n[analysis]\norders = [1.0, 1.0]\n",
+            ),
+            "orders = ",
+            "given twice",
+        ),
+        (
             "unknown.toml",
             study_text("colour = \"red\"\n"),
             "colour",

@@ -635,6 +635,28 @@ impl Study {
         if jobs.is_empty() {
             return Err(c.err("axes", "the study has no jobs: add axes or [[jobs]]"));
         }
+        // Every line a study asks for must lie below the Nyquist frequency of its job's record
+        // (with the default orders, lines above it are stored as NaN).
+        let top = raw.analysis.orders.iter().copied().fold(0.0, f64::max);
+        let explicit = raw.analysis.orders != default_orders();
+        for j in jobs.iter().filter(|_| explicit) {
+            let sim = &j.scene.simulation;
+            if let Some((w, _)) = j.scene.speed.constant_over(sim.settle, sim.t_end) {
+                let f = top * w / std::f64::consts::TAU;
+                if f >= 0.5 * sim.sample_rate {
+                    return Err(c.err(
+                        "analysis.orders",
+                        format!(
+                            "job {}: order {top} at {:.4} Hz is {f:.4} Hz, at or above the Nyquist \
+                             frequency {:.1} Hz of simulation.sample_rate_hz",
+                            j.index,
+                            w / std::f64::consts::TAU,
+                            0.5 * sim.sample_rate
+                        ),
+                    ));
+                }
+            }
+        }
         let mut seen = BTreeMap::new();
         for j in &jobs {
             if let Some(first) = seen.insert(j.id.clone(), j.index) {

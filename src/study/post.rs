@@ -124,6 +124,8 @@ fn read_jobs(
             freqs.push(speed_hz);
             orders.len()
         });
+        let n = time.len();
+        let rate_hz = (n - 1) as f64 / (time[n - 1] - time[0]);
         // Phases against the roll angle θ = Ω t + δ: a line at order o turns back by o·δ.
         let delta = store::read_num(&g, "roll_angle_offset_rad").unwrap_or(0.0);
         let (lines, one_x) = channels
@@ -131,15 +133,18 @@ fn read_jobs(
             .map(|(_, x)| {
                 let mut z = analysis::lines(x, &time, &freqs);
                 for (zk, fk) in z.iter_mut().zip(&freqs) {
-                    *zk *= Complex64::from_polar(1.0, -fk / speed_hz * delta);
+                    *zk = if *fk < 0.5 * rate_hz {
+                        *zk * Complex64::from_polar(1.0, -fk / speed_hz * delta)
+                    } else {
+                        // Above the Nyquist frequency the record cannot tell the line.
+                        Complex64::new(f64::NAN, f64::NAN)
+                    };
                 }
                 let one_x = z[one];
                 z.truncate(orders.len());
                 (z, one_x)
             })
             .unzip();
-        let n = time.len();
-        let rate_hz = (n - 1) as f64 / (time[n - 1] - time[0]);
         let full: Vec<analysis::Spectrum> = channels
             .iter()
             .map(|(_, x)| analysis::spectrum(x, rate_hz))
