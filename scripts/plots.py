@@ -19,7 +19,10 @@ data, and prints the paths written:
   one series per integrator (jobs that ended ok; the legend counts the failed ones);
 * ``timing.png``: CPU time [s] per job, annotated with Newton iterations per step (≤ 12 jobs);
 * ``stability.png``: when ``solver.integrator`` and other keys vary, a matrix integrator ×
-  setting coloured by status, with the error [µm] and CPU time [s] in the cells.
+  setting coloured by status, with the error [µm] and CPU time [s] in the cells;
+* ``campbell.png``: the Campbell diagram of each linearised system (``/linear/<id>``, at most
+  four panels): whirl frequencies [Hz] of the model on its linearised supports over spin speed
+  [Hz], with the lines f = k·speed (k = 1…4) and the critical speeds.
 
 The ``-<n>`` suffix (the sweep's number in the file) is added only when the file has several
 sweeps. ``--channel SENSOR/DIR`` picks the sensor of the maps and harmonics and the direction of
@@ -57,6 +60,8 @@ HARMONICS = (1, 2, 3, 4)
 ROLLER_RATIO = 0.92
 #: Decades of amplitude below the map's maximum that the colour scale spans.
 MAP_DECADES = 4
+#: Most linearised systems drawn in the Campbell diagram (one panel each).
+MAX_CAMPBELL_PANELS = 4
 #: Largest study that gets a per-job timing bar chart.
 MAX_TIMING_JOBS = 12
 #: Fill colour of each job status.
@@ -301,6 +306,49 @@ def stability(summary: pd.DataFrame, names: pd.Series, study: str) -> Figure:
     return fig
 
 
+def campbell(path: PathLike, names: pd.Series, study: str) -> Figure | None:
+    """The Campbell diagram of each ``/linear/<id>`` group (at most :data:`MAX_CAMPBELL_PANELS`,
+    in the order of their first job), titled by that job's setting ``names``; None without
+    any."""
+    attrs = rp.job_attrs(path)
+    if "linear_id" not in attrs:
+        return None
+    first = attrs.reset_index().drop_duplicates("linear_id").head(MAX_CAMPBELL_PANELS)
+    systems = []
+    with h5py.File(path, "r") as f:
+        for _, job in first.iterrows():
+            g = f.get(f"linear/{job['linear_id']}")
+            if g is None or "campbell" not in g:
+                continue
+            crit = g["critical_speeds_hz"][()] if "critical_speeds_hz" in g else np.array([])
+            title = names.get(job["job_id"], job["linear_id"]) if len(first) > 1 else ""
+            systems.append((g["campbell/speed_hz"][()], g["campbell/whirl_hz"][()], crit, title))
+    if not systems:
+        return None
+    fig = _figure(figsize=(5.2 * len(systems) + 0.8, 5))
+    axes = fig.subplots(1, len(systems), sharey=True, squeeze=False)[0]
+    for ax, (speed, whirl, crit, title) in zip(axes, systems):
+        top = float(speed[-1])
+        ax.plot(speed, whirl, color="tab:blue", lw=1)
+        for k in HARMONICS:
+            ax.plot(speed, k * speed, color="0.4", lw=0.8, ls="-" if k == 1 else ":")
+            ax.annotate(f"{k}×", (top / k, top), fontsize="small", ha="center", va="bottom")
+        ax.plot(crit, crit, "o", color="tab:red", label="critical speeds")
+        for i, c in enumerate(crit):
+            # Alternate below and above the point: neighbouring criticals lie close together.
+            ax.annotate(f"{c:.2f} Hz", (c, c), xytext=(6, -12 if i % 2 == 0 else 4),
+                        textcoords="offset points", fontsize="small", color="tab:red")
+        ax.set_xlim(0, top)
+        ax.set_ylim(0, top)
+        ax.set_xlabel("spin speed [Hz]")
+        ax.set_title(title, fontsize="small", pad=14)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("whirl frequency, stationary frame [Hz]")
+    axes[0].legend(loc="lower right", fontsize="small")
+    fig.suptitle(f"{study}: Campbell diagram on the linearised supports")
+    return fig
+
+
 def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -> list[Path]:
     """Writes the plots the results file ``path`` has data for into ``outdir`` (created if
     needed) and returns their paths, in the order of the module doc. ``channel`` is
@@ -337,6 +385,8 @@ def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -
     if "solver.integrator" in varying and len(varying) > 1:
         names = settings(summary, labels, [k for k in varying if k != "solver.integrator"])
         figures.append(("stability.png", stability(summary, names, study)))
+    physics = [k for k in varying if k != "speed.hz" and not k.startswith("solver.")]
+    figures.append(("campbell.png", campbell(path, settings(summary, labels, physics), study)))
     return [_save(fig, out / name) for name, fig in figures if fig is not None]
 
 

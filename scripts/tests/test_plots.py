@@ -118,7 +118,9 @@ def check_map(path: Path) -> None:
 
 def test_trial_mass_study(trial_results: Path, tmp_path: Path) -> None:
     written = plots.render(trial_results, tmp_path / "plots")
-    assert [p.name for p in written] == [*SWEEP_PLOTS, "trial_mass.png", "timing.png"]
+    assert [p.name for p in written] == [
+        *SWEEP_PLOTS, "trial_mass.png", "timing.png", "campbell.png"
+    ]
     assert all(p.parent == tmp_path / "plots" for p in written)
     for p in written:
         check_png(p)
@@ -138,7 +140,7 @@ def test_solver_study_from_the_command_line(solver_results: Path, tmp_path: Path
         capture_output=True, text=True, timeout=300,
     )
     assert p.returncode == 0, p.stderr
-    names = [*SWEEP_PLOTS, "work_precision.png", "timing.png", "stability.png"]
+    names = [*SWEEP_PLOTS, "work_precision.png", "timing.png", "stability.png", "campbell.png"]
     assert p.stdout.split() == [str(out / n) for n in names]
     for n in names:
         check_png(out / n)
