@@ -58,6 +58,18 @@ struct ResonanceRow {
     speed_hz: f64,
 }
 
+/// Runs a study on two threads into `out`.
+fn run(st: &Study, out: &std::path::Path) -> campaign::Outcome {
+    let opts = campaign::RunOptions {
+        output: out.to_path_buf(),
+        threads: 2,
+        resume: false,
+        shard: None,
+        command: "test".into(),
+    };
+    campaign::run(st, &opts).expect("campaign")
+}
+
 #[test]
 fn trial_mass_response_and_resonance_match_the_jeffcott_closed_form() {
     let d = scratch_dir("analysis-study");
@@ -92,14 +104,7 @@ orders = [1.0, 2.0]
     );
     let st = Study::load(&write_file(&d, "study.toml", &study)).expect("study");
     let out = d.join("out.h5");
-    let opts = campaign::RunOptions {
-        output: out.clone(),
-        threads: 2,
-        resume: false,
-        shard: None,
-        command: "test".into(),
-    };
-    let outcome = campaign::run(&st, &opts).expect("campaign");
+    let outcome = run(&st, &out);
     assert_eq!(outcome.ok, 10);
     let f = hdf5::File::open(&out).unwrap();
     // Trial-mass table: per speed, the vector change equals the closed form
@@ -180,4 +185,32 @@ orders = [1.0, 2.0]
     assert_eq!(sweeps.len(), 2);
     let map = f.dataset("analysis/sweeps/0/map/disk/vertical").unwrap();
     assert_eq!(map.shape()[0], 5);
+}
+
+#[test]
+fn a_sweep_names_the_speeds_it_lost() {
+    // The reference roll at 10 … 16.2 Hz with a 0.5 mm runout bound: near the half-critical
+    // (16.2 Hz, physics.md §10) the 2× runout passes it and those jobs end diverged; the sweep
+    // keeps the three that ended ok and names the two it lost.
+    let d = scratch_dir("analysis-gaps");
+    let scene = common::repo().join("studies/scenes/reference-roll.toml");
+    let text = format!(
+        "name = \"gaps\"\nscene = {:?}\n[set]\n\"simulation.t_end_s\" = 1.0\n\
+         \"simulation.settle_s\" = 0.5\n\"simulation.runout_bound_mm\" = 0.5\n\
+         [[axes]]\nkey = \"speed.hz\"\nvalues = [10.0, 12.0, 14.0, 16.0, 16.2]\n",
+        scene.display().to_string()
+    );
+    let st = Study::load(&write_file(&d, "gaps.toml", &text)).expect("study");
+    let out = d.join("gaps.h5");
+    let outcome = run(&st, &out);
+    assert_eq!((outcome.ok, outcome.failed), (3, 2));
+    let f = hdf5::File::open(&out).unwrap();
+    let read = |name: &str| -> Vec<f64> {
+        f.dataset(&format!("analysis/sweeps/0/{name}"))
+            .unwrap()
+            .read_raw()
+            .unwrap()
+    };
+    assert_eq!(read("speed_hz"), vec![10.0, 12.0, 14.0]);
+    assert_eq!(read("skipped_speed_hz"), vec![16.0, 16.2]);
 }

@@ -15,7 +15,8 @@
 //! - `/analysis/sweeps/<n>` for each set of ≥ 3 jobs that differ only in `speed.hz`: `speed_hz`,
 //!   `job_ids`, `orders`, `lines/<sensor>/<dir>` [speeds × orders, µm] and, when the records
 //!   match, `freq_hz` and `map/<sensor>/<dir>` [speeds × frequencies, µm]; attribute `fixed` (the
-//!   other keys' values);
+//!   other keys' values); `skipped_speed_hz` and `skipped_job_ids` when some of its jobs could
+//!   not be analysed (failed, or no runout);
 //! - `/analysis/resonances`: table sweep, fixed, channel, order, rank, speed_hz, amplitude_um (the three
 //!   highest interior peaks of each order's amplitude over speed);
 //! - `/analysis/trial_mass`, with an `[analysis] baseline`: table job_id, baseline_id, label,
@@ -73,15 +74,38 @@ fn analysable_speed(g: &hdf5::Group) -> Option<f64> {
     (ok && speed_hz > 0.0 && speed_hz.is_finite()).then_some(speed_hz)
 }
 
-/// Reads every analysable job (ok, constant speed, runout recorded), one at a time: fits its
-/// lines, writes its spectra into its group (unless a merged shard already did) and keeps them
-/// up to the study's cap (`max_freq_hz`, or 8 × the highest speed).
+/// A job the analysis leaves out (it did not end ok, its speed changed while recording, or it
+/// recorded no runout), so that a sweep can say which of its speeds are missing.
+struct Skipped {
+    id: String,
+    fixed: String,
+    speed_hz: f64,
+}
+
+/// The values of the varying keys other than the sweep key, labels where the axis has them:
+/// what the jobs of one speed sweep share.
+fn fixed_text(values: &BTreeMap<String, String>, labels: &BTreeMap<String, String>) -> String {
+    let fixed: Vec<String> = values
+        .iter()
+        .filter(|(k, _)| k.as_str() != SWEEP_KEY)
+        .map(|(k, v)| match labels.get(k) {
+            Some(l) => format!("{k}={l}"),
+            None => format!("{k}={v}"),
+        })
+        .collect();
+    fixed.join("; ")
+}
+
+/// Reads every job, one at a time; of each analysable one (ok, constant speed, runout
+/// recorded) fits its lines, writes its spectra into its group (unless a merged shard already
+/// did) and keeps them up to the study's cap (`max_freq_hz`, or 8 × the highest speed); the
+/// others are returned as skipped.
 fn read_jobs(
     f: &hdf5::File,
     varying: &[String],
     axes: &[LabelledAxis],
     spec: &AnalysisSpec,
-) -> hdf5::Result<Vec<JobData>> {
+) -> hdf5::Result<(Vec<JobData>, Vec<Skipped>)> {
     let orders = &spec.orders;
     let jobs = f.group("jobs")?;
     let ids = jobs.member_names()?;
@@ -91,33 +115,40 @@ fn read_jobs(
         .fold(0.0, f64::max);
     let study_cap = spec.max_freq_hz.unwrap_or(8.0 * top_speed);
     let mut out = Vec::new();
+    let mut skipped = Vec::new();
     for id in ids {
         let g = jobs.group(&id)?;
-        let Some(speed_hz) = analysable_speed(&g) else {
-            continue;
-        };
-        let time = g
-            .dataset("time")
-            .and_then(|d| d.read_raw::<f64>())
-            .unwrap_or_default();
-        if time.len() < 2 || time[time.len() - 1] <= time[0] {
-            continue;
-        }
-        let channels = store::runout_channels(&g);
-        if channels.is_empty() {
-            continue;
-        }
-        let values = varying
+        let values: BTreeMap<String, String> = varying
             .iter()
             .filter_map(|k| Some((k.clone(), text_of(&store::read_param(&g, k).ok()?))))
             .collect();
-        let labels = axes
+        let labels: BTreeMap<String, String> = axes
             .iter()
             .filter_map(|a| {
                 let k = &a.keys[0];
                 Some((k.clone(), store::read_str(&g, &format!("label:{k}")).ok()?))
             })
             .collect();
+        let time = g
+            .dataset("time")
+            .and_then(|d| d.read_raw::<f64>())
+            .unwrap_or_default();
+        let channels = store::runout_channels(&g);
+        let speed_hz = match analysable_speed(&g) {
+            Some(s)
+                if time.len() >= 2 && time[time.len() - 1] > time[0] && !channels.is_empty() =>
+            {
+                s
+            }
+            _ => {
+                skipped.push(Skipped {
+                    fixed: fixed_text(&values, &labels),
+                    speed_hz: store::read_num(&g, "speed_hz").unwrap_or(f64::NAN),
+                    id,
+                });
+                continue;
+            }
+        };
         // The study's orders, and 1× for the trial-mass response, fitted together.
         let mut freqs: Vec<f64> = orders.iter().map(|o| o * speed_hz).collect();
         let one = orders.iter().position(|o| *o == 1.0).unwrap_or_else(|| {
@@ -172,7 +203,7 @@ fn read_jobs(
             one_x,
         });
     }
-    Ok(out)
+    Ok((out, skipped))
 }
 
 /// The number of spectrum bins at or below `max_hz`.
@@ -225,16 +256,9 @@ fn sweeps<'a>(jobs: &'a [JobData], varying: &[String]) -> Vec<(String, Vec<&'a J
     }
     let mut sets: BTreeMap<String, Vec<&JobData>> = BTreeMap::new();
     for j in jobs {
-        let fixed: Vec<String> = j
-            .values
-            .iter()
-            .filter(|(k, _)| k.as_str() != SWEEP_KEY)
-            .map(|(k, v)| match j.labels.get(k) {
-                Some(l) => format!("{k}={l}"),
-                None => format!("{k}={v}"),
-            })
-            .collect();
-        sets.entry(fixed.join("; ")).or_default().push(j);
+        sets.entry(fixed_text(&j.values, &j.labels))
+            .or_default()
+            .push(j);
     }
     sets.into_iter()
         .filter_map(|(fixed, mut v)| {
@@ -257,14 +281,23 @@ struct ResonanceRows {
 
 fn write_sweep(
     g: &hdf5::Group,
-    n: usize,
-    fixed: &str,
+    (n, fixed): (usize, &str),
     set: &[&JobData],
+    skipped: &[Skipped],
     spec: &AnalysisSpec,
     res: &mut ResonanceRows,
 ) -> hdf5::Result<()> {
     let sg = g.create_group(&n.to_string())?;
     store::attr_str(&sg, "fixed", fixed)?;
+    // The sweep's jobs that the analysis left out: their speeds are gaps in the curves.
+    let mut gaps: Vec<&Skipped> = skipped.iter().filter(|s| s.fixed == fixed).collect();
+    gaps.sort_by(|a, b| a.speed_hz.total_cmp(&b.speed_hz).then(a.id.cmp(&b.id)));
+    if !gaps.is_empty() {
+        let speeds: Vec<f64> = gaps.iter().map(|s| s.speed_hz).collect();
+        store::dataset(&sg, "skipped_speed_hz", &speeds, "Hz")?;
+        let ids: Vec<String> = gaps.iter().map(|s| s.id.clone()).collect();
+        store::string_dataset(&sg, "skipped_job_ids", &ids)?;
+    }
     let speeds: Vec<f64> = set.iter().map(|j| j.speed_hz).collect();
     store::dataset(&sg, "speed_hz", &speeds, "Hz")?;
     store::string_dataset(
@@ -408,7 +441,7 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
         .filter(|l| !l.is_empty())
         .map(str::to_string)
         .collect();
-    let jobs = read_jobs(f, &varying, &axes, &spec)?;
+    let (jobs, skipped) = read_jobs(f, &varying, &axes, &spec)?;
     if f.link_exists("analysis") {
         f.unlink("analysis")?;
     }
@@ -426,7 +459,7 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
         amp: Vec::new(),
     };
     for (n, (fixed, set)) in sweeps(&jobs, &varying).iter().enumerate() {
-        write_sweep(&sg, n, fixed, set, &spec, &mut res)?;
+        write_sweep(&sg, (n, fixed), set, &skipped, &spec, &mut res)?;
     }
     store::compound_table(
         &g,
