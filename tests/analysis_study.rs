@@ -58,6 +58,19 @@ struct ResonanceRow {
     speed_hz: f64,
 }
 
+/// A study `name` of the reference roll with `body` (its sets and axes), loaded, and the results
+/// file it should go to, in a scratch directory of its own.
+fn roll_study(name: &str, body: &str) -> (Study, std::path::PathBuf) {
+    let d = scratch_dir(&format!("analysis-{name}"));
+    let scene = common::repo().join("studies/scenes/reference-roll.toml");
+    let text = format!(
+        "name = {name:?}\nscene = {:?}\n{body}",
+        scene.display().to_string()
+    );
+    let st = Study::load(&write_file(&d, &format!("{name}.toml"), &text)).expect("study");
+    (st, d.join(format!("{name}.h5")))
+}
+
 /// Runs a study on two threads into `out`.
 fn run(st: &Study, out: &std::path::Path) -> campaign::Outcome {
     let opts = campaign::RunOptions {
@@ -192,16 +205,12 @@ fn a_sweep_names_the_speeds_it_lost() {
     // The reference roll at 10 … 16.2 Hz with a 0.5 mm runout bound: near the half-critical
     // (16.2 Hz, physics.md §10) the 2× runout passes it and those jobs end diverged; the sweep
     // keeps the three that ended ok and names the two it lost.
-    let d = scratch_dir("analysis-gaps");
-    let scene = common::repo().join("studies/scenes/reference-roll.toml");
-    let text = format!(
-        "name = \"gaps\"\nscene = {:?}\n[set]\n\"simulation.t_end_s\" = 1.0\n\
-         \"simulation.settle_s\" = 0.5\n\"simulation.runout_bound_mm\" = 0.5\n\
+    let (st, out) = roll_study(
+        "gaps",
+        "[set]\n\"simulation.t_end_s\" = 1.0\n\"simulation.settle_s\" = 0.5\n\
+         \"simulation.runout_bound_mm\" = 0.5\n\
          [[axes]]\nkey = \"speed.hz\"\nvalues = [10.0, 12.0, 14.0, 16.0, 16.2]\n",
-        scene.display().to_string()
     );
-    let st = Study::load(&write_file(&d, "gaps.toml", &text)).expect("study");
-    let out = d.join("gaps.h5");
     let outcome = run(&st, &out);
     assert_eq!((outcome.ok, outcome.failed), (3, 2));
     let f = hdf5::File::open(&out).unwrap();
@@ -213,4 +222,22 @@ fn a_sweep_names_the_speeds_it_lost() {
     };
     assert_eq!(read("speed_hz"), vec![10.0, 12.0, 14.0]);
     assert_eq!(read("skipped_speed_hz"), vec![16.0, 16.2]);
+}
+
+#[test]
+fn a_speed_zipped_with_its_record_length_is_still_a_sweep() {
+    // Speed and record length on one zipped axis: the jobs differ in both, yet they are one
+    // speed sweep (without a spectral map: the records differ in length).
+    let (st, out) = roll_study(
+        "zipped",
+        "[set]\n\"simulation.settle_s\" = 0.3\n\
+         [[axes]]\nkeys = [\"speed.hz\", \"simulation.t_end_s\"]\n\
+         values = [[10.0, 0.8], [12.0, 0.9], [14.0, 1.0]]\n",
+    );
+    assert_eq!(run(&st, &out).ok, 3);
+    let f = hdf5::File::open(&out).unwrap();
+    let sweep = f.group("analysis/sweeps/0").unwrap();
+    let speeds: Vec<f64> = sweep.dataset("speed_hz").unwrap().read_raw().unwrap();
+    assert_eq!(speeds, vec![10.0, 12.0, 14.0]);
+    assert!(sweep.group("lines").is_ok() && sweep.group("map").is_err());
 }

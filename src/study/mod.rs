@@ -85,6 +85,22 @@ pub struct LabelledAxis {
     pub labels: Vec<String>,
 }
 
+/// The keys of each axis of a study's text (several for a zipped axis); empty when the text is
+/// not a study file.
+pub fn axis_keys_of_text(text: &str) -> Vec<Vec<String>> {
+    let Ok(raw) = toml::from_str::<StudyFile>(text) else {
+        return Vec::new();
+    };
+    raw.axes
+        .iter()
+        .filter_map(|a| match (&a.key, &a.keys) {
+            (Some(k), _) => Some(vec![k.clone()]),
+            (None, Some(ks)) => Some(ks.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
 /// The `[analysis]` table and the labelled axes of a study's text; `None` when the text is not
 /// a study file.
 pub fn analysis_of_text(text: &str) -> Option<(AnalysisSpec, Vec<LabelledAxis>)> {

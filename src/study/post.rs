@@ -27,7 +27,7 @@ use std::collections::BTreeMap;
 
 use rustfft::num_complex::Complex64;
 
-use super::{analysis_of_text, AnalysisSpec, LabelledAxis};
+use super::{self as study, analysis_of_text, AnalysisSpec, LabelledAxis};
 use crate::analysis;
 use crate::store::{self, Column, Param};
 
@@ -78,16 +78,21 @@ fn analysable_speed(g: &hdf5::Group) -> Option<f64> {
 /// recorded no runout), so that a sweep can say which of its speeds are missing.
 struct Skipped {
     id: String,
-    fixed: String,
+    values: BTreeMap<String, String>,
+    labels: BTreeMap<String, String>,
     speed_hz: f64,
 }
 
-/// The values of the varying keys other than the sweep key, labels where the axis has them:
-/// what the jobs of one speed sweep share.
-fn fixed_text(values: &BTreeMap<String, String>, labels: &BTreeMap<String, String>) -> String {
+/// The values of the varying keys other than the sweep key and its `partners` (the other keys
+/// of its zipped axis), labels where the axis has them: what the jobs of one speed sweep share.
+fn fixed_text(
+    values: &BTreeMap<String, String>,
+    labels: &BTreeMap<String, String>,
+    partners: &[String],
+) -> String {
     let fixed: Vec<String> = values
         .iter()
-        .filter(|(k, _)| k.as_str() != SWEEP_KEY)
+        .filter(|(k, _)| k.as_str() != SWEEP_KEY && !partners.contains(k))
         .map(|(k, v)| match labels.get(k) {
             Some(l) => format!("{k}={l}"),
             None => format!("{k}={v}"),
@@ -142,7 +147,8 @@ fn read_jobs(
             }
             _ => {
                 skipped.push(Skipped {
-                    fixed: fixed_text(&values, &labels),
+                    values,
+                    labels,
                     speed_hz: store::read_num(&g, "speed_hz").unwrap_or(f64::NAN),
                     id,
                 });
@@ -249,14 +255,19 @@ fn lines_table(g: &hdf5::Group, jobs: &[JobData], orders: &[f64]) -> hdf5::Resul
     )
 }
 
-/// Jobs that differ only in the sweep key, each set ordered by speed (≥ 3 distinct speeds).
-fn sweeps<'a>(jobs: &'a [JobData], varying: &[String]) -> Vec<(String, Vec<&'a JobData>)> {
+/// Jobs that differ only in the sweep key (and the keys zipped with it, `partners`), each set
+/// ordered by speed (≥ 3 distinct speeds).
+fn sweeps<'a>(
+    jobs: &'a [JobData],
+    varying: &[String],
+    partners: &[String],
+) -> Vec<(String, Vec<&'a JobData>)> {
     if !varying.iter().any(|k| k == SWEEP_KEY) {
         return Vec::new();
     }
     let mut sets: BTreeMap<String, Vec<&JobData>> = BTreeMap::new();
     for j in jobs {
-        sets.entry(fixed_text(&j.values, &j.labels))
+        sets.entry(fixed_text(&j.values, &j.labels, partners))
             .or_default()
             .push(j);
     }
@@ -283,14 +294,17 @@ fn write_sweep(
     g: &hdf5::Group,
     (n, fixed): (usize, &str),
     set: &[&JobData],
-    skipped: &[Skipped],
+    (skipped, partners): (&[Skipped], &[String]),
     spec: &AnalysisSpec,
     res: &mut ResonanceRows,
 ) -> hdf5::Result<()> {
     let sg = g.create_group(&n.to_string())?;
     store::attr_str(&sg, "fixed", fixed)?;
     // The sweep's jobs that the analysis left out: their speeds are gaps in the curves.
-    let mut gaps: Vec<&Skipped> = skipped.iter().filter(|s| s.fixed == fixed).collect();
+    let mut gaps: Vec<&Skipped> = skipped
+        .iter()
+        .filter(|s| fixed_text(&s.values, &s.labels, partners) == fixed)
+        .collect();
     gaps.sort_by(|a, b| a.speed_hz.total_cmp(&b.speed_hz).then(a.id.cmp(&b.id)));
     if !gaps.is_empty() {
         let speeds: Vec<f64> = gaps.iter().map(|s| s.speed_hz).collect();
@@ -441,7 +455,25 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
         .filter(|l| !l.is_empty())
         .map(str::to_string)
         .collect();
+    // Keys zipped with the speed (e.g. a record length scaled with it) vary along a sweep too,
+    // unless a speed repeats on that axis (then they tell its rows apart).
+    let partners: Vec<String> = study::axis_keys_of_text(&text)
+        .into_iter()
+        .find(|keys| keys.len() > 1 && keys.iter().any(|k| k == SWEEP_KEY))
+        .map(|keys| keys.into_iter().filter(|k| k != SWEEP_KEY).collect())
+        .unwrap_or_default();
     let (jobs, skipped) = read_jobs(f, &varying, &axes, &spec)?;
+    let repeats = {
+        let mut seen = std::collections::BTreeSet::new();
+        jobs.iter().any(|j| {
+            let key = (
+                fixed_text(&j.values, &j.labels, &partners),
+                j.speed_hz.to_bits(),
+            );
+            !seen.insert(key)
+        })
+    };
+    let partners = if repeats { Vec::new() } else { partners };
     if f.link_exists("analysis") {
         f.unlink("analysis")?;
     }
@@ -458,8 +490,8 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
         speed: Vec::new(),
         amp: Vec::new(),
     };
-    for (n, (fixed, set)) in sweeps(&jobs, &varying).iter().enumerate() {
-        write_sweep(&sg, (n, fixed), set, &skipped, &spec, &mut res)?;
+    for (n, (fixed, set)) in sweeps(&jobs, &varying, &partners).iter().enumerate() {
+        write_sweep(&sg, (n, fixed), set, (&skipped, &partners), &spec, &mut res)?;
     }
     store::compound_table(
         &g,
