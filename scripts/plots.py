@@ -228,9 +228,10 @@ def trial_mass(
 
 def work_precision(summary: pd.DataFrame, reference: pd.Series, study: str) -> Figure:
     """Runout error against the reference (error_max_um) over CPU time, log–log: one colour and
-    marker per integrator; the jobs of an integrator that share a reference run (``reference``:
-    reference_id per job_id, one per distinct physics) joined in order of CPU time. The legend
-    counts the jobs shown and the failed."""
+    marker per integrator, every job a marker; per integrator and reference run (``reference``:
+    reference_id per job_id, one per distinct physics) a line through its work-precision front
+    (the jobs more accurate than every cheaper one). The legend counts the jobs shown and the
+    failed."""
     summary = summary.assign(reference=reference.loc[summary["job_id"]].to_numpy())
     fig = _figure(figsize=(7, 5))
     ax = fig.subplots()
@@ -241,8 +242,10 @@ def work_precision(summary: pd.DataFrame, reference: pd.Series, study: str) -> F
         style = {"color": f"C{i}", "marker": MARKERS[i % len(MARKERS)]}
         ax.plot([], [], label=f"{integrator} ({note})", **style)
         for _, run in shown.groupby("reference", sort=False):
-            run = run.sort_values("cpu_time_s")
-            ax.plot(run["cpu_time_s"], run["error_max_um"], lw=0.8, **style)
+            run = run.sort_values(["cpu_time_s", "error_max_um"])
+            ax.plot(run["cpu_time_s"], run["error_max_um"], ls="none", **style)
+            front = run[run["error_max_um"] < run["error_max_um"].cummin().shift(fill_value=np.inf)]
+            ax.plot(front["cpu_time_s"], front["error_max_um"], lw=0.8, color=style["color"])
     ax.set_xscale("log")
     ax.set_yscale("log")
     # Over less than a decade the minor ticks are labelled too; tilted, they do not overlap.
