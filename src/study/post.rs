@@ -134,12 +134,18 @@ fn read_jobs(
                 Some((k.clone(), store::read_str(&g, &format!("label:{k}")).ok()?))
             })
             .collect();
-        let time = g
-            .dataset("time")
-            .and_then(|d| d.read_raw::<f64>())
-            .unwrap_or_default();
-        let channels = store::runout_channels(&g);
-        let speed_hz = match analysable_speed(&g) {
+        // The samples of a job that ended ok at a constant speed (of no other: not read).
+        let speed = analysable_speed(&g);
+        let (time, channels) = match speed {
+            Some(_) => (
+                g.dataset("time")
+                    .and_then(|d| d.read_raw::<f64>())
+                    .unwrap_or_default(),
+                store::runout_channels(&g),
+            ),
+            None => (Vec::new(), Vec::new()),
+        };
+        let speed_hz = match speed {
             Some(s)
                 if time.len() >= 2 && time[time.len() - 1] > time[0] && !channels.is_empty() =>
             {
