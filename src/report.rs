@@ -558,7 +558,7 @@ fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
 #[repr(C)]
 struct TrialRow {
     job_id: FixedAscii<17>,
-    label: FixedAscii<64>,
+    label: FixedAscii<128>,
     channel: FixedAscii<48>,
     speed_hz: f64,
     amplitude_change_um: f64,

@@ -756,7 +756,7 @@ pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
         text("modes", 32, &|g| {
             store::read_str(g, "modes").unwrap_or_default()
         }),
-        text("label", 64, &|g| {
+        text("label", 128, &|g| {
             store::read_str(g, "label").unwrap_or_default()
         }),
     ];

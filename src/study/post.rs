@@ -439,7 +439,7 @@ fn trial_mass_table(
         &[
             Column::Text("job_id".into(), 17, id),
             Column::Text("baseline_id".into(), 17, base_id),
-            Column::Text("label".into(), 64, label),
+            Column::Text("label".into(), 128, label),
             Column::Text("channel".into(), 48, channel),
             Column::Number("speed_hz".into(), speed),
             Column::Number("amplitude_um".into(), amp),
@@ -504,7 +504,7 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
         "resonances",
         &[
             Column::Number("sweep".into(), res.sweep),
-            Column::Text("fixed".into(), 96, res.fixed),
+            Column::Text("fixed".into(), 256, res.fixed),
             Column::Text("channel".into(), 48, res.channel),
             Column::Number("order".into(), res.order),
             Column::Number("rank".into(), res.rank),
