@@ -140,6 +140,16 @@ impl Param {
     }
 }
 
+/// As text: a number in Rust's shortest round-trip form, a string as it is.
+impl std::fmt::Display for Param {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Param::Number(x) => write!(f, "{x}"),
+            Param::Text(t) => f.write_str(t),
+        }
+    }
+}
+
 /// Writes one job's group: status, statistics, parameters and datasets.
 pub fn write_job(
     parent: &Group,

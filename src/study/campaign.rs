@@ -783,11 +783,7 @@ pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
                 key.clone(),
                 32,
                 vals.iter()
-                    .map(|v| match v {
-                        Some(Param::Text(t)) => t.clone(),
-                        Some(Param::Number(x)) => format!("{x}"),
-                        None => String::new(),
-                    })
+                    .map(|v| v.as_ref().map(Param::to_string).unwrap_or_default())
                     .collect(),
             ));
         }

@@ -29,7 +29,7 @@ use rustfft::num_complex::Complex64;
 
 use super::{self as study, analysis_of_text, AnalysisSpec, LabelledAxis};
 use crate::analysis;
-use crate::store::{self, Column, Param};
+use crate::store::{self, Column};
 
 /// The key a spectral map sweeps.
 pub const SWEEP_KEY: &str = "speed.hz";
@@ -58,13 +58,6 @@ struct JobData {
     lines: Vec<Vec<Complex64>>,
     /// The 1× line per channel.
     one_x: Vec<Complex64>,
-}
-
-fn text_of(p: &Param) -> String {
-    match p {
-        Param::Number(x) => format!("{x}"),
-        Param::Text(t) => t.clone(),
-    }
 }
 
 /// The constant speed [Hz] of a job that ended ok, if it has one.
@@ -125,7 +118,7 @@ fn read_jobs(
         let g = jobs.group(&id)?;
         let values: BTreeMap<String, String> = varying
             .iter()
-            .filter_map(|k| Some((k.clone(), text_of(&store::read_param(&g, k).ok()?))))
+            .filter_map(|k| Some((k.clone(), store::read_param(&g, k).ok()?.to_string())))
             .collect();
         let labels: BTreeMap<String, String> = axes
             .iter()
