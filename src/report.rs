@@ -31,7 +31,7 @@ use serde::Serialize;
 use crate::analysis;
 use crate::error::InputError;
 use crate::store::{self, Param};
-use crate::study::{analysis_of_text, LabelledAxis};
+use crate::study::{analysis_of_text, LabelledAxis, StudyAnalysis};
 
 /// The key that names the integrator.
 const INTEGRATOR_KEY: &str = "solver.integrator";
@@ -657,7 +657,11 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
         return Err(not_results());
     }
     let text = store::read_str(&f, "study_text").unwrap_or_default();
-    let (spec, axes) = analysis_of_text(&text).unwrap_or_default();
+    let StudyAnalysis {
+        spec,
+        labelled: axes,
+        ..
+    } = analysis_of_text(&text).unwrap_or_default();
     let label_key = spec.baseline.as_ref().and_then(|b| {
         axes.iter()
             .find(|a| a.labels.contains(b))

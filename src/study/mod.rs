@@ -85,42 +85,36 @@ pub struct LabelledAxis {
     pub labels: Vec<String>,
 }
 
-/// The keys of each axis of a study's text (several for a zipped axis); empty when the text is
-/// not a study file.
-pub fn axis_keys_of_text(text: &str) -> Vec<Vec<String>> {
-    let Ok(raw) = toml::from_str::<StudyFile>(text) else {
-        return Vec::new();
-    };
-    raw.axes
-        .iter()
-        .filter_map(|a| match (&a.key, &a.keys) {
-            (Some(k), _) => Some(vec![k.clone()]),
-            (None, Some(ks)) => Some(ks.clone()),
-            _ => None,
-        })
-        .collect()
+/// What the post-processing and the report need of a study's text.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StudyAnalysis {
+    /// The `[analysis]` table.
+    pub spec: AnalysisSpec,
+    /// The axes with labels.
+    pub labelled: Vec<LabelledAxis>,
+    /// The keys of every axis (several for a zipped axis), in axis order.
+    pub axis_keys: Vec<Vec<String>>,
 }
 
-/// The `[analysis]` table and the labelled axes of a study's text; `None` when the text is not
-/// a study file.
-pub fn analysis_of_text(text: &str) -> Option<(AnalysisSpec, Vec<LabelledAxis>)> {
+/// The `[analysis]` table and the axes of a study's text; `None` when the text is not a study
+/// file.
+pub fn analysis_of_text(text: &str) -> Option<StudyAnalysis> {
     let raw: StudyFile = toml::from_str(text).ok()?;
-    let labelled = raw
-        .axes
-        .iter()
-        .filter_map(|a| {
-            let keys = match (&a.key, &a.keys) {
-                (Some(k), _) => vec![k.clone()],
-                (None, Some(ks)) if !ks.is_empty() => ks.clone(),
-                _ => return None,
-            };
-            Some(LabelledAxis {
-                keys,
-                labels: a.labels.clone()?,
-            })
-        })
-        .collect();
-    Some((raw.analysis, labelled))
+    let mut out = StudyAnalysis {
+        spec: raw.analysis,
+        ..StudyAnalysis::default()
+    };
+    for a in &raw.axes {
+        let Some(keys) = a.key_list() else { continue };
+        if let Some(labels) = &a.labels {
+            out.labelled.push(LabelledAxis {
+                keys: keys.clone(),
+                labels: labels.clone(),
+            });
+        }
+        out.axis_keys.push(keys);
+    }
+    Some(out)
 }
 
 #[derive(Debug, Deserialize)]
@@ -131,6 +125,17 @@ struct AxisFile {
     values: Option<Vec<toml::Value>>,
     range: Option<RangeFile>,
     labels: Option<Vec<String>>,
+}
+
+impl AxisFile {
+    /// The axis's keys: `key`, or a non-empty `keys` list; `None` for neither or both.
+    fn key_list(&self) -> Option<Vec<String>> {
+        match (&self.key, &self.keys) {
+            (Some(k), None) => Some(vec![k.clone()]),
+            (None, Some(ks)) if !ks.is_empty() => Some(ks.clone()),
+            _ => None,
+        }
+    }
 }
 
 #[derive(Debug, Deserialize)]
@@ -301,16 +306,12 @@ fn axis_values(
     a: &AxisFile,
 ) -> Result<(Vec<String>, Vec<Vec<toml::Value>>), InputError> {
     let key = format!("axes[{i}]");
-    let keys = match (&a.key, &a.keys) {
-        (Some(k), None) => vec![k.clone()],
-        (None, Some(ks)) if !ks.is_empty() => ks.clone(),
-        _ => {
-            return Err(c.err(
-                &key,
-                "an axis needs either `key` or a non-empty `keys` list",
-            ))
-        }
-    };
+    let keys = a.key_list().ok_or_else(|| {
+        c.err(
+            &key,
+            "an axis needs either `key` or a non-empty `keys` list",
+        )
+    })?;
     let rows: Vec<Vec<toml::Value>> = match (&a.values, &a.range) {
         (Some(vals), None) => {
             if vals.is_empty() {

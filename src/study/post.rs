@@ -447,7 +447,11 @@ fn trial_mass_table(
 /// Analyses an assembled file in place (module doc); replaces an earlier `/analysis`.
 pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
     let text = store::read_str(f, "study_text").unwrap_or_default();
-    let (spec, axes) = analysis_of_text(&text).unwrap_or_default();
+    let study::StudyAnalysis {
+        spec,
+        labelled: axes,
+        axis_keys,
+    } = analysis_of_text(&text).unwrap_or_default();
     let varying: Vec<String> = store::read_str(f, "varying_keys")
         .unwrap_or_default()
         .lines()
@@ -456,7 +460,7 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
         .collect();
     // Keys zipped with the speed (e.g. a record length scaled with it) vary along a sweep too,
     // unless a speed repeats on that axis (then they tell its rows apart).
-    let partners: Vec<String> = study::axis_keys_of_text(&text)
+    let partners: Vec<String> = axis_keys
         .into_iter()
         .find(|keys| keys.len() > 1 && keys.iter().any(|k| k == SWEEP_KEY))
         .map(|keys| keys.into_iter().filter(|k| k != SWEEP_KEY).collect())
