@@ -536,15 +536,12 @@ fn write_linear(g: &hdf5::Group, model_id: &str, scene: &Scene, m: &Model) -> hd
         Ok(s) => s,
         Err(e) => return store::attr_str(g, "linear_error", &e.to_string()),
     };
+    let standstill = sys.standstill_modes().unwrap_or_default();
     let first = |k: ModeKind| -> f64 {
-        sys.standstill_modes()
-            .ok()
-            .and_then(|v| {
-                v.iter()
-                    .find(|x| x.kind == k && x.freq_hz > 1e-6)
-                    .map(|x| x.freq_hz)
-            })
-            .unwrap_or(f64::NAN)
+        standstill
+            .iter()
+            .find(|x| x.kind == k && x.freq_hz > 1e-6)
+            .map_or(f64::NAN, |x| x.freq_hz)
     };
     store::attr_f64(g, "vertical_hz", first(ModeKind::BendingY))?;
     store::attr_f64(g, "horizontal_hz", first(ModeKind::BendingX))?;

@@ -389,6 +389,13 @@ fn trial_mass_table(
             .map(|(k, v)| (k.clone(), v.clone()))
             .collect()
     };
+    // The baseline jobs by their other keys (the first in file order where several match).
+    let mut baselines: BTreeMap<Vec<(String, String)>, &JobData> = BTreeMap::new();
+    for b in jobs {
+        if b.labels.get(key).map(String::as_str) == Some(baseline) {
+            baselines.entry(others(b)).or_insert(b);
+        }
+    }
     let mut cols: [Vec<f64>; 6] = Default::default();
     let (mut id, mut base_id, mut label, mut channel) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -396,11 +403,7 @@ fn trial_mass_table(
         let Some(l) = j.labels.get(key).filter(|l| l.as_str() != baseline) else {
             continue;
         };
-        let mine = others(j);
-        let Some(b) = jobs
-            .iter()
-            .find(|b| b.labels.get(key).map(String::as_str) == Some(baseline) && others(b) == mine)
-        else {
+        let Some(b) = baselines.get(&others(j)) else {
             continue;
         };
         for (c, name) in j.names.iter().enumerate() {
