@@ -4,7 +4,7 @@ use std::collections::BTreeSet;
 use std::path::PathBuf;
 
 use rotorsweep::study::campaign::{self, RunOptions};
-use rotorsweep::study::{self, Study};
+use rotorsweep::study::Study;
 
 /// Arguments of `rotorsweep plan`.
 #[derive(clap::Args)]
@@ -72,17 +72,7 @@ pub fn plan(a: &PlanArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
     println!("varying parameters:");
     for k in &st.varying {
-        let vals: BTreeSet<String> = st
-            .jobs
-            .iter()
-            .filter_map(|j| {
-                if k == study::PRUNE_KEY {
-                    j.prune.map(|p| format!("{p}"))
-                } else {
-                    st.value_of(j, k).map(|v| v.to_string())
-                }
-            })
-            .collect();
+        let vals: BTreeSet<String> = st.jobs.iter().filter_map(|j| st.value_text(j, k)).collect();
         println!("  {k}: {}", vals.into_iter().collect::<Vec<_>>().join(", "));
     }
     let models: BTreeSet<&str> = st.jobs.iter().map(|j| j.model_id.as_str()).collect();
@@ -135,16 +125,7 @@ pub fn plan(a: &PlanArgs) -> Result<(), Box<dyn std::error::Error>> {
         let over: Vec<String> = st
             .varying
             .iter()
-            .map(|k| {
-                if k == study::PRUNE_KEY {
-                    format!("{k}={}", j.prune.map(|p| p.to_string()).unwrap_or_default())
-                } else {
-                    format!(
-                        "{k}={}",
-                        st.value_of(j, k).map(|v| v.to_string()).unwrap_or_default()
-                    )
-                }
-            })
+            .map(|k| format!("{k}={}", st.value_text(j, k).unwrap_or_default()))
             .collect();
         let labels: Vec<&str> = j.labels.iter().map(|(_, l)| l.as_str()).collect();
         let labels = if labels.is_empty() {

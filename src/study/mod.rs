@@ -706,6 +706,16 @@ impl Study {
             .map(|(_, v)| v)
     }
 
+    /// The value of a varying key in a job as text, the pruning pseudo-key included; `None`
+    /// when the job does not set it.
+    pub fn value_text(&self, job: &Job, key: &str) -> Option<String> {
+        if key == PRUNE_KEY {
+            job.prune.map(|p| p.to_string())
+        } else {
+            self.value_of(job, key).map(toml::Value::to_string)
+        }
+    }
+
     /// The jobs of shard `i` of `n` (by index modulo n).
     pub fn shard(&self, i: usize, n: usize) -> Vec<&Job> {
         self.jobs.iter().filter(|j| j.index % n == i).collect()
