@@ -667,12 +667,7 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
             .find(|a| a.labels.contains(b))
             .map(|a| a.keys[0].as_str())
     });
-    let varying: Vec<String> = store::read_str(&f, "varying_keys")
-        .unwrap_or_default()
-        .lines()
-        .filter(|l| !l.is_empty())
-        .map(str::to_string)
-        .collect();
+    let varying = store::varying_keys(&f);
     let failed = |e: hdf5::Error| InputError::new(path, format!("reading the results: {e}"));
     let jobs = read_jobs(&f, &varying, &axes).map_err(failed)?;
     let mut tables = Vec::new();

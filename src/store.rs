@@ -279,6 +279,16 @@ pub fn read_num(loc: &Location, name: &str) -> hdf5::Result<f64> {
     })
 }
 
+/// The file's varying keys (its `varying_keys` attribute, one per line); none when absent.
+pub fn varying_keys(f: &File) -> Vec<String> {
+    read_str(f, "varying_keys")
+        .unwrap_or_default()
+        .lines()
+        .filter(|l| !l.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
 /// A parameter attribute as it was written: number or text.
 pub fn read_param(loc: &Location, name: &str) -> hdf5::Result<Param> {
     use hdf5::types::TypeDescriptor as T;

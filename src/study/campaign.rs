@@ -879,7 +879,7 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> 
             }
         }
         let f = hdf5::File::create(&tmp)?;
-        let varying = store::read_str(&first, "varying_keys")?;
+        let keys = store::varying_keys(&first);
         for name in first.attr_names()? {
             if name == "shard" || name == "threads" {
                 continue;
@@ -909,7 +909,6 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> 
                 jobs_n = seen.len();
             }
         }
-        let keys: Vec<String> = varying.lines().map(str::to_string).collect();
         analyse_or_note(&f, output);
         write_summary(&f, &keys)?;
         f.close()?;

@@ -455,12 +455,7 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
         labelled: axes,
         axis_keys,
     } = analysis_of_text(&text).unwrap_or_default();
-    let varying: Vec<String> = store::read_str(f, "varying_keys")
-        .unwrap_or_default()
-        .lines()
-        .filter(|l| !l.is_empty())
-        .map(str::to_string)
-        .collect();
+    let varying = store::varying_keys(f);
     // Keys zipped with the speed (e.g. a record length scaled with it) vary along a sweep too,
     // unless a speed repeats on that axis (then they tell its rows apart).
     let partners: Vec<String> = axis_keys
