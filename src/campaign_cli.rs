@@ -3,7 +3,7 @@
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-use rotorsweep::study::campaign::{self, RunOptions};
+use rotorsweep::study::campaign::{self, CampaignError, RunOptions};
 use rotorsweep::study::Study;
 
 /// Arguments of `rotorsweep plan`.
@@ -33,8 +33,8 @@ pub struct RunArgs {
     /// Run only shard i of n (jobs whose index modulo n is i), e.g. `--shard 0/4`.
     #[arg(long, value_name = "i/n")]
     shard: Option<String>,
-    /// Replace an existing results file (and the saved jobs of an interrupted run) instead of
-    /// refusing.
+    /// Replace an existing results file (only a rotorsweep results file; it stays intact until
+    /// the new one is complete) and the saved jobs of an interrupted run.
     #[arg(long, conflicts_with = "resume")]
     overwrite: bool,
 }
@@ -47,6 +47,12 @@ pub struct MergeArgs {
     /// The joined file.
     #[arg(short, long)]
     output: PathBuf,
+    /// Replace an existing output (only a rotorsweep results file).
+    #[arg(long)]
+    overwrite: bool,
+    /// Merge without some shards of the split (the merged file records `partial = 1`).
+    #[arg(long)]
+    partial: bool,
 }
 
 /// Rough CPU seconds of one job: steps × (1.5 µs + 1.5 ns × n²), from the timing case
@@ -157,15 +163,6 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
 /// Runs `run`; Ok(true) when every job ended ok.
 pub fn run(a: &RunArgs) -> Result<bool, Box<dyn std::error::Error>> {
     let st = Study::load(&a.study)?;
-    if a.overwrite {
-        for p in [a.output.clone(), campaign::parts_dir(&a.output)] {
-            if p.is_dir() {
-                std::fs::remove_dir_all(&p)?;
-            } else if p.exists() {
-                std::fs::remove_file(&p)?;
-            }
-        }
-    }
     let threads = a.threads.unwrap_or_else(|| {
         std::thread::available_parallelism()
             .map(|n| n.get())
@@ -175,13 +172,19 @@ pub fn run(a: &RunArgs) -> Result<bool, Box<dyn std::error::Error>> {
         output: a.output.clone(),
         threads,
         resume: a.resume,
-        shard: a.shard.as_deref().map(parse_shard).transpose()?,
+        overwrite: a.overwrite,
+        shard: a
+            .shard
+            .as_deref()
+            .map(parse_shard)
+            .transpose()
+            .map_err(CampaignError::Usage)?,
         command: std::env::args().collect::<Vec<_>>().join(" "),
     };
     let t0 = std::time::Instant::now();
     let out = campaign::run(&st, &opts)?;
     eprintln!(
-        "{}: {} jobs, {} ok, {} failed{} in {:.1} s -> {}",
+        "{}: {} jobs, {} ok, {} failed{}{} in {:.1} s -> {}",
         st.name,
         out.jobs,
         out.ok,
@@ -191,22 +194,43 @@ pub fn run(a: &RunArgs) -> Result<bool, Box<dyn std::error::Error>> {
         } else {
             String::new()
         },
+        if out.stale > 0 {
+            format!(" ({} saved runs of other inputs run again)", out.stale)
+        } else {
+            String::new()
+        },
         t0.elapsed().as_secs_f64(),
         a.output.display()
     );
-    Ok(out.failed == 0)
+    if out.references_failed > 0 {
+        eprintln!(
+            "{}: {} reference run(s) did not end ok: their jobs have no error against the \
+             reference (summary column error_cause says why)",
+            st.name, out.references_failed
+        );
+    }
+    Ok(out.failed == 0 && out.references_failed == 0)
 }
 
 /// Runs `merge`.
 pub fn merge(a: &MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
-    if a.inputs.is_empty() {
-        return Err("merge needs at least one input file".into());
-    }
-    let n = campaign::merge(&a.inputs, &a.output)?;
+    let opts = campaign::MergeOptions {
+        overwrite: a.overwrite,
+        partial: a.partial,
+    };
+    let out = campaign::merge(&a.inputs, &a.output, &opts)?;
     eprintln!(
-        "merged {} files, {n} jobs -> {}",
+        "merged {} files (shards {}), {} jobs -> {}",
         a.inputs.len(),
+        out.shards.join(", "),
+        out.jobs,
         a.output.display()
     );
+    if !out.missing.is_empty() {
+        eprintln!(
+            "partial merge: shards {} are missing (recorded as partial = 1)",
+            out.missing.join(", ")
+        );
+    }
     Ok(())
 }

@@ -1,4 +1,11 @@
 //! The `rotorsweep` command line.
+//!
+//! Exit codes (the same for every subcommand; README "Exit codes"):
+//! 0 done, every job ok; 1 input error (a scene, study, map or results file given as input is
+//! wrong: the message names the file, line and key); 2 done, but some job or reference run did
+//! not end ok; 64 usage error (options, or an output that may not be written); 74 I/O error
+//! while writing (disk full, read-only folder: the message names the path and the OS error);
+//! 75 the output is in use by another rotorsweep process (try again later).
 
 mod campaign_cli;
 mod modes;
@@ -8,6 +15,7 @@ mod simulate;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use rotorsweep::store::output::OutputError;
 
 #[derive(Parser)]
 #[command(
@@ -42,7 +50,20 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    let cli = Cli::parse();
+    // A file-size limit (`ulimit -f`) should fail the write with EFBIG and a message, not kill
+    // the process with SIGXFSZ.
+    // SAFETY: setting a signal's disposition to ignore, before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let code = if e.use_stderr() { EXIT_USAGE } else { 0 };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
     let result = match cli.command {
         Command::Modes(a) => modes::run(&a).map(|()| true),
         Command::Simulate(a) => simulate::run(&a),
@@ -53,10 +74,46 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => ExitCode::from(2),
+        Ok(false) => ExitCode::from(EXIT_NOT_OK),
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::FAILURE
+            ExitCode::from(exit_code(&*e))
         }
     }
+}
+
+/// Some job or reference run did not end ok.
+const EXIT_NOT_OK: u8 = 2;
+/// An input file is wrong.
+const EXIT_INPUT: u8 = 1;
+/// Bad options, or an output that may not be written (sysexits EX_USAGE).
+const EXIT_USAGE: u8 = 64;
+/// Writing failed (sysexits EX_IOERR).
+const EXIT_IO: u8 = 74;
+/// The output is held by another process (sysexits EX_TEMPFAIL).
+const EXIT_BUSY: u8 = 75;
+
+/// The exit code of an error (module doc).
+fn exit_code(e: &(dyn std::error::Error + 'static)) -> u8 {
+    use rotorsweep::study::campaign::CampaignError as C;
+    let output = |o: &OutputError| match o {
+        OutputError::Exists(_) | OutputError::Refused(..) => EXIT_USAGE,
+        OutputError::Busy { .. } => EXIT_BUSY,
+        OutputError::Io(..) | OutputError::Write(..) => EXIT_IO,
+    };
+    if let Some(c) = e.downcast_ref::<C>() {
+        return match c {
+            C::Input(_) => EXIT_INPUT,
+            C::Output(o) => output(o),
+            C::Io { .. } => EXIT_IO,
+            C::Usage(_) => EXIT_USAGE,
+        };
+    }
+    if let Some(o) = e.downcast_ref::<OutputError>() {
+        return output(o);
+    }
+    if e.downcast_ref::<std::io::Error>().is_some() || e.downcast_ref::<hdf5::Error>().is_some() {
+        return EXIT_IO;
+    }
+    EXIT_INPUT
 }

@@ -195,6 +195,7 @@ fn setting(g: &Group, varying: &[String], axes: &[LabelledAxis], skip_integrator
         match store::read_param(g, k) {
             Ok(Param::Number(x)) => parts.push(format!("{k}={}", short(x))),
             Ok(Param::Text(t)) => parts.push(format!("{k}={t}")),
+            Ok(Param::Count(n)) => parts.push(format!("{k}={n}")),
             Err(_) => {}
         }
     }

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use rotorsweep::job;
 use rotorsweep::model::Model;
 use rotorsweep::scene::{parse_override, Scene};
+use rotorsweep::store::output::{self, OutputError, OutputLock};
 use rotorsweep::store::{self, Param};
 use serde::Serialize;
 
@@ -19,6 +20,9 @@ pub struct Args {
     /// Write the results (statistics and sampled outputs) to this HDF5 file.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Replace an existing output file (only a rotorsweep results file).
+    #[arg(long, requires = "output")]
+    overwrite: bool,
     /// Print the statistics as one JSON object.
     #[arg(long)]
     json: bool,
@@ -52,7 +56,17 @@ struct Summary<'a> {
 /// Runs the command; the exit code says whether the job ended ok.
 pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
     let scene = Scene::load(&a.scene, &a.set)?;
-    let text = std::fs::read_to_string(&a.scene)?;
+    let text = std::fs::read_to_string(&a.scene).map_err(output::io_at(&a.scene))?;
+    // The output is claimed before the run: a refused or busy output costs nothing.
+    let _lock = match &a.output {
+        Some(p) => {
+            let lock = OutputLock::acquire(p)?;
+            output::check_replace(p, a.overwrite)?;
+            output::check_working_file(&store::with_suffix(p, ".tmp"))?;
+            Some(lock)
+        }
+        None => None,
+    };
     let model = Model::build(&scene, None)?;
     let r = job::run(&scene, &model);
     let s = &r.stats;
@@ -118,15 +132,25 @@ pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
     }
     if let Some(path) = &a.output {
         let command = std::env::args().collect::<Vec<_>>().join(" ");
-        let (file, jobs) = store::create_file(path, &command, &text)?;
         let params: Vec<(String, Param)> = a
             .set
             .iter()
             .filter_map(|kv| parse_override(kv).ok())
             .map(|(k, v)| (k, Param::from_toml(&v)))
             .collect();
-        store::write_job(&jobs, &scene.name, &params, integrator, &r)?;
-        store::finish_file(path, file, jobs)?;
+        let tmp = store::with_suffix(path, ".tmp");
+        let written = store::create_file(path, &command, &text).and_then(|(file, jobs)| {
+            store::write_job(&jobs, &scene.name, &params, integrator, &r)?;
+            Ok((file, jobs))
+        });
+        let done = match written {
+            Ok((file, jobs)) => store::finish_file(path, file, jobs).map_err(|e| e.to_string()),
+            Err(e) => Err(e.to_string()),
+        };
+        if let Err(e) = done {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(OutputError::Write(path.clone(), e).into());
+        }
     }
     Ok(s.status == rotorsweep::integrators::Status::Ok)
 }

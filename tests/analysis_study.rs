@@ -77,6 +77,7 @@ fn run(st: &Study, out: &std::path::Path) -> campaign::Outcome {
         output: out.to_path_buf(),
         threads: 2,
         resume: false,
+        overwrite: false,
         shard: None,
         command: "test".into(),
     };

@@ -23,6 +23,7 @@ fn run_study(name: &str, body: &str, ok: usize) -> (std::path::PathBuf, Report) 
         output: out.clone(),
         threads: 2,
         resume: false,
+        overwrite: false,
         shard: None,
         command: "test".into(),
     };

@@ -157,6 +157,7 @@ fn run_study(study: &Study, out: &Path, threads: usize, shard: Option<(usize, us
         output: out.to_path_buf(),
         threads,
         resume: false,
+        overwrite: false,
         shard,
         command: "test".into(),
     };
@@ -195,7 +196,12 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     run_study(&st, &d.join("two.h5"), 2, None);
     run_study(&st, &d.join("s0.h5"), 2, Some((0, 2)));
     run_study(&st, &d.join("s1.h5"), 2, Some((1, 2)));
-    campaign::merge(&[d.join("s0.h5"), d.join("s1.h5")], &d.join("merged.h5")).unwrap();
+    campaign::merge(
+        &[d.join("s0.h5"), d.join("s1.h5")],
+        &d.join("merged.h5"),
+        &campaign::MergeOptions::default(),
+    )
+    .unwrap();
     let job_data = |p: &Path| group_data(p, "jobs");
     let one = job_data(&d.join("one.h5"));
     assert_eq!(

@@ -37,7 +37,8 @@ PathLike = Union[str, "os.PathLike[str]"]
 #: Groups that hold runs: study jobs, then the reference runs they are compared with.
 RUN_GROUPS = ("jobs", "references")
 
-#: Summary columns that count things; stored as float64, returned as pandas' nullable Int64.
+#: Summary columns that count things; stored as uint64 (float64 in files before 0.2), returned as
+#: pandas' nullable Int64.
 COUNT_COLUMNS = (
     "job_index",
     "steps",
@@ -115,12 +116,25 @@ def _read(ds: h5py.Dataset) -> np.ndarray:
 
 
 def _table(ds: h5py.Dataset) -> pd.DataFrame:
-    """A compound dataset as a DataFrame; its fixed-length ASCII text columns decoded to str."""
+    """A compound dataset as a DataFrame, its text columns as ``str``.
+
+    rotorsweep writes text as variable-length UTF-8, which h5py returns inside a compound
+    dataset as ``bytes`` (object columns); the one-line decode is
+    ``df[c] = df[c].str.decode("utf-8")``. Older files' fixed-length ASCII columns ("S") are
+    decoded the same way. The units of each column are in ``df.attrs["units"]`` (from the
+    dataset's ``units:<column>`` attributes).
+    """
     table = ds[()]
     df = pd.DataFrame(table)
     for name in table.dtype.names or ():
-        if table.dtype[name].kind == "S":
-            df[name] = [b.decode("ascii", "replace") for b in table[name]]
+        kind = table.dtype[name].kind
+        if kind == "S" or (kind == "O" and h5py.check_string_dtype(ds.dtype[name]) is not None):
+            df[name] = [b.decode("utf-8", "replace") if isinstance(b, bytes) else b for b in table[name]]
+    df.attrs["units"] = {
+        name: str(_value(ds.attrs[f"units:{name}"]))
+        for name in table.dtype.names or ()
+        if f"units:{name}" in ds.attrs
+    }
     return df
 
 
@@ -171,8 +185,8 @@ def job_ids(path: PathLike, group: str = "jobs") -> list[str]:
 def load_summary(path: PathLike, *, index: bool = False) -> pd.DataFrame:
     """The ``/summary`` table: one row per job, in job-index order.
 
-    Text columns (job_id, status, cause, integrator, modes, text parameters) are decoded from
-    the file's fixed-length ASCII bytes to ``str``; the counts in :data:`COUNT_COLUMNS` become
+    Text columns (job_id, status, cause, error_cause, integrator, modes, label, text parameters)
+    are decoded from the file's UTF-8 bytes to ``str``; the counts in :data:`COUNT_COLUMNS` become
     nullable integers. Varying parameters keep their dotted names (``df["speed.hz"]``; in
     ``DataFrame.query`` write them in backticks); a varying ``solver.integrator``, which the file
     keeps only as the ``integrator`` column, is also given its dotted key. With ``index=True`` job_id is the index,

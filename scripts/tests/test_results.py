@@ -99,8 +99,18 @@ def test_summary_reads_with_plain_h5py_and_pandas(results: Path) -> None:
     missing = [c for c in required if c not in df.columns]
     assert not missing, f"summary lacks {missing}; has {list(df.columns)}"
     assert len(df) == 4
-    # Text columns are fixed-length ASCII: bytes in numpy and plain pandas.
+    # Text columns are variable-length UTF-8, which h5py returns as bytes inside a compound
+    # dataset; the README's one-line decode makes them str.
     assert set(df["status"]) == {b"ok"}
+    df["status"] = df["status"].str.decode("utf-8")
+    assert (df.status == "ok").all()
+    # Counts are integers, and every column has its units.
+    with h5py.File(results, "r") as f:
+        ds = f["summary"]
+        assert ds.dtype["steps"].kind == "u" and ds.dtype["job_index"].kind == "u"
+        units = {c: ds.attrs[f"units:{c}"] for c in ds.dtype.names}
+    assert units["cpu_time_s"] == "s" and units["speed.hz"] == "Hz" and units["error_max_um"] == "um"
+    assert units["solver.hmax"] == "s" and units["steps"] == "1" and units["status"] == ""
 
 
 def test_summary_through_loader(results: Path) -> None:
@@ -311,3 +321,43 @@ def test_existing_output_is_not_overwritten(results: Path, study_dir: Path) -> N
     p = rotorsweep("run", "tiny.toml", "-o", results.name, "--threads", "2", cwd=study_dir)
     assert p.returncode != 0 and "exists" in p.stderr, p.stderr
     assert results.read_bytes() == before
+
+
+BANDS_STUDY = f"""\
+name = "py-bands"
+description = "scripts/tests: a table-valued axis (damping bands) with non-ASCII labels"
+scene = "{SCENE.as_posix()}"
+
+[set]
+"simulation.t_end_s" = 0.1
+"simulation.settle_s" = 0.05
+
+[[axes]]
+key = "damping.bands"
+labels = ["α", "β", "γ – 100 g ≥ 2 %"]
+values = [
+  [{{ below_hz = 250.0, ratio = 0.005 }}, {{ below_hz = 1070.0, ratio = 0.01 }}],
+  [{{ below_hz = 250.0, ratio = 0.02 }}, {{ below_hz = 1070.0, ratio = 0.01 }}],
+  [{{ below_hz = 250.0, ratio = 0.02 }}, {{ below_hz = 1070.0, ratio = 0.05 }}],
+]
+"""
+
+
+def test_table_valued_axis_and_unicode_labels_read_back_distinct(tmp_path: Path) -> None:
+    """Issue 9: a damping-bands axis (values differing after 32 characters) and non-ASCII labels
+    give one distinct value per job, through rotorsweep_py and through raw h5py."""
+    (tmp_path / "bands.toml").write_text(BANDS_STUDY, encoding="utf-8")
+    run_ok("run", "bands.toml", "-o", "bands.h5", "--threads", "2", cwd=tmp_path)
+    labels = ["α", "β", "γ – 100 g ≥ 2 %"]
+    df = rp.load_summary(tmp_path / "bands.h5")
+    assert list(df["label"]) == labels
+    assert df["damping.bands"].nunique() == 3, list(df["damping.bands"])
+    assert all(isinstance(v, str) for v in df["damping.bands"])
+    assert "ratio = 0.02" in df.loc[1, "damping.bands"] and "ratio = 0.05" in df.loc[2, "damping.bands"]
+    with h5py.File(tmp_path / "bands.h5", "r") as f:
+        raw = pd.DataFrame(f["summary"][()])
+    for c in ["label", "damping.bands", "status"]:
+        raw[c] = raw[c].str.decode("utf-8")  # the documented one-line decode
+    assert list(raw["label"]) == labels
+    assert raw["damping.bands"].nunique() == 3
+    assert list(raw["damping.bands"]) == list(df["damping.bands"])

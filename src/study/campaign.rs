@@ -1,30 +1,48 @@
 //! Running a study: shared models, pruning pilots, reference runs and jobs on a thread pool, each
 //! finished job saved at once, then one HDF5 file assembled.
 //!
-//! In: a [`Study`] and [`RunOptions`] (output path, threads, resume, shard).
+//! In: a [`Study`] and [`RunOptions`] (output path, threads, resume, shard, overwrite).
 //! Out: `OUT.h5` in the layout of `store` plus `/models/<id>`, `/references/<id>` and the
-//! `summary` table, and an [`Outcome`] (counts). Every finished job is first written to its own
-//! file `OUT.h5.parts/<id>.h5` (written under a temporary name, then renamed), so a `kill -9`
-//! at any moment loses only the jobs that were running; `--resume` skips the saved ones and
-//! assembles again. Each job runs on one thread; results do not depend on the thread count.
-//! A job that panics, diverges or exhausts its budget is a result with its status and cause.
+//! `summary` table, and an [`Outcome`] (counts).
+//!
+//! How results are kept safe:
+//! - The output is locked for the whole run (`store::output`: one writer per output); an
+//!   existing output is replaced only with `overwrite`, and only if it is a rotorsweep results
+//!   file; the new file is renamed over it when complete.
+//! - Every finished job is first written to its own file `OUT.h5.parts/<id>.h5` (under a
+//!   temporary name, then renamed), so a `kill -9` at any moment loses only the jobs that were
+//!   running. Each part file carries the study's digest ([`Identity`]); `resume` reuses a saved
+//!   job only when its id and digest match the current study and runs every other job.
+//! - An assembled output is resumed only when its digest and shard match (then there is
+//!   nothing to do); one made from other inputs is refused, naming what changed.
+//! - The first failed save (disk full, read-only folder, I/O error) stops scheduling new jobs;
+//!   running jobs finish and are saved if they can be; nothing unsaved is reported ok, and the
+//!   error names the path and the OS error. `resume` then completes the study.
+//!
+//! Each job runs on one thread; results do not depend on the thread count. A job that panics,
+//! diverges, exhausts its budget, or whose model cannot be built is a result with its status
+//! and cause.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::IsTerminal;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};
 
 use rayon::prelude::*;
 
+use super::identity::{describe_mismatch, Identity};
 use super::{Job, Study};
 use crate::dynamics::linear::{campbell, LinearSystem};
+use crate::error::InputError;
 use crate::integrators::{Stats, Status};
 use crate::job::{self, JobResult};
 use crate::model::Model;
 use crate::reduction::{ModeKind, ModeSelection};
 use crate::scene::Scene;
-use crate::store::{self, Column, Param};
+use crate::store::output::{self, OutputError, OutputLock};
+use crate::store::{self, units_of_key, Column, Param};
 
 /// How to run a study.
 #[derive(Debug, Clone)]
@@ -35,6 +53,8 @@ pub struct RunOptions {
     pub threads: usize,
     /// Continue from the saved jobs of an interrupted run.
     pub resume: bool,
+    /// Replace an existing results file (and the saved jobs of an interrupted run).
+    pub overwrite: bool,
     /// Run only shard i of n.
     pub shard: Option<(usize, usize)>,
     /// The command line, stored in the file.
@@ -52,20 +72,93 @@ pub struct Outcome {
     pub failed: usize,
     /// Jobs found already done (resume).
     pub resumed: usize,
+    /// Saved jobs of other inputs that were run again (resume).
+    pub stale: usize,
+    /// Reference runs that did not end ok (their jobs have no error columns).
+    pub references_failed: usize,
 }
 
-/// Why a campaign could not run (bad files or I/O; failing jobs are results, not errors).
+/// Why a campaign could not run or finish (bad files or I/O; failing jobs are results, not
+/// errors).
 #[derive(Debug, thiserror::Error)]
 pub enum CampaignError {
-    /// HDF5 failure.
-    #[error("HDF5: {0}")]
-    Hdf5(#[from] hdf5::Error),
-    /// File-system failure.
+    /// An input file (study, scene, map, or a results file given as input) is wrong.
     #[error("{0}")]
-    Io(#[from] std::io::Error),
-    /// A usage problem.
+    Input(#[from] InputError),
+    /// The output cannot be written (exists, not ours, in use, OS error).
+    #[error("{0}")]
+    Output(#[from] OutputError),
+    /// Writing or reading a file failed: the path and the cause.
+    #[error("{path}: {reason}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What failed, with the OS error where one is known.
+        reason: String,
+    },
+    /// A usage problem (options that do not fit the files).
     #[error("{0}")]
     Usage(String),
+}
+
+impl CampaignError {
+    fn io(path: &Path, reason: impl std::fmt::Display) -> Self {
+        CampaignError::Io {
+            path: path.to_path_buf(),
+            reason: reason.to_string(),
+        }
+    }
+}
+
+/// An HDF5 error on `path`, with the OS error behind it when the library's error stack names
+/// one (disk full, permissions), and the free space of the folder when it is exhausted.
+fn hdf5_at(path: &Path) -> impl Fn(hdf5::Error) -> CampaignError + '_ {
+    move |e| CampaignError::io(path, describe_hdf5(path, &e))
+}
+
+fn describe_hdf5(path: &Path, e: &hdf5::Error) -> String {
+    let full = e.to_string();
+    let frames: Vec<String> = e
+        .stack()
+        .map(|st| st.iter().map(|f| f.desc().to_string()).collect())
+        .unwrap_or_default();
+    // The OS error as the library's file driver reports it: "errno = 28, error message = '…'".
+    let os = std::iter::once(full.as_str())
+        .chain(frames.iter().map(String::as_str))
+        .find_map(|t| {
+            let n = t.split("errno = ").nth(1)?;
+            let n: String = n.chars().take_while(char::is_ascii_digit).collect();
+            let m = t.split("error message = '").nth(1)?.split('\'').next()?;
+            Some(format!("{m} (errno {n})"))
+        });
+    let cut = [", errno", ": file write failed", " time = "]
+        .iter()
+        .filter_map(|m| full.find(m))
+        .min()
+        .unwrap_or(full.len());
+    let mut text = match os {
+        Some(os) => format!("{os}; HDF5: {}", &full[..cut]),
+        None => full[..cut].to_string(),
+    };
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if let Some(free) = free_bytes(dir) {
+        if free < 1 << 20 {
+            text.push_str(&format!(" [{} bytes free in {}]", free, dir.display()));
+        }
+    }
+    text
+}
+
+fn free_bytes(dir: &Path) -> Option<u64> {
+    use std::os::unix::ffi::OsStrExt;
+    let c = std::ffi::CString::new(dir.as_os_str().as_bytes()).ok()?;
+    let mut st: libc::statvfs = unsafe { std::mem::zeroed() };
+    // SAFETY: a valid NUL-terminated path and a zeroed out-struct.
+    (unsafe { libc::statvfs(c.as_ptr(), &mut st) } == 0)
+        .then(|| st.f_bavail as u64 * st.f_frsize as u64)
 }
 
 /// Where a run on `out` keeps its finished jobs until the file is assembled.
@@ -132,11 +225,7 @@ fn run_one(scene: &Scene, model: &Model) -> JobResult {
     match catch_unwind(AssertUnwindSafe(|| job::run(scene, model))) {
         Ok(r) => r,
         Err(e) => {
-            let msg = e
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_else(|| "unknown panic".into());
+            let msg = panic_text(&*e);
             JobResult {
                 stats: Stats::failed(format!("panic: {msg}")),
                 modes: model.reduced.counts_label(),
@@ -160,12 +249,22 @@ fn failed_result(cause: String) -> JobResult {
     }
 }
 
-/// Writes one finished job to its own part file, atomically.
-fn save_part(dir: &Path, w: &Work, r: &JobResult, integrator: &str) -> Result<(), CampaignError> {
+/// Writes one finished job to its own part file, atomically, tagged with the study's digest.
+fn save_part(
+    dir: &Path,
+    w: &Work,
+    r: &JobResult,
+    integrator: &str,
+    id: &Identity,
+) -> Result<(), CampaignError> {
     let tmp = dir.join(format!("{}.h5.tmp", w.id));
     let fin = dir.join(format!("{}.h5", w.id));
-    {
+    output::check_working_file(&tmp)?;
+    let write = || -> hdf5::Result<()> {
         let f = hdf5::File::create(&tmp)?;
+        store::attr_str(&f, "tool", "rotorsweep")?;
+        store::attr_str(&f, "tool_version", env!("CARGO_PKG_VERSION"))?;
+        store::attr_str(&f, "study_digest", &id.digest)?;
         let mut params = w.params.clone();
         params.push(("model_id".into(), Param::Text(w.model_id.to_string())));
         if let Some(l) = w.linear_id {
@@ -188,60 +287,154 @@ fn save_part(dir: &Path, w: &Work, r: &JobResult, integrator: &str) -> Result<()
         }
         match w.kind {
             Kind::Job(i) => {
-                params.push(("job_index".into(), Param::Number(i as f64)));
+                params.push(("job_index".into(), Param::Count(i as u64)));
                 params.push(("kind".into(), Param::Text("job".into())));
             }
             Kind::Reference => params.push(("kind".into(), Param::Text("reference".into()))),
         }
         store::write_job(&f, "job", &params, integrator, r)?;
-        f.close()?;
+        f.close()
+    };
+    if let Err(e) = write() {
+        let reason = describe_hdf5(&tmp, &e);
+        let _ = std::fs::remove_file(&tmp);
+        return Err(CampaignError::io(&tmp, reason));
     }
-    std::fs::rename(&tmp, &fin)?;
+    std::fs::rename(&tmp, &fin).map_err(|e| CampaignError::io(&fin, e))?;
     Ok(())
 }
 
-fn done_ids(dir: &Path) -> BTreeSet<String> {
-    std::fs::read_dir(dir)
-        .map(|rd| {
-            rd.filter_map(|e| e.ok())
-                .filter_map(|e| {
-                    let name = e.file_name().to_string_lossy().into_owned();
-                    name.strip_suffix(".h5").map(|s| s.to_string())
-                })
-                .collect()
-        })
-        .unwrap_or_default()
+/// The saved parts of a run: ids whose part file carries `digest`, and the number of parts
+/// made from other inputs (or unreadable), which are run again.
+fn saved_parts(dir: &Path, digest: &str) -> (BTreeSet<String>, usize) {
+    let mut done = BTreeSet::new();
+    let mut stale = 0;
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return (done, 0);
+    };
+    for e in rd.filter_map(|e| e.ok()) {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(id) = name.strip_suffix(".h5") else {
+            continue;
+        };
+        let matches = hdf5::File::open(e.path())
+            .ok()
+            .and_then(|f| store::read_str(&f, "study_digest").ok())
+            .is_some_and(|d| d == digest);
+        if matches {
+            done.insert(id.to_string());
+        } else {
+            stale += 1;
+        }
+    }
+    (done, stale)
+}
+
+/// Whether a name in a parts folder is one of rotorsweep's (part files, their temporary
+/// names, pilot shares).
+fn is_part_name(name: &str) -> bool {
+    name.ends_with(".h5") || name.ends_with(".h5.tmp") || name.ends_with(".shares")
+}
+
+/// Removes a parts folder: only rotorsweep's own regular files, then the folder; anything
+/// else in it is refused (nothing a user put there is removed).
+pub fn remove_parts(dir: &Path) -> Result<(), CampaignError> {
+    let meta = std::fs::symlink_metadata(dir).map_err(|e| CampaignError::io(dir, e))?;
+    if !meta.is_dir() {
+        return Err(OutputError::Refused(
+            dir.to_path_buf(),
+            "is not a folder, where rotorsweep keeps the saved jobs of a run".into(),
+        )
+        .into());
+    }
+    let entries: Vec<std::fs::DirEntry> = std::fs::read_dir(dir)
+        .map_err(|e| CampaignError::io(dir, e))?
+        .filter_map(|e| e.ok())
+        .collect();
+    if let Some(bad) = entries.iter().find(|e| {
+        !e.file_type().is_ok_and(|t| t.is_file()) || !is_part_name(&e.file_name().to_string_lossy())
+    }) {
+        return Err(OutputError::Refused(
+            dir.to_path_buf(),
+            format!(
+                "holds {}, which rotorsweep did not write",
+                bad.path().display()
+            ),
+        )
+        .into());
+    }
+    for e in entries {
+        std::fs::remove_file(e.path()).map_err(|x| CampaignError::io(&e.path(), x))?;
+    }
+    std::fs::remove_dir(dir).map_err(|e| CampaignError::io(dir, e))
+}
+
+/// A results file's identity attributes: (digest, inputs text, shard).
+fn stored_identity(path: &Path) -> Result<(String, Option<String>, String), CampaignError> {
+    let f = hdf5::File::open(path).map_err(hdf5_at(path))?;
+    Ok((
+        store::read_str(&f, "study_digest").unwrap_or_default(),
+        store::read_str(&f, "study_inputs").ok(),
+        store::read_str(&f, "shard").unwrap_or_default(),
+    ))
 }
 
 /// Runs a study (module doc).
 pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
+    let _lock = OutputLock::acquire(&opts.output)?;
+    let identity = Identity::of(study)?;
     let dir = parts_dir(&opts.output);
     let (si, sn) = opts.shard.unwrap_or((0, 1));
-    if opts.resume && opts.output.exists() && !dir.exists() {
-        // Already assembled: nothing left to run.
-        let n = study.shard(si, sn).len();
-        let statuses = read_statuses(&opts.output)?;
-        let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
-        return Ok(Outcome {
-            jobs: n,
-            ok,
-            failed: n - ok,
-            resumed: n,
-        });
+    let shard_text = format!("{si}/{sn}");
+    if opts.resume {
+        output::check_replace(&opts.output, true)?;
+        if opts.output.exists() {
+            let (digest, inputs, shard) = stored_identity(&opts.output)?;
+            if digest != identity.digest || shard != shard_text {
+                let what = if digest != identity.digest {
+                    describe_mismatch(&identity, &digest, inputs.as_deref())
+                } else {
+                    format!("it is shard {shard}, this run is shard {shard_text}")
+                };
+                return Err(CampaignError::Usage(format!(
+                    "{}: already assembled from other inputs ({what}); nothing was changed. \
+                     Run with --overwrite instead of --resume to compute the study again into it, \
+                     or choose another -o",
+                    opts.output.display()
+                )));
+            }
+            // Already assembled from these inputs: nothing left to run (a parts folder left by
+            // a run killed after assembling is cleared).
+            if dir.exists() {
+                remove_parts(&dir)?;
+            }
+            let n = study.shard(si, sn).len();
+            let statuses = read_statuses(&opts.output)?;
+            let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
+            return Ok(Outcome {
+                jobs: n,
+                ok,
+                failed: n - ok,
+                resumed: n,
+                stale: 0,
+                references_failed: 0,
+            });
+        }
+    } else {
+        output::check_replace(&opts.output, opts.overwrite)?;
+        if dir.exists() || std::fs::symlink_metadata(&dir).is_ok() {
+            if !opts.overwrite {
+                return Err(CampaignError::Usage(format!(
+                    "{} exists (an interrupted run?): add --resume to finish it, or --overwrite \
+                     to start again",
+                    dir.display()
+                )));
+            }
+            remove_parts(&dir)?;
+        }
     }
-    if dir.exists() && !opts.resume {
-        return Err(CampaignError::Usage(format!(
-            "{} exists (an interrupted run?): add --resume to finish it, or remove it",
-            dir.display()
-        )));
-    }
-    if opts.output.exists() && !opts.resume {
-        return Err(CampaignError::Usage(format!(
-            "{} exists: choose another -o or remove it",
-            opts.output.display()
-        )));
-    }
-    std::fs::create_dir_all(&dir)?;
+    output::check_working_file(&store::with_suffix(&opts.output, ".tmp"))?;
+    std::fs::create_dir_all(&dir).map_err(|e| CampaignError::io(&dir, e))?;
     let jobs: Vec<&Job> = study.shard(si, sn);
     let refs: Vec<&super::Reference> = if study.has_reference {
         let needed: BTreeSet<&str> = jobs.iter().map(|j| j.reference_id.as_str()).collect();
@@ -253,7 +446,13 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     } else {
         Vec::new()
     };
-    let done = done_ids(&dir);
+    let (done, stale) = saved_parts(&dir, &identity.digest);
+    if stale > 0 {
+        eprintln!(
+            "{}: {stale} saved job(s) were made from other inputs or are unreadable; they run again",
+            dir.display()
+        );
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.max(1))
         .build()
@@ -270,12 +469,14 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         model_scenes
             .par_iter()
             .map(|(id, sc)| {
-                (
-                    *id,
-                    Model::build(sc, None)
-                        .map(Arc::new)
-                        .map_err(|e| e.to_string()),
-                )
+                // A model that cannot be built (or whose build panics) fails its jobs alone.
+                let built = catch_unwind(AssertUnwindSafe(|| Model::build(sc, None)))
+                    .map_err(|e| format!("{}: panic: {}", sc.source.display(), panic_text(&*e)))
+                    .and_then(|r| {
+                        r.map(Arc::new)
+                            .map_err(|e| format!("{}: {e}", sc.source.display()))
+                    });
+                (*id, built)
             })
             .collect()
     });
@@ -362,7 +563,10 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     let progress = Progress::new(total as u64);
     let (tx, rx) = mpsc::channel::<(usize, JobResult)>();
     let mut write_error: Option<CampaignError> = None;
+    // Set at the first failed save: no new job starts; running ones finish.
+    let stop = AtomicBool::new(false);
     std::thread::scope(|scope| {
+        let stop_ref = &stop;
         let work_ref = &work;
         let models_ref = &models;
         let shares_ref = &shares;
@@ -374,6 +578,9 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
                     .par_iter()
                     .enumerate()
                     .for_each_with(tx, |tx, (i, w)| {
+                        if stop_ref.load(Ordering::SeqCst) {
+                            return;
+                        }
                         let r = match &models_ref[w.model_id] {
                             Err(e) => failed_result(format!("model: {e}")),
                             Ok(m) => match w.prune {
@@ -405,27 +612,58 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         });
         for (i, r) in rx {
             let w = &work[i];
-            let ok = r.stats.status == Status::Ok;
-            if let Err(e) = save_part(&dir, w, &r, w.scene.solver.integrator.name()) {
+            let saved = save_part(&dir, w, &r, w.scene.solver.integrator.name(), &identity);
+            progress.job_done(&w.id, &r, saved.as_ref().err());
+            if let Err(e) = saved {
+                stop.store(true, Ordering::SeqCst);
                 write_error.get_or_insert(e);
             }
-            progress.job_done(&w.id, &r, ok);
         }
     });
     progress.finish();
     if let Some(e) = write_error {
-        return Err(e);
+        let saved = saved_parts(&dir, &identity.digest).0.len();
+        return Err(CampaignError::Io {
+            path: match &e {
+                CampaignError::Io { path, .. } => path.clone(),
+                _ => dir.clone(),
+            },
+            reason: format!(
+                "{}; the campaign stopped: {saved} of {} runs are saved in {}; free space (or fix \
+                 the folder), then finish with --resume",
+                match &e {
+                    CampaignError::Io { reason, .. } => reason.clone(),
+                    other => other.to_string(),
+                },
+                work.len() + resumed,
+                dir.display()
+            ),
+        });
     }
-    assemble(study, opts, &dir, &jobs, &refs, &models, &shares)?;
+    assemble(study, opts, &identity, &dir, &jobs, &refs, &models, &shares)?;
     let statuses = read_statuses(&opts.output)?;
     let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
-    std::fs::remove_dir_all(&dir)?;
+    let references_failed = read_statuses_in(&opts.output, "references")?
+        .iter()
+        .filter(|s| s.as_str() != "ok")
+        .count();
+    remove_parts(&dir)?;
     Ok(Outcome {
         jobs: jobs.len(),
         ok,
         failed: jobs.len() - ok,
         resumed,
+        stale,
+        references_failed,
     })
+}
+
+/// The message of a caught panic.
+fn panic_text(e: &(dyn std::any::Any + Send)) -> String {
+    e.downcast_ref::<String>()
+        .cloned()
+        .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
+        .unwrap_or_else(|| "unknown panic".into())
 }
 
 fn pilot_run(
@@ -451,14 +689,24 @@ fn pilot_run(
 }
 
 fn read_statuses(path: &Path) -> Result<Vec<String>, CampaignError> {
-    let f = hdf5::File::open(path)?;
-    let jobs = f.group("jobs")?;
-    let mut out = Vec::new();
-    for name in jobs.member_names()? {
-        let g = jobs.group(&name)?;
-        out.push(store::read_str(&g, "status")?);
-    }
-    Ok(out)
+    read_statuses_in(path, "jobs")
+}
+
+/// The `status` of every run in a group (`jobs`, `references`) of a results file.
+fn read_statuses_in(path: &Path, group: &str) -> Result<Vec<String>, CampaignError> {
+    let read = || -> hdf5::Result<Vec<String>> {
+        let f = hdf5::File::open(path)?;
+        let Ok(g) = f.group(group) else {
+            return Ok(Vec::new());
+        };
+        let mut out = Vec::new();
+        for name in g.member_names()? {
+            let run = g.group(&name)?;
+            out.push(store::read_str(&run, "status")?);
+        }
+        Ok(out)
+    };
+    read().map_err(hdf5_at(path))
 }
 
 /// A job's runout error against its reference [µm] (physics.md §8): the max and RMS of the
@@ -609,6 +857,7 @@ fn write_model(
 fn assemble(
     study: &Study,
     opts: &RunOptions,
+    identity: &Identity,
     dir: &Path,
     jobs: &[&Job],
     refs: &[&super::Reference],
@@ -616,9 +865,16 @@ fn assemble(
     shares: &BTreeMap<String, Vec<f64>>,
 ) -> Result<(), CampaignError> {
     let tmp = store::with_suffix(&opts.output, ".tmp");
-    {
+    let open_part = |id: &str| {
+        let p = dir.join(format!("{id}.h5"));
+        hdf5::File::open(&p)
+            .map_err(|e| hdf5::Error::from(format!("cannot open {}: {e}", p.display()).as_str()))
+    };
+    let write = || -> hdf5::Result<()> {
         let f = hdf5::File::create(&tmp)?;
         store::provenance(&f, &opts.command)?;
+        store::attr_str(&f, "study_digest", &identity.digest)?;
+        store::attr_str(&f, "study_inputs", &identity.inputs_text())?;
         store::attr_u64(&f, "threads", opts.threads as u64)?;
         store::attr_str(&f, "study_name", &study.name)?;
         store::attr_str(&f, "study_path", &study.path.display().to_string())?;
@@ -645,12 +901,12 @@ fn assemble(
         }
         let rg = f.create_group("references")?;
         for r in refs {
-            let part = hdf5::File::open(dir.join(format!("{}.h5", r.id)))?;
+            let part = open_part(&r.id)?;
             store::copy_object(&part, "job", &rg, &r.id)?;
         }
         let jg = f.create_group("jobs")?;
         for j in jobs {
-            let part = hdf5::File::open(dir.join(format!("{}.h5", j.id)))?;
+            let part = open_part(&j.id)?;
             store::copy_object(&part, "job", &jg, &j.id)?;
             let g = jg.group(&j.id)?;
             let (err, per) = match rg.group(&j.reference_id) {
@@ -681,10 +937,25 @@ fn assemble(
         }
         analyse_or_note(&f, &opts.output);
         write_summary(&f, &study.varying)?;
-        f.close()?;
+        f.close()
+    };
+    finish_output(&tmp, &opts.output, write())
+}
+
+/// Ends the writing of an output: on success the temporary file is renamed over the output
+/// (checked again: only a results file is ever replaced); on failure it is removed and the
+/// error names it with its cause.
+fn finish_output(tmp: &Path, out: &Path, written: hdf5::Result<()>) -> Result<(), CampaignError> {
+    if let Err(e) = written {
+        let reason = describe_hdf5(tmp, &e);
+        let _ = std::fs::remove_file(tmp);
+        return Err(CampaignError::io(tmp, reason));
     }
-    std::fs::rename(&tmp, &opts.output)?;
-    Ok(())
+    if let Err(e) = output::check_replace(out, true) {
+        let _ = std::fs::remove_file(tmp);
+        return Err(e.into());
+    }
+    std::fs::rename(tmp, out).map_err(|e| CampaignError::io(out, e))
 }
 
 /// Analyses the file being assembled (`post`); a failure there costs the analysis, not the
@@ -699,23 +970,27 @@ fn analyse_or_note(f: &hdf5::File, out: &Path) {
     }
 }
 
-/// The numeric statistics every summary row carries, in order.
-const STAT_COLUMNS: [&str; 12] = [
-    "cpu_time_s",
-    "wall_time_s",
-    "steps",
-    "rejected_steps",
-    "newton_iterations",
-    "iterations_per_step",
-    "jacobian_evals",
-    "rhs_evals",
-    "t_end_s",
-    "error_max_um",
-    "error_rms_um",
-    "error_peak_um",
+/// The statistics every summary row carries, in order: (name, units, is a count).
+const STAT_COLUMNS: [(&str, &str, bool); 12] = [
+    ("cpu_time_s", "s", false),
+    ("wall_time_s", "s", false),
+    ("steps", "1", true),
+    ("rejected_steps", "1", true),
+    ("newton_iterations", "1", true),
+    ("iterations_per_step", "1", false),
+    ("jacobian_evals", "1", true),
+    ("rhs_evals", "1", true),
+    ("t_end_s", "s", false),
+    ("error_max_um", "um", false),
+    ("error_rms_um", "um", false),
+    ("error_peak_um", "um", false),
 ];
 
-/// (Re)writes `/summary` from the job groups' attributes, ordered by job index.
+/// (Re)writes `/summary` from the job groups' attributes, ordered by job index: text columns
+/// (job_id, status, cause, error_cause, integrator, modes, label), job_index as a count, every
+/// varying key as its own column (numbers where every value is a number, else each value's
+/// full text; table-valued parameters as their canonical TOML), then the statistics (counts
+/// as integers), each with its units (`store::table`).
 pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
     if let Ok(old) = f.dataset("summary") {
         drop(old);
@@ -729,33 +1004,34 @@ pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
         rows.push((idx, g, name));
     }
     rows.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
-    let text = |name: &str, w: usize, get: &dyn Fn(&hdf5::Group) -> String| {
-        Column::Text(
-            name.to_string(),
-            w,
-            rows.iter().map(|r| get(&r.1)).collect(),
+    let text = |name: &str| {
+        Column::text(
+            name,
+            rows.iter()
+                .map(|r| store::read_str(&r.1, name).unwrap_or_default())
+                .collect(),
         )
     };
     let mut cols = vec![
-        text("job_id", 17, &|g| {
-            g.name().rsplit('/').next().unwrap_or("").to_string()
-        }),
-        Column::Number("job_index".into(), rows.iter().map(|r| r.0).collect()),
-        text("status", 8, &|g| {
-            store::read_str(g, "status").unwrap_or_default()
-        }),
-        text("cause", 96, &|g| {
-            store::read_str(g, "cause").unwrap_or_default()
-        }),
-        text("integrator", 12, &|g| {
-            store::read_str(g, "integrator").unwrap_or_default()
-        }),
-        text("modes", 32, &|g| {
-            store::read_str(g, "modes").unwrap_or_default()
-        }),
-        text("label", 128, &|g| {
-            store::read_str(g, "label").unwrap_or_default()
-        }),
+        Column::text("job_id", rows.iter().map(|r| r.2.clone()).collect()),
+        Column::count(
+            "job_index",
+            rows.iter()
+                .map(|r| {
+                    if r.0.is_finite() {
+                        r.0 as u64
+                    } else {
+                        u64::MAX
+                    }
+                })
+                .collect(),
+        ),
+        text("status"),
+        text("cause"),
+        text("error_cause"),
+        text("integrator"),
+        text("modes"),
+        text("label"),
     ];
     for key in varying {
         if key == "solver.integrator" {
@@ -766,8 +1042,9 @@ pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
             .map(|r| store::read_param(&r.1, key).ok())
             .collect();
         if vals.iter().flatten().all(|v| matches!(v, Param::Number(_))) {
-            cols.push(Column::Number(
-                key.clone(),
+            cols.push(Column::number(
+                key,
+                units_of_key(key),
                 vals.iter()
                     .map(|v| match v {
                         Some(Param::Number(x)) => *x,
@@ -776,22 +1053,23 @@ pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
                     .collect(),
             ));
         } else {
-            cols.push(Column::Text(
-                key.clone(),
-                32,
+            cols.push(Column::text(
+                key,
                 vals.iter()
                     .map(|v| v.as_ref().map(Param::to_string).unwrap_or_default())
                     .collect(),
             ));
         }
     }
-    for key in STAT_COLUMNS {
-        cols.push(Column::Number(
-            key.to_string(),
-            rows.iter()
-                .map(|r| store::read_num(&r.1, key).unwrap_or(f64::NAN))
-                .collect(),
-        ));
+    for (key, units, count) in STAT_COLUMNS {
+        let v = rows
+            .iter()
+            .map(|r| store::read_num(&r.1, key).unwrap_or(f64::NAN));
+        cols.push(if count {
+            Column::count(key, v.map(|x| x as u64).collect())
+        } else {
+            Column::number(key, units, v.collect())
+        });
     }
     store::compound_table(f, "summary", &cols)
 }
@@ -825,17 +1103,21 @@ impl Progress {
         }
     }
 
-    fn job_done(&self, id: &str, r: &JobResult, ok: bool) {
+    /// Reports a finished run: its status, or that it could not be saved (then it is not ok,
+    /// whatever the integrator said).
+    fn job_done(&self, id: &str, r: &JobResult, not_saved: Option<&CampaignError>) {
         self.done.set(self.done.get() + 1);
-        if !ok {
+        if r.stats.status != Status::Ok || not_saved.is_some() {
             self.failed.set(self.failed.get() + 1);
         }
-        match &self.bar {
-            Some(b) => {
-                b.inc(1);
-                b.set_message(self.failed.get().to_string());
-            }
-            None => eprintln!(
+        let line = match not_saved {
+            Some(e) => format!(
+                "[{}/{}] {id} NOT SAVED ({} in memory): {e}",
+                self.done.get(),
+                self.total,
+                r.stats.status.name()
+            ),
+            None => format!(
                 "[{}/{}] {id} {} cpu {:.3} s{}",
                 self.done.get(),
                 self.total,
@@ -847,6 +1129,16 @@ impl Progress {
                     format!(": {}", r.stats.cause)
                 }
             ),
+        };
+        match &self.bar {
+            Some(b) => {
+                b.inc(1);
+                b.set_message(self.failed.get().to_string());
+                if not_saved.is_some() {
+                    b.println(line);
+                }
+            }
+            None => eprintln!("{line}"),
         }
     }
 
@@ -857,31 +1149,159 @@ impl Progress {
     }
 }
 
+/// How to merge shard files.
+#[derive(Debug, Clone, Default)]
+pub struct MergeOptions {
+    /// Replace an existing output (only a rotorsweep results file).
+    pub overwrite: bool,
+    /// Merge an incomplete set of shards (the merged file records it).
+    pub partial: bool,
+}
+
+/// What a merge did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MergeOutcome {
+    /// Jobs in the merged file.
+    pub jobs: usize,
+    /// The shards it holds, `i/n`.
+    pub shards: Vec<String>,
+    /// The shards of the split it lacks (only with `partial`).
+    pub missing: Vec<String>,
+}
+
+/// The shards a results file holds: its `shard` attribute, `i/n` or a comma-separated list.
+fn parse_shards(text: &str) -> Option<Vec<(usize, usize)>> {
+    text.split(',')
+        .map(|s| {
+            let (i, n) = s.trim().split_once('/')?;
+            let (i, n): (usize, usize) = (i.parse().ok()?, n.parse().ok()?);
+            (n > 0 && i < n).then_some((i, n))
+        })
+        .collect()
+}
+
 /// Joins shard files of one study: jobs, references and models (each once), file attributes of
-/// the first file, and a new summary. Returns the number of jobs.
-pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> {
-    let tmp = store::with_suffix(output, ".tmp");
-    let mut jobs_n = 0;
-    {
-        let open = |p: &PathBuf| {
-            hdf5::File::open(p).map_err(|e| CampaignError::Usage(format!("{}: {e}", p.display())))
-        };
-        let first = open(&inputs[0])?;
-        let study_text = store::read_str(&first, "study_text").unwrap_or_default();
-        for p in &inputs[1..] {
-            let other = open(p)?;
-            if store::read_str(&other, "study_text").unwrap_or_default() != study_text {
+/// the first file, and a new summary. The inputs must be distinct rotorsweep results files of
+/// the same study digest and of one split into n shards, all of them unless `partial`; the
+/// merged file's `shard` attribute lists the shards it holds, and `partial` (0/1) says
+/// whether that is fewer than the split has.
+pub fn merge(
+    inputs: &[PathBuf],
+    output: &Path,
+    opts: &MergeOptions,
+) -> Result<MergeOutcome, CampaignError> {
+    use std::os::unix::fs::MetadataExt;
+    if inputs.is_empty() {
+        return Err(CampaignError::Usage(
+            "merge needs at least one input file".into(),
+        ));
+    }
+    let _lock = OutputLock::acquire(output)?;
+    // Distinct regular results files, none of them the output.
+    let out_inode = std::fs::metadata(output).ok().map(|m| (m.dev(), m.ino()));
+    let mut seen: BTreeMap<(u64, u64), &PathBuf> = BTreeMap::new();
+    for p in inputs {
+        let m = std::fs::metadata(p).map_err(|e| CampaignError::io(p, e))?;
+        if !m.is_file() {
+            return Err(CampaignError::Usage(format!(
+                "{}: is not a regular file",
+                p.display()
+            )));
+        }
+        let key = (m.dev(), m.ino());
+        if let Some(first) = seen.insert(key, p) {
+            return Err(CampaignError::Usage(format!(
+                "{} is given twice (also as {}): each shard once",
+                p.display(),
+                first.display()
+            )));
+        }
+        if Some(key) == out_inode {
+            return Err(CampaignError::Usage(format!(
+                "{}: is the output too; merge into a new file",
+                p.display()
+            )));
+        }
+        output::is_results_file(p)
+            .map_err(|why| CampaignError::Usage(format!("{}: {why}", p.display())))?;
+    }
+    output::check_replace(output, opts.overwrite)?;
+    output::check_working_file(&store::with_suffix(output, ".tmp"))?;
+    // One study digest and one split.
+    let mut shards: BTreeMap<(usize, usize), &PathBuf> = BTreeMap::new();
+    let (digest0, inputs0, _) = stored_identity(&inputs[0])?;
+    for p in inputs {
+        let (digest, inputs_text, shard) = stored_identity(p)?;
+        if digest.is_empty() {
+            return Err(CampaignError::Usage(format!(
+                "{}: has no study digest (written by an older rotorsweep): run its shard again",
+                p.display()
+            )));
+        }
+        if digest != digest0 {
+            let first = Identity {
+                digest: digest0.clone(),
+                inputs: Identity::parse_inputs(inputs0.as_deref().unwrap_or_default()),
+            };
+            return Err(CampaignError::Usage(format!(
+                "{} comes from other inputs than {} ({})",
+                p.display(),
+                inputs[0].display(),
+                describe_mismatch(&first, &digest, inputs_text.as_deref())
+            )));
+        }
+        let list = parse_shards(&shard).ok_or_else(|| {
+            CampaignError::Usage(format!(
+                "{}: its shard attribute `{shard}` is not i/n",
+                p.display()
+            ))
+        })?;
+        for s in list {
+            if let Some(other) = shards.insert(s, p) {
                 return Err(CampaignError::Usage(format!(
-                    "{} comes from another study than {} (study_text differs)",
-                    p.display(),
-                    inputs[0].display()
+                    "shard {}/{} is in both {} and {}",
+                    s.0,
+                    s.1,
+                    other.display(),
+                    p.display()
                 )));
             }
         }
+    }
+    let splits: BTreeSet<usize> = shards.keys().map(|s| s.1).collect();
+    if splits.len() > 1 {
+        let list: Vec<String> = shards
+            .iter()
+            .map(|(s, p)| format!("{} is shard {}/{}", p.display(), s.0, s.1))
+            .collect();
+        return Err(CampaignError::Usage(format!(
+            "the inputs come from different splits: {}",
+            list.join(", ")
+        )));
+    }
+    let n = *splits.iter().next().expect("at least one input");
+    let missing: Vec<String> = (0..n)
+        .filter(|i| !shards.contains_key(&(*i, n)))
+        .map(|i| format!("{i}/{n}"))
+        .collect();
+    if !missing.is_empty() && !opts.partial {
+        return Err(CampaignError::Usage(format!(
+            "shards missing: {} (of {n}); add them, or --partial to merge without them",
+            missing.join(", ")
+        )));
+    }
+    let present: Vec<String> = shards.keys().map(|(i, n)| format!("{i}/{n}")).collect();
+    let tmp = store::with_suffix(output, ".tmp");
+    let mut jobs_n = 0;
+    let mut write = || -> hdf5::Result<()> {
+        let first = hdf5::File::open(&inputs[0])?;
         let f = hdf5::File::create(&tmp)?;
         let keys = store::varying_keys(&first);
         for name in first.attr_names()? {
-            if name == "shard" || name == "threads" {
+            if matches!(
+                name.as_str(),
+                "shard" | "threads" | "partial" | "merged_from"
+            ) {
                 continue;
             }
             store::attr_str(
@@ -890,6 +1310,8 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> 
                 &store::read_str(&first, &name).unwrap_or_default(),
             )?;
         }
+        store::attr_str(&f, "shard", &present.join(","))?;
+        store::attr_u64(&f, "partial", u64::from(!missing.is_empty()))?;
         let sources: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
         store::attr_str(&f, "merged_from", &sources.join("\n"))?;
         for group in ["models", "linear", "references", "jobs"] {
@@ -901,7 +1323,9 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> 
                 let Ok(sg) = src.group(group) else { continue };
                 for name in sg.member_names()? {
                     if seen.insert(name.clone()) {
-                        store::copy_object(&sg, &name, &dst, &name)?;
+                        store::copy_object(&sg, &name, &dst, &name).map_err(|e| {
+                            hdf5::Error::from(format!("{}: {e}", p.display()).as_str())
+                        })?;
                     }
                 }
             }
@@ -911,8 +1335,13 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<usize, CampaignError> 
         }
         analyse_or_note(&f, output);
         write_summary(&f, &keys)?;
-        f.close()?;
-    }
-    std::fs::rename(&tmp, output)?;
-    Ok(jobs_n)
+        f.close()
+    };
+    let written = write();
+    finish_output(&tmp, output, written)?;
+    Ok(MergeOutcome {
+        jobs: jobs_n,
+        shards: present,
+        missing,
+    })
 }

@@ -11,6 +11,7 @@
 //! reason; every job's scene is validated before anything runs.
 
 pub mod campaign;
+pub mod identity;
 pub mod post;
 
 use std::collections::BTreeMap;

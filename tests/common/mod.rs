@@ -234,3 +234,46 @@ above_ratio = 1.0
 "#
     )
 }
+
+/// The deterministic content of a results file: every dataset of every run (bit patterns) and
+/// the runs' attributes other than timings, by path.
+pub fn results_content(path: &std::path::Path) -> Vec<(String, Vec<u64>)> {
+    let f = hdf5::File::open(path).unwrap();
+    let mut out = Vec::new();
+    for group in ["jobs", "references"] {
+        let Ok(g) = f.group(group) else { continue };
+        let mut ids = g.member_names().unwrap();
+        ids.sort();
+        for id in ids {
+            let run = g.group(&id).unwrap();
+            fn walk(g: &hdf5::Group, prefix: &str, out: &mut Vec<(String, Vec<u64>)>) {
+                let mut names = g.member_names().unwrap();
+                names.sort();
+                for n in names {
+                    let p = format!("{prefix}/{n}");
+                    if let Ok(ds) = g.dataset(&n) {
+                        let v: Vec<f64> = ds.read_raw().unwrap();
+                        out.push((p, v.iter().map(|x| x.to_bits()).collect()));
+                    } else if let Ok(sub) = g.group(&n) {
+                        walk(&sub, &p, out);
+                    }
+                }
+            }
+            walk(&run, &format!("{group}/{id}"), &mut out);
+            let mut attrs = run.attr_names().unwrap();
+            attrs.sort();
+            for a in attrs {
+                if a.starts_with("cpu_time_s") || a.starts_with("wall_time_s") {
+                    continue;
+                }
+                let v = match rotorsweep::store::read_param(&run, &a).unwrap() {
+                    rotorsweep::store::Param::Number(x) => vec![x.to_bits()],
+                    rotorsweep::store::Param::Count(n) => vec![n],
+                    rotorsweep::store::Param::Text(t) => t.bytes().map(u64::from).collect(),
+                };
+                out.push((format!("{group}/{id}@{a}"), v));
+            }
+        }
+    }
+    out
+}

@@ -15,6 +15,9 @@
 //! Strings are variable-length UTF-8 (h5py returns `str`). Datasets are chunked (≤ 8192
 //! samples), shuffled and deflated (level 4).
 
+pub mod output;
+pub mod table;
+
 use std::path::Path;
 use std::str::FromStr;
 
@@ -22,6 +25,8 @@ use hdf5::types::VarLenUnicode;
 use hdf5::{File, Group, Location};
 
 use crate::job::JobResult;
+
+pub use table::{compound_table, units_of_key, Column};
 
 /// Writes a string attribute (variable-length UTF-8).
 pub fn attr_str(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
@@ -122,6 +127,8 @@ pub fn subgroup(group: &Group, path: &str) -> hdf5::Result<Group> {
 pub enum Param {
     /// A number.
     Number(f64),
+    /// A count (an index), stored as an unsigned integer.
+    Count(u64),
     /// A string.
     Text(String),
 }
@@ -145,6 +152,7 @@ impl std::fmt::Display for Param {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Param::Number(x) => write!(f, "{x}"),
+            Param::Count(n) => write!(f, "{n}"),
             Param::Text(t) => f.write_str(t),
         }
     }
@@ -181,6 +189,7 @@ pub fn write_job(
     for (k, v) in params {
         match v {
             Param::Number(x) => attr_f64(&g, k, *x)?,
+            Param::Count(n) => attr_u64(&g, k, *n)?,
             Param::Text(t) => attr_str(&g, k, t)?,
         }
     }
@@ -202,10 +211,11 @@ pub fn provenance(f: &File, command: &str) -> hdf5::Result<()> {
 }
 
 /// Creates a results file with its provenance attributes and an empty `jobs` group. The file is
-/// written to `path` + ".part" and renamed by [`finish_file`], so a crash leaves no half file
-/// under the final name.
+/// written to `path` + ".tmp" and renamed by [`finish_file`], so a crash leaves no half file
+/// under the final name. The caller holds the output's lock and has checked that `path` may be
+/// replaced ([`output`]).
 pub fn create_file(path: &Path, command: &str, scene_text: &str) -> hdf5::Result<(File, Group)> {
-    let part = with_suffix(path, ".part");
+    let part = with_suffix(path, ".tmp");
     let f = File::create(&part)?;
     provenance(&f, command)?;
     attr_str(&f, "scene_text", scene_text)?;
@@ -218,7 +228,7 @@ pub fn finish_file(path: &Path, file: File, jobs: Group) -> std::io::Result<()> 
     drop(jobs);
     file.close()
         .map_err(|e| std::io::Error::other(e.to_string()))?;
-    std::fs::rename(with_suffix(path, ".part"), path)
+    std::fs::rename(with_suffix(path, ".tmp"), path)
 }
 
 /// `path` with `suffix` appended to its file name (`out.h5` → `out.h5.part`).
@@ -297,6 +307,7 @@ pub fn read_param(loc: &Location, name: &str) -> hdf5::Result<Param> {
         T::VarLenUnicode | T::VarLenAscii | T::FixedAscii(_) | T::FixedUnicode(_) => {
             Param::Text(read_str(loc, name)?)
         }
+        T::Unsigned(_) | T::Integer(_) => Param::Count(read_num(loc, name)? as u64),
         _ => Param::Number(read_num(loc, name)?),
     })
 }
@@ -323,10 +334,11 @@ pub fn copy_object(
         std::ffi::CString::new(src_name).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?,
         std::ffi::CString::new(dst_name).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?,
     );
-    let rc = hdf5::sync::sync(|| {
+    hdf5::sync::sync(|| {
         // SAFETY: both ids are open HDF5 locations owned by the callers; the names are valid
-        // NUL-terminated strings; the library lock is held by `sync`.
-        unsafe {
+        // NUL-terminated strings; the library lock is held by `sync`. `h5check` takes the
+        // library's error stack (with the OS error of a failed write) while the lock is held.
+        hdf5::h5check(unsafe {
             hdf5_sys::h5o::H5Ocopy(
                 src.id(),
                 a.as_ptr(),
@@ -335,96 +347,7 @@ pub fn copy_object(
                 hdf5_sys::h5p::H5P_DEFAULT,
                 hdf5_sys::h5p::H5P_DEFAULT,
             )
-        }
-    });
-    if rc < 0 {
-        Err(hdf5::Error::from(
-            format!("H5Ocopy {src_name} → {dst_name} failed").as_str(),
-        ))
-    } else {
-        Ok(())
-    }
-}
-
-/// One column of the summary table.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Column {
-    /// float64 values.
-    Number(String, Vec<f64>),
-    /// Fixed-length ASCII strings (bytes in numpy), at most `width` bytes each.
-    Text(String, usize, Vec<String>),
-}
-
-/// Writes a compound table (one row per entry) that numpy reads as a structured array and
-/// `pandas.DataFrame(f["summary"][()])` takes directly.
-pub fn compound_table(group: &Group, name: &str, columns: &[Column]) -> hdf5::Result<()> {
-    use hdf5::types::{CompoundField, CompoundType, FloatSize, TypeDescriptor};
-    let rows = match columns.first() {
-        Some(Column::Number(_, v)) => v.len(),
-        Some(Column::Text(_, _, v)) => v.len(),
-        None => 0,
-    };
-    let mut fields = Vec::new();
-    let mut offset = 0;
-    for (index, c) in columns.iter().enumerate() {
-        let (name, ty, size) = match c {
-            Column::Number(n, _) => (n, TypeDescriptor::Float(FloatSize::U8), 8),
-            Column::Text(n, w, _) => (n, TypeDescriptor::FixedAscii(*w), *w),
-        };
-        fields.push(CompoundField {
-            name: name.clone(),
-            ty,
-            offset,
-            index,
-        });
-        offset += size;
-    }
-    let size = offset;
-    let desc = TypeDescriptor::Compound(CompoundType { fields, size });
-    let mut buf = vec![0u8; size * rows];
-    let mut off = 0;
-    for c in columns {
-        match c {
-            Column::Number(_, v) => {
-                for (r, x) in v.iter().enumerate() {
-                    buf[r * size + off..r * size + off + 8].copy_from_slice(&x.to_ne_bytes());
-                }
-                off += 8;
-            }
-            Column::Text(_, w, v) => {
-                for (r, s) in v.iter().enumerate() {
-                    let b: Vec<u8> = s.bytes().filter(u8::is_ascii).take(*w).collect();
-                    buf[r * size + off..r * size + off + b.len()].copy_from_slice(&b);
-                }
-                off += w;
-            }
-        }
-    }
-    let dtype = hdf5::Datatype::from_descriptor(&desc)?;
-    let ds = group
-        .new_dataset_builder()
-        .empty_as(dtype.clone())
-        .shape(rows)
-        .create(name)?;
-    if rows == 0 {
-        return Ok(());
-    }
-    let rc = hdf5::sync::sync(|| {
-        // SAFETY: the buffer holds `rows` packed records laid out exactly as `dtype` describes
-        // (offsets computed above), and the dataset has `rows` elements of that type.
-        unsafe {
-            hdf5_sys::h5d::H5Dwrite(
-                ds.id(),
-                dtype.id(),
-                hdf5_sys::h5s::H5S_ALL,
-                hdf5_sys::h5s::H5S_ALL,
-                hdf5_sys::h5p::H5P_DEFAULT,
-                buf.as_ptr().cast(),
-            )
-        }
-    });
-    if rc < 0 {
-        return Err(hdf5::Error::from("writing the summary table failed"));
-    }
-    Ok(())
+        })
+    })
+    .map(|_| ())
 }

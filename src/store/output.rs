@@ -1,0 +1,239 @@
+//! Output files: what a command may replace, and one writer per output.
+//!
+//! In: the output path a user named (`-o OUT.h5`) and whether `--overwrite` was given.
+//! Out: an [`OutputLock`] held for the command's lifetime, and a verdict on the existing path.
+//!
+//! Rules, the same for every command that writes (`run`, `merge`, `simulate`):
+//! - A path that does not exist may be written. An existing one is refused unless
+//!   `--overwrite` is given, and even then it must be a regular file that is a rotorsweep
+//!   results file (HDF5 with the root attribute `tool = "rotorsweep"`). A directory, a device,
+//!   a FIFO, a symbolic link, or a file from elsewhere is never replaced.
+//! - The new file is written under `OUT.h5.tmp` and renamed over `OUT.h5` only when complete,
+//!   so the old file stays intact until then.
+//! - One writer per output: an advisory `flock` on `OUT.h5.lock`, taken before anything is
+//!   checked or written and released by the kernel when the process ends, however it ends.
+//!   A second process fails at once with the holder's PID (written into the lock file).
+//!   `OUT.h5.lock`, `OUT.h5.tmp` and `OUT.h5.parts/` are rotorsweep's working names beside
+//!   the output.
+//!
+//! Every OS error names its path.
+
+use std::fs::{File, OpenOptions};
+use std::io::{Read, Seek, Write};
+use std::os::unix::fs::{FileTypeExt, MetadataExt, OpenOptionsExt};
+use std::os::unix::io::AsRawFd;
+use std::path::{Path, PathBuf};
+
+/// Why an output cannot be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The output exists and `--overwrite` was not given.
+    #[error("{0}: exists; add --overwrite to replace it (only a rotorsweep results file is replaced), or choose another -o")]
+    Exists(PathBuf),
+    /// The output is something that is never replaced.
+    #[error("{0}: {1}; refusing to replace it")]
+    Refused(PathBuf, String),
+    /// Another process holds the output.
+    #[error("{path}: in use by another rotorsweep process ({holder}; lock {lock}); wait for it to finish or choose another -o")]
+    Busy {
+        /// The output.
+        path: PathBuf,
+        /// "PID n" or what is known of the holder.
+        holder: String,
+        /// The lock file.
+        lock: PathBuf,
+    },
+    /// An OS error on a path.
+    #[error("{0}: {1}")]
+    Io(PathBuf, std::io::Error),
+    /// Writing the output failed (the cause as the HDF5 library and the OS gave it).
+    #[error("{0}: {1}")]
+    Write(PathBuf, String),
+}
+
+/// An I/O error with its path.
+pub fn io_at(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
+    move |e| OutputError::Io(path.to_path_buf(), e)
+}
+
+/// What kind of thing a path is, in words; `None` when nothing is there.
+fn describe(path: &Path) -> Result<Option<(std::fs::Metadata, &'static str)>, OutputError> {
+    match std::fs::symlink_metadata(path) {
+        Ok(m) => {
+            let ft = m.file_type();
+            let what = if ft.is_file() {
+                "a regular file"
+            } else if ft.is_dir() {
+                "a directory"
+            } else if ft.is_symlink() {
+                "a symbolic link (name the file itself)"
+            } else if ft.is_char_device() {
+                "a character device"
+            } else if ft.is_block_device() {
+                "a block device"
+            } else if ft.is_fifo() {
+                "a FIFO"
+            } else if ft.is_socket() {
+                "a socket"
+            } else {
+                "not a regular file"
+            };
+            Ok(Some((m, what)))
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(OutputError::Io(path.to_path_buf(), e)),
+    }
+}
+
+/// The HDF5 file signature (its first 8 bytes).
+const HDF5_SIGNATURE: [u8; 8] = [0x89, b'H', b'D', b'F', b'\r', b'\n', 0x1a, b'\n'];
+
+/// Whether a regular file is a rotorsweep results file; the reason when it is not.
+pub fn is_results_file(path: &Path) -> Result<(), String> {
+    let mut head = [0u8; 8];
+    let n = File::open(path)
+        .and_then(|mut f| f.read(&mut head))
+        .map_err(|e| format!("cannot be read ({e})"))?;
+    if n < 8 || head != HDF5_SIGNATURE {
+        return Err("is not an HDF5 file".into());
+    }
+    let f = hdf5::File::open(path).map_err(|e| format!("is not a readable HDF5 file ({e})"))?;
+    match super::read_str(&f, "tool") {
+        Ok(t) if t == "rotorsweep" => Ok(()),
+        _ => Err(
+            "is an HDF5 file but not a rotorsweep results file (no `tool = rotorsweep` attribute)"
+                .into(),
+        ),
+    }
+}
+
+/// Checks that `path` may be (re)written as an output: absent, or with `overwrite` a regular
+/// rotorsweep results file (module doc). Its parent directory must exist.
+pub fn check_replace(path: &Path, overwrite: bool) -> Result<(), OutputError> {
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    match describe(parent)? {
+        Some((m, _)) if m.is_dir() => {}
+        Some((_, what)) => {
+            return Err(OutputError::Refused(
+                parent.to_path_buf(),
+                format!("the output's folder is {what}"),
+            ))
+        }
+        None => {
+            return Err(OutputError::Io(
+                parent.to_path_buf(),
+                std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    "the output's folder does not exist",
+                ),
+            ))
+        }
+    }
+    match describe(path)? {
+        None => Ok(()),
+        Some((m, what)) if !m.file_type().is_file() => Err(OutputError::Refused(
+            path.to_path_buf(),
+            format!("is {what}"),
+        )),
+        Some(_) if !overwrite => Err(OutputError::Exists(path.to_path_buf())),
+        Some(_) => {
+            is_results_file(path).map_err(|why| OutputError::Refused(path.to_path_buf(), why))
+        }
+    }
+}
+
+/// Checks that a working file of ours (`OUT.h5.tmp`, a part's `.tmp`) may be written: absent
+/// or a regular file (a leftover of a killed run, replaced under the lock).
+pub fn check_working_file(path: &Path) -> Result<(), OutputError> {
+    match describe(path)? {
+        None => Ok(()),
+        Some((m, _)) if m.file_type().is_file() => Ok(()),
+        Some((_, what)) => Err(OutputError::Refused(
+            path.to_path_buf(),
+            format!("is {what}, where rotorsweep keeps a working file"),
+        )),
+    }
+}
+
+/// The lock file of an output.
+pub fn lock_path(output: &Path) -> PathBuf {
+    super::with_suffix(output, ".lock")
+}
+
+/// An exclusive advisory lock on an output, held until dropped (or the process ends).
+#[derive(Debug)]
+pub struct OutputLock {
+    file: File,
+    path: PathBuf,
+}
+
+impl OutputLock {
+    /// Takes the lock of `output` (module doc), or fails at once naming the holder.
+    pub fn acquire(output: &Path) -> Result<Self, OutputError> {
+        let path = lock_path(output);
+        loop {
+            if let Some((m, what)) = describe(&path)? {
+                if !m.file_type().is_file() {
+                    return Err(OutputError::Refused(
+                        path.clone(),
+                        format!("is {what}, where rotorsweep keeps the output's lock file"),
+                    ));
+                }
+            }
+            let mut file = OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .mode(0o644)
+                .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK | libc::O_CLOEXEC)
+                .open(&path)
+                .map_err(io_at(&path))?;
+            // SAFETY: flock on a file descriptor we own; non-blocking.
+            let rc = unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
+            if rc != 0 {
+                let e = std::io::Error::last_os_error();
+                if e.raw_os_error() == Some(libc::EWOULDBLOCK) {
+                    let mut text = String::new();
+                    let _ = file.read_to_string(&mut text);
+                    let holder = match text.trim().parse::<u32>() {
+                        Ok(pid) => format!("PID {pid}"),
+                        Err(_) => "PID unknown".to_string(),
+                    };
+                    return Err(OutputError::Busy {
+                        path: output.to_path_buf(),
+                        holder,
+                        lock: path,
+                    });
+                }
+                return Err(OutputError::Io(path, e));
+            }
+            // The file we locked must still be the one under the name: a holder that was just
+            // finishing may have removed it between our open and our lock.
+            let ours = file.metadata().map_err(io_at(&path))?;
+            match std::fs::symlink_metadata(&path) {
+                Ok(now) if now.dev() == ours.dev() && now.ino() == ours.ino() => {}
+                _ => continue,
+            }
+            file.set_len(0).map_err(io_at(&path))?;
+            file.rewind().map_err(io_at(&path))?;
+            writeln!(file, "{}", std::process::id()).map_err(io_at(&path))?;
+            return Ok(Self { file, path });
+        }
+    }
+}
+
+impl Drop for OutputLock {
+    fn drop(&mut self) {
+        // Remove the name while still holding the lock; a process that opened it meanwhile
+        // sees the name gone (or another file) after locking and starts again.
+        let _ = std::fs::remove_file(&self.path);
+        // SAFETY: unlocking a descriptor we own; closing it would release the lock anyway.
+        unsafe {
+            libc::flock(self.file.as_raw_fd(), libc::LOCK_UN);
+        }
+    }
+}
