@@ -24,7 +24,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
-use hdf5::types::{FixedAscii, VarLenUnicode};
+use hdf5::types::VarLenUnicode;
 use hdf5::{File, Group};
 use serde::Serialize;
 
@@ -554,20 +554,20 @@ fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
 }
 
 /// The columns of `/analysis/trial_mass` the table uses (HDF5 converts records member by member
-/// by name, and fixed-length strings of other widths by padding or cutting).
-#[derive(hdf5::H5Type, Clone, Copy)]
+/// by name).
+#[derive(hdf5::H5Type, Clone)]
 #[repr(C)]
 struct TrialRow {
-    job_id: FixedAscii<17>,
-    label: FixedAscii<128>,
-    channel: FixedAscii<48>,
+    job_id: VarLenUnicode,
+    label: VarLenUnicode,
+    channel: VarLenUnicode,
     speed_hz: f64,
     amplitude_change_um: f64,
     vector_change_um: f64,
 }
 
 /// The trial-mass table; the labels come from the jobs' `label:<label_key>` attributes when
-/// there (the table's fixed-length ASCII drops characters such as `°`).
+/// there, else from the table.
 fn trial_mass_table(f: &File, label_key: Option<&str>) -> hdf5::Result<Option<Table>> {
     let Ok(ds) = f.dataset("analysis/trial_mass") else {
         return Ok(None);

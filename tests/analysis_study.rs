@@ -36,10 +36,10 @@ gravity_m_s2 = 0.0
 }
 
 /// The numeric columns of `/analysis/trial_mass` (HDF5 converts by field name).
-#[derive(hdf5::H5Type, Clone, Copy, Debug)]
+#[derive(hdf5::H5Type, Clone, Debug)]
 #[repr(C)]
 struct TrialRow {
-    channel: hdf5::types::FixedAscii<48>,
+    channel: hdf5::types::VarLenUnicode,
     speed_hz: f64,
     amplitude_um: f64,
     baseline_amplitude_um: f64,
@@ -52,9 +52,9 @@ struct TrialRow {
 #[derive(hdf5::H5Type, Clone, Copy, Debug)]
 #[repr(C)]
 struct ResonanceRow {
-    sweep: f64,
+    sweep: u64,
     order: f64,
-    rank: f64,
+    rank: u64,
     speed_hz: f64,
 }
 
@@ -179,10 +179,10 @@ orders = [1.0, 2.0]
                 .unwrap()
                 .contains("20 g")
         })
-        .expect("the sweep with the mass") as f64;
+        .expect("the sweep with the mass");
     let found: Vec<f64> = res
         .iter()
-        .filter(|r| r.sweep == with_mass && r.order == 1.0 && r.rank == 1.0)
+        .filter(|r| r.sweep == with_mass && r.order == 1.0 && r.rank == 1)
         .map(|r| r.speed_hz)
         .collect();
     assert_eq!(
