@@ -175,6 +175,8 @@ struct Work<'a> {
     linear_id: Option<&'a str>,
     prune: Option<f64>,
     params: Vec<(String, Param)>,
+    /// What the progress lines call it: the job's labels, else its varying values.
+    name: String,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -536,10 +538,25 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             linear_id: None,
             prune: None,
             params: params_of(&r.overrides),
+            name: "reference run".into(),
         });
     }
     for j in &jobs {
         let mut params = params_of(&j.overrides);
+        // Its labels, then the values of the varying keys no label stands for.
+        let name = j
+            .labels
+            .iter()
+            .map(|(_, l)| l.clone())
+            .chain(
+                study
+                    .varying
+                    .iter()
+                    .filter(|k| !j.labels.iter().any(|(lk, _)| lk == *k))
+                    .map(|k| format!("{k}={}", study.value_text(j, k).unwrap_or_default())),
+            )
+            .collect::<Vec<_>>()
+            .join(", ");
         if !j.labels.is_empty() {
             let all: Vec<&str> = j.labels.iter().map(|(_, l)| l.as_str()).collect();
             params.push(("label".into(), Param::Text(all.join(", "))));
@@ -555,6 +572,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             linear_id: Some(&j.linear_id),
             prune: j.prune,
             params,
+            name,
         });
     }
     let resumed = jobs.iter().filter(|j| done.contains(&j.id)).count();
@@ -613,7 +631,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         for (i, r) in rx {
             let w = &work[i];
             let saved = save_part(&dir, w, &r, w.scene.solver.integrator.name(), &identity);
-            progress.job_done(&w.id, &r, saved.as_ref().err());
+            progress.job_done(w, &r, saved.as_ref().err());
             if let Err(e) = saved {
                 stop.store(true, Ordering::SeqCst);
                 write_error.get_or_insert(e);
@@ -1074,9 +1092,21 @@ pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
     store::compound_table(f, "summary", &cols)
 }
 
-/// Progress: an indicatif bar on a terminal, plain lines otherwise.
+/// Seconds as `m:ss` (or `h:mm:ss`).
+fn clock(s: f64) -> String {
+    let s = s.round() as u64;
+    if s >= 3600 {
+        format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+    } else {
+        format!("{}:{:02}", s / 60, s % 60)
+    }
+}
+
+/// Progress: an indicatif bar on a terminal, plain lines otherwise. Each line names the job
+/// (id, labels or varying values), the elapsed time and an ETA from the mean time per job.
 struct Progress {
     bar: Option<indicatif::ProgressBar>,
+    start: std::time::Instant,
     total: u64,
     done: std::cell::Cell<u64>,
     failed: std::cell::Cell<u64>,
@@ -1097,6 +1127,7 @@ impl Progress {
         });
         Self {
             bar,
+            start: std::time::Instant::now(),
             total,
             done: 0.into(),
             failed: 0.into(),
@@ -1105,22 +1136,28 @@ impl Progress {
 
     /// Reports a finished run: its status, or that it could not be saved (then it is not ok,
     /// whatever the integrator said).
-    fn job_done(&self, id: &str, r: &JobResult, not_saved: Option<&CampaignError>) {
+    fn job_done(&self, w: &Work, r: &JobResult, not_saved: Option<&CampaignError>) {
         self.done.set(self.done.get() + 1);
         if r.stats.status != Status::Ok || not_saved.is_some() {
             self.failed.set(self.failed.get() + 1);
         }
+        let (done, total) = (self.done.get(), self.total);
+        let elapsed = self.start.elapsed().as_secs_f64();
+        let eta = elapsed / done as f64 * total.saturating_sub(done) as f64;
+        let head = format!(
+            "[{done}/{total} {} elapsed, ETA {}] {} ({})",
+            clock(elapsed),
+            clock(eta),
+            w.id,
+            w.name
+        );
         let line = match not_saved {
             Some(e) => format!(
-                "[{}/{}] {id} NOT SAVED ({} in memory): {e}",
-                self.done.get(),
-                self.total,
+                "{head} NOT SAVED ({} in memory): {e}",
                 r.stats.status.name()
             ),
             None => format!(
-                "[{}/{}] {id} {} cpu {:.3} s{}",
-                self.done.get(),
-                self.total,
+                "{head} {} cpu {:.3} s{}",
                 r.stats.status.name(),
                 r.stats.cpu_time_s,
                 if r.stats.cause.is_empty() {
