@@ -226,26 +226,23 @@ fn bdf_jacobi_drift_shrinks_with_the_tolerance() {
         last = drift;
     }
     assert!(last < 3e-3);
-    // Up to order 5 (the default), at tolerances where the error control keeps every mode inside
-    // BDF5's stability region (see `bdf5_energy_stays_bounded_at_the_default_tolerance`):
-    let mut last = f64::INFINITY;
-    for tol in [1e-9, 1e-10, 1e-11] {
-        let (_, drift, steps) = run(5, tol);
-        eprintln!("bdf max_order 5, tol {tol:e}: {steps} steps, max |Δh| / E_osc = {drift:.2e}");
-        assert!(drift < last / 3.0, "drift {drift} after {last}");
-        last = drift;
+    // Up to order 5 (the default): at the steps these tolerances allow, some undamped mode of
+    // the rotor lies in the amplifying lobe of every order 3–5 (src/integrators/stability.rs),
+    // so the order stays at the A-stable 2 and the run is BDF2's, step for step.
+    for tol in [1e-7, 1e-9, 1e-11] {
+        let two = run(2, tol);
+        let five = run(5, tol);
+        assert_eq!(five.2, two.2, "tol {tol:e}: steps");
+        assert_eq!(five.1, two.1, "tol {tol:e}: drift");
     }
-    assert!(last < 1e-4);
 }
 
-/// Finding, not fixed: with undamped high modes (here up to 6 kHz) BDF up to order 5 at the
-/// default tolerance (1e-7 m) feeds energy into them: h grows to ~6 times the oscillation's energy
-/// over 0.1 s, mostly in the 6.0 kHz, 1.66 kHz and 0.69 kHz modes of (A, M). BDF3–5 are not
-/// A-stable (BDF5: A(51.8°)); undamped modes sit on the imaginary axis. The source's damping
-/// schedules give every elastic mode ≥ 0.5 %, which hides this; `damping.bands` with ratio 0
-/// exposes it. Run with `cargo test --release -- --ignored`.
+/// With undamped high modes (here up to 6 kHz) BDF up to order 5 at the default tolerance
+/// (1e-7 m) used to feed energy into them: h grew to ~6 times the oscillation's energy over
+/// 0.1 s, mostly in the 6.0 kHz, 1.66 kHz and 0.69 kHz modes of (A, M), because BDF3–5 are not
+/// A-stable (BDF5: A(51.8°)) and undamped modes sit on the imaginary axis. The order is now
+/// held where no mode is amplified (src/integrators/stability.rs); measured: 2.7e-2.
 #[test]
-#[ignore = "finding: BDF5 at the default tolerance is unstable on undamped high modes"]
 fn bdf5_energy_stays_bounded_at_the_default_tolerance() {
     let lin = Linear::new(&jeffcott(UNDAMPED));
     let set = lin.settings(IntegratorKind::Bdf);
@@ -368,10 +365,14 @@ fn bdf_step_count_grows_as_its_order_says() {
 #[test]
 fn bdf_orders_on_the_rotor() {
     // The same on the rotor, with the modes above 1 kHz damped 100 % so that no undamped stiff
-    // mode sits on the imaginary axis. Orders 2 and 3 show their order; orders 4 and 5 do not:
-    // the lightly damped supported modes at 0.28–0.89 kHz lie where BDF4/5 are unstable
-    // (A(73°), A(51.8°)), so their step is stability-limited, almost independent of the
-    // tolerance (measured: order 5, 1734 → 2715 steps from 1e-7 to 1e-12, slope 0.04).
+    // mode sits on the imaginary axis. Order 2 shows its order. The lightly damped supported
+    // modes at 0.28–0.89 kHz lie where BDF3–5 amplify (A(86°), A(73°), A(51.8°)) at the
+    // longer steps: there the order is held at a stable one (src/integrators/stability.rs), so
+    // with max_order 3 or 5 the step count follows the tolerance, at a slope below BDF2's 1/3
+    // (loose tolerances pay BDF2's steps, tight ones get the higher orders: measured 0.19 for
+    // max_order 3). (Before that choice the step was stability-limited,
+    // almost independent of the tolerance: order 5, 1734 → 2715 steps from 1e-7 to 1e-12,
+    // slope 0.04.)
     let lin = Linear::new(&jeffcott(
         "bands = [{ below_hz = 1000.0, ratio = 0.0 }]\nabove_ratio = 1.0",
     ));
@@ -386,11 +387,13 @@ fn bdf_orders_on_the_rotor() {
             y.push((steps as f64).ln());
         }
         let fitted = -slope(&x, &y);
-        let expected = 1.0 / (order as f64 + 1.0);
-        eprintln!("rotor, bdf max_order {order}: N ∝ tol^-{fitted:.3} (expected {expected:.3})");
-        if order <= 3 {
+        let own = 1.0 / (order as f64 + 1.0);
+        eprintln!("rotor, bdf max_order {order}: N ∝ tol^-{fitted:.3} (order's own {own:.3})");
+        if order == 2 {
+            assert!((fitted / own - 1.0).abs() < 0.12, "order 2: slope {fitted}");
+        } else {
             assert!(
-                (fitted / expected - 1.0).abs() < 0.12,
+                fitted > 0.15 && fitted < 1.12 / 3.0,
                 "order {order}: slope {fitted}"
             );
         }

@@ -11,11 +11,16 @@
 //! or, when hmax caps the step anyway, the order with the smallest error.
 //! The corrector is `integrators::corrector`; a slow rate refreshes the Newton matrix for the
 //! next step.
+//!
+//! Orders 3–5 are used only at steps where they amplify none of the modes of the system
+//! linearised at the start (`integrators::stability`): on lightly damped high modes the order
+//! drops to 2 (A-stable) instead of the step following the instability.
 
 use std::collections::VecDeque;
 
 use nalgebra::{DMatrix, DVector};
 
+use super::stability::Modes;
 use super::{corrector, finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
 use crate::scene::SolverSettings;
 
@@ -112,6 +117,17 @@ pub(super) fn run(
     let mut tmp = DVector::zeros(n);
     let (mut qq, mut vv) = (DVector::zeros(n), DVector::zeros(n));
     let mut nm = DMatrix::zeros(n, n);
+    let modes = if s.max_order > 2 {
+        let mut kq = DMatrix::zeros(n, n);
+        let mut cv = DMatrix::zeros(n, n);
+        let p0 = &hist[0];
+        pb.newton_matrix(t0, &p0.q, &p0.v, (0.0, 1.0, 0.0), &mut kq);
+        pb.newton_matrix(t0, &p0.q, &p0.v, (0.0, 0.0, 1.0), &mut cv);
+        st.jacobian_evals += 2;
+        Modes::of_system(m, &kq, &cv)
+    } else {
+        Modes::default()
+    };
     let mut alpha = [0.0; 8];
     while t < t_end {
         if !guard.check(&mut st, t, h) {
@@ -121,7 +137,7 @@ pub(super) fn run(
             h = t_end - t;
         }
         let tn = t + h;
-        let keff = k.min(hist.len());
+        let keff = k.min(hist.len()).min(modes.stable_order(h, s.max_order));
         let mut tau = [0.0; 8];
         tau[0] = tn;
         for (slot, p) in tau[1..].iter_mut().zip(hist.iter().take(keff)) {
@@ -257,7 +273,18 @@ pub(super) fn run(
             cands[nc] = cand(keff + 1, est(keff + 1, &qq, &mut tmp));
             nc += 1;
         }
-        let cands = &cands[..nc];
+        // Orders that would amplify a mode at the step they propose are no candidates.
+        let stable = |c: &(usize, f64, f64)| {
+            c.0 <= 2 || c.0 <= modes.stable_order(h * c.2.clamp(0.2, 1.5), s.max_order)
+        };
+        let mut kept = 0;
+        for i in 0..nc {
+            if i == 0 || stable(&cands[i]) {
+                cands[kept] = cands[i];
+                kept += 1;
+            }
+        }
+        let cands = &cands[..kept];
         let capped = cands.iter().all(|c| h * c.2.min(1.5) >= s.hmax);
         let best = if capped {
             cands.iter().min_by(|a, b| a.1.total_cmp(&b.1))

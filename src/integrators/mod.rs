@@ -22,6 +22,7 @@
 mod bdf;
 mod gen_alpha;
 mod rk45;
+pub mod stability;
 
 use std::time::Instant;
 
