@@ -17,9 +17,11 @@
 //!
 //! Method: the system is projected on the undamped modes (below a cut-off frequency) of its
 //! revolution-averaged stiffness, then ẋ = A(t) x is integrated for the identity by classical
-//! RK4 over one revolution, with ≥ 64 steps and ω_max h ≤ 0.1 (ω_max: the highest kept mode).
-//! The truncation is the approximation; modes far above the speeds studied do not take part in
-//! the parametric resonances near them.
+//! RK4 over one revolution, with ≥ 64 steps and ω_max h ≤ 0.5 (ω_max: the highest kept mode;
+//! RK4 damps that mode artificially by 0.02 % a step, the low modes that decide stability far
+//! less). The truncation is the approximation: on the Jeffcott rotor of tests/linear_floquet.rs
+//! a cut-off at 2 kHz moves the growth of its least damped mode by 0.35 %, none moves it by
+//! < 0.04 %; modes far above the speeds studied take no part in the parametric resonances there.
 
 use nalgebra::{Complex, DMatrix, Matrix2};
 
@@ -170,7 +172,7 @@ pub fn scene_multipliers(
         .collect();
     let cscale = cbr.amax() / mr.diagonal().min().max(1e-300);
     let period = TAU / omega;
-    let steps = ((period * wmax.max(cscale) / 0.1).ceil() as usize).max(64);
+    let steps = ((period * wmax.max(cscale) / 0.5).ceil() as usize).max(64);
     let phi = monodromy(&mr, omega, steps, |theta| {
         let mut k = kbr.clone();
         let mut c = cbr.clone();
