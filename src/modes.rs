@@ -15,7 +15,7 @@ use rotorsweep::linear::campbell::sweep;
 use rotorsweep::linear::modes::Kind;
 use rotorsweep::linear::{LinearSystem, FRAME_NOTE};
 use rotorsweep::model::Model;
-use rotorsweep::reduction::{ModeKind, ModeSelection};
+use rotorsweep::reduction::ModeSelection;
 use rotorsweep::scene::Scene;
 use serde::Serialize;
 
@@ -83,15 +83,24 @@ struct Report {
     warnings: Vec<String>,
 }
 
-/// Runs the command.
-pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
-    let scene = Scene::load(&a.scene, &a.set)?;
-    let sel = a
-        .modes
-        .as_deref()
+/// A scene with its `--set` overrides and its model with the `--modes` selection (the scene's
+/// own when `None`): the start of `modes` and `linear`.
+pub fn load_model(
+    path: &std::path::Path,
+    set: &[String],
+    modes: Option<&str>,
+) -> Result<(Scene, Model), Box<dyn std::error::Error>> {
+    let scene = Scene::load(path, set)?;
+    let sel = modes
         .map(ModeSelection::parse)
         .transpose()
         .map_err(|e| format!("--modes {e}"))?;
+    let model = Model::build(&scene, sel.as_ref())?;
+    Ok((scene, model))
+}
+
+/// Runs the command.
+pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let speed_hz = a.speed_hz.unwrap_or(0.0);
     if !(speed_hz.is_finite() && speed_hz >= 0.0) {
         return Err("--speed-hz must be zero or positive".into());
@@ -100,17 +109,10 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     if !(max_speed_hz.is_finite() && max_speed_hz > 0.0) {
         return Err("--max-speed-hz must be positive".into());
     }
-    let model = Model::build(&scene, sel.as_ref())?;
+    let (scene, model) = load_model(&a.scene, &a.set, a.modes.as_deref())?;
     let r = &model.reduced;
     let sys = LinearSystem::of_scene(&scene, &model)?;
-    let standstill = sys.standstill_modes()?;
-    let pick = |k: ModeKind| -> Vec<f64> {
-        standstill
-            .iter()
-            .filter(|m| m.kind == k && m.freq_hz > 1e-6)
-            .map(|m| m.freq_hz)
-            .collect()
-    };
+    let (vertical, horizontal) = sys.supported_hz()?;
     let camp = if a.speed_hz.is_some() && a.max_speed_hz.is_none() {
         None
     } else {
@@ -161,8 +163,8 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
             .collect(),
         speed_hz,
         supported_hz: Supported {
-            vertical: pick(ModeKind::BendingY),
-            horizontal: pick(ModeKind::BendingX),
+            vertical,
+            horizontal,
         },
         whirl_hz: at_speed
             .modes

@@ -1,7 +1,8 @@
 //! Damped modes of a [`LinearSystem`] at one spin speed.
 //!
 //! In: the system and the spin speed Ω [rad/s].
-//! Out: a [`ModeSet`]: every oscillatory mode (eigenvalue λ = σ + iω_d with ω_d > 0) ascending
+//! Out: a [`ModeSet`]: every oscillatory mode (eigenvalue λ = σ + iω_d with ω_d > 0, damping
+//! ratio below [`LISTED_ZETA`]) ascending
 //! in damped frequency f = ω_d/2π [Hz], its damping ratio ζ = −σ/|λ|, log decrement
 //! δ = −2πσ/ω_d (= 2πζ/√(1−ζ²)), whirl direction, kind and complex shape; plus the system's
 //! largest growth rate over all eigenvalues (overdamped ones included) and the count of
@@ -12,7 +13,9 @@
 //! a forward circle F = (X + iY)/2 (turning with the spin, +z) and a backward one
 //! B = (X − iY)/2; a node whirls forward when |F| > |B|. Weighted by the orbit size
 //! |X|² + |Y|², a mode is `forward` (or `backward`) when ≥ 95 % of the weight whirls that way,
-//! else `mixed` (straight-line orbits, e.g. at standstill on anisotropic supports, are mixed).
+//! else `mixed` (straight-line orbits, e.g. at standstill on anisotropic supports, are mixed;
+//! a node's orbit counts as a line when its minor axis is below 0.5 % of its major one; axial
+//! and torsion modes, which have no orbit, are mixed).
 //! `whirl_index` = Σ w (|F|²−|B|²)/(|F|²+|B|²) / Σ w ∈ [−1, 1]. Kind: the largest share of the
 //! kinetic energy: lateral (bending and support masses), axial or torsion.
 //! Degenerate eigenvalues (isotropic supports at standstill) have no unique eigenvectors: the
@@ -28,6 +31,11 @@ use crate::reduction::{classify, ModeKind};
 
 /// Eigenvalues smaller than this [rad/s] (0.01 Hz) are zero modes: rigid motion not held.
 pub const ZERO_RAD_S: f64 = 2.0 * std::f64::consts::PI * 0.01;
+
+/// Modes damped more than this are not listed (their damped frequency ω_n√(1−ζ²) is ill-defined
+/// and they cannot resonate: the 100 % band of the modal damping schedules); like the overdamped
+/// ones they count for stability only.
+pub const LISTED_ZETA: f64 = 0.95;
 
 /// A mode is unstable when its damping ratio is below this (round-off of a conservative system
 /// stays far above it).
@@ -163,7 +171,7 @@ pub fn damped_modes(sys: &LinearSystem, omega: f64, split: Split) -> Result<Mode
             continue;
         }
         max_growth = max_growth.max(lam.re / lam.norm());
-        if lam.im > 1e-9 * lam.norm() {
+        if lam.im > 1e-9 * lam.norm() && -lam.re / lam.norm() < LISTED_ZETA {
             picked.push((lam, v));
         }
     }
@@ -247,6 +255,11 @@ fn kind_of(sys: &LinearSystem, v: &DVector<C64>) -> (Kind, ModeKind) {
     (kind, classify(e))
 }
 
+/// A node's orbit with |s| = |(|F|²−|B|²)/(|F|²+|B|²)| below this (minor/major below 0.5 %)
+/// counts as a straight line, without a sense (non-proportional damping alone makes the orbits
+/// of a standstill mode that elliptic).
+const PLANAR: f64 = 0.01;
+
 /// Whirl label and index of a shape (module doc).
 pub fn whirl_of(sys: &LinearSystem, v: &DVector<C64>) -> (Whirl, f64) {
     let vm = DMatrix::from_column_slice(v.len(), 1, v.as_slice());
@@ -264,9 +277,9 @@ pub fn whirl_of(sys: &LinearSystem, v: &DVector<C64>) -> (Whirl, f64) {
         let s = (f - bk) / (f + bk);
         total += w;
         index += w * s;
-        if s > 1e-6 {
+        if s > PLANAR {
             fw += w;
-        } else if s < -1e-6 {
+        } else if s < -PLANAR {
             bw += w;
         }
     }
@@ -298,7 +311,10 @@ fn make_mode(sys: &LinearSystem, lam: C64, v: DVector<C64>) -> DampedMode {
         v *= b.conj() / C64::new(b.norm(), 0.0);
     }
     let (kind, family_kind) = kind_of(sys, &v);
-    let (whirl, whirl_index) = whirl_of(sys, &v);
+    let (mut whirl, whirl_index) = whirl_of(sys, &v);
+    if kind != Kind::Lateral {
+        whirl = Whirl::Mixed;
+    }
     let zeta = -lam.re / lam.norm();
     DampedMode {
         eigenvalue: lam,

@@ -548,6 +548,20 @@ impl LinearSystem {
             .collect())
     }
 
+    /// The non-zero [`standstill_modes`](Self::standstill_modes) frequencies [Hz] of vertical
+    /// and of horizontal bending, ascending: the `supported_hz` of `modes` and `linear`.
+    pub fn supported_hz(&self) -> Result<(Vec<f64>, Vec<f64>), LinearError> {
+        let modes = self.standstill_modes()?;
+        let pick = |k: ModeKind| -> Vec<f64> {
+            modes
+                .iter()
+                .filter(|m| m.kind == k && m.freq_hz > 1e-6)
+                .map(|m| m.freq_hz)
+                .collect()
+        };
+        Ok((pick(ModeKind::BendingY), pick(ModeKind::BendingX)))
+    }
+
     /// Damped whirl frequencies [Hz] of the lateral modes at spin speed `omega` [rad/s] in the
     /// stationary frame, ascending (supports at that speed, damping included); axial and
     /// torsional modes are left out.
