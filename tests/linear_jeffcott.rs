@@ -170,3 +170,39 @@ fn cross_coupled_stiffness_threshold_is_c_times_omega_n() {
     assert_eq!(bad.whirl, Whirl::Forward);
     assert!((2.0 * PI * bad.freq_hz / wn - 1.0).abs() < 0.02);
 }
+
+#[test]
+fn critical_speed_map_matches_the_rigid_rotor() {
+    use rotorsweep::linear::map::critical_map;
+    // Rigid cylinder (radius r, length L) on two supports k at its ends: synchronous critical
+    // speeds of bounce √(2k/m), and of the conical modes ω² = 2k(L/2)² / (I_d ∓ I_p), forward
+    // (−) and backward (+), I_d = m(L²/12 + r²/4), I_p = m r²/2 (Friswell et al. 2010, §3.5).
+    let s = scene(&format!("kx_n_per_m = {K}, ky_n_per_m = {K}"), "");
+    let model = Model::build(&s, None).unwrap();
+    let sys = LinearSystem::of_scene(&s, &model).unwrap();
+    let m = model.rotor.mass();
+    let (r, l) = (0.1_f64, 0.4_f64);
+    let (id, ip) = (m * (l * l / 12.0 + r * r / 4.0), m * r * r / 2.0);
+    let ks = [1e5, 1e6, 4e6];
+    let map = critical_map(&sys, &ks).unwrap();
+    assert_eq!(map.actual, [(K, K), (K, K)]);
+    for (k, crit) in ks.iter().zip(&map.critical_hz) {
+        let kt = 2.0 * k * (l / 2.0).powi(2);
+        let mut want = [
+            (2.0 * k / m).sqrt(),
+            (kt / (id - ip)).sqrt(),
+            (kt / (id + ip)).sqrt(),
+        ]
+        .map(|w| w / (2.0 * PI));
+        want.sort_by(f64::total_cmp);
+        let mut got = crit.clone();
+        got.dedup_by(|a, b| (*a / *b - 1.0).abs() < 1e-6);
+        assert!(got.len() >= 3, "{k} N/m: {got:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                (g / w - 1.0).abs() < 1e-3,
+                "{k} N/m: {got:?} against {want:?}"
+            );
+        }
+    }
+}

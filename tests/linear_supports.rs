@@ -125,3 +125,33 @@ fn zero_stiffness_support_warns_and_finds_only_real_critical_speeds() {
         );
     }
 }
+
+#[test]
+fn static_sag_and_support_forces_match_beam_theory() {
+    use rotorsweep::section::tube_shear_factor;
+    use std::f64::consts::PI;
+    // Simply supported uniform beam under its weight q (Timoshenko & Gere, Mechanics of
+    // Materials): midspan sag 5qL⁴/(384EI) + qL²/(8κGA) (shear), reactions qL/2.
+    let s = tube(1e13, 1e13);
+    let model = Model::build(&s, None).unwrap();
+    let st = rotorsweep::linear::statics::solve(&s, &model).unwrap();
+    let (ro, ri, l) = (0.160_f64, 0.14128_f64, 4.5_f64);
+    let a = PI * (ro * ro - ri * ri);
+    let i = PI / 4.0 * (ro.powi(4) - ri.powi(4));
+    let (e, nu, g) = (210e9, 0.3, 9.81);
+    let q = 7850.0 * a * g;
+    let kappa = tube_shear_factor(ri / ro, nu);
+    let sag = 5.0 * q * l.powi(4) / (384.0 * e * i) + q * l * l / (8.0 * kappa * e / 2.6 * a);
+    let centre = st.sensors[0].1;
+    assert!(
+        (-centre.y / sag - 1.0).abs() < 2e-3,
+        "sag {} um, beam theory {} um",
+        -1e6 * centre.y,
+        1e6 * sag
+    );
+    assert!(centre.x.abs() < 1e-6 * sag);
+    for sp in &st.supports {
+        assert!((sp.force.y / (0.5 * q * l) - 1.0).abs() < 1e-6, "{sp:?}");
+    }
+    assert!((st.weight / (q * l) - 1.0).abs() < 1e-9);
+}
