@@ -128,3 +128,42 @@ fn example_5_9_1_at_0_and_4000_rpm() {
         assert_eq!(got, *whirl, "4000 rpm mode {i} at {w} rad/s");
     }
 }
+
+#[test]
+fn cross_coupled_bearings_keep_their_coupling_and_instability_at_standstill() {
+    // The same rotor with kxy = −kyx = 2e5 N/m in both bearings and no damping: a circulatory
+    // force drives the forward modes, so at standstill already one of each pair grows
+    // (Friswell et al. 2010, §3.6: any cross-coupling without damping destabilises). The
+    // undamped `supported_hz` must be the frequencies of that very system.
+    let text = scene_text().replace(
+        "spring = { kx_n_per_m = 1.0e6, ky_n_per_m = 1.0e6 }",
+        "spring = { kx_n_per_m = 1.0e6, ky_n_per_m = 1.0e6, kxy_n_per_m = 2.0e5, kyx_n_per_m = -2.0e5 }",
+    );
+    let scene = common::scene_from_text("friswell-cc.toml", &text);
+    let model = Model::build(&scene, None).unwrap();
+    let sys = LinearSystem::of_scene(&scene, &model).unwrap();
+    let set = damped_modes(&sys, 0.0, Split::Whirl).unwrap();
+    assert!(set.unstable());
+    let lateral: Vec<f64> = set
+        .modes
+        .iter()
+        .filter(|m| m.kind == Kind::Lateral)
+        .map(|m| m.freq_hz)
+        .collect();
+    let grows: Vec<Whirl> = set
+        .modes
+        .iter()
+        .filter(|m| m.kind == Kind::Lateral && m.log_dec < -1e-6)
+        .map(|m| m.whirl)
+        .collect();
+    assert!(
+        !grows.is_empty() && grows.iter().all(|w| *w == Whirl::Forward),
+        "{grows:?}"
+    );
+    let (v, h) = sys.supported_hz().unwrap();
+    let mut supported: Vec<f64> = v.into_iter().chain(h).collect();
+    supported.sort_by(f64::total_cmp);
+    for (a, b) in supported.iter().zip(&lateral).take(6) {
+        assert!((a / b - 1.0).abs() < 1e-9, "supported {a} Hz, whirl {b} Hz");
+    }
+}

@@ -176,8 +176,21 @@ pub fn damped_modes(sys: &LinearSystem, omega: f64, split: Split) -> Result<Mode
         }
     }
     picked.sort_by(|a, b| a.0.im.total_cmp(&b.0.im));
-    let ims: Vec<f64> = picked.iter().map(|p| p.0.im).collect();
-    for (s, e) in super::system::clusters(&ims, 1e-7) {
+    // Degenerate: consecutive eigenvalues equal within 1e-7 (complex distance, so a pair that
+    // only shares its frequency, split by cross-coupling into growing and decaying, is not).
+    let mut runs = Vec::new();
+    let mut a = 0;
+    for i in 1..=picked.len() {
+        let same =
+            i < picked.len() && (picked[i].0 - picked[i - 1].0).norm() <= 1e-7 * picked[i].0.norm();
+        if !same {
+            if i - a >= 2 {
+                runs.push((a, i));
+            }
+            a = i;
+        }
+    }
+    for (s, e) in runs {
         let v = DMatrix::from_fn(n, e - s, |r, j| picked[s + j].1[r]);
         let v = resolve(sys, &v, split);
         for j in 0..e - s {
