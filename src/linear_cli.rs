@@ -5,6 +5,7 @@
 //! 0:100:101), `--set KEY=VALUE`, `--modes`, `--max-freq-hz`, `--unbalance`, `--floquet-cutoff-hz`.
 //! Out: tables, or with `--json` one object: `speeds_hz`; `modes` (per speed, ascending:
 //! `{freq_hz, damping_ratio, log_dec, whirl, kind, whirl_index}`, damped frequency [Hz]);
+//! with `--shapes` each mode's `shape` `{x_re, x_im, y_re, y_im}` at the nodes of `node_z_mm`;
 //! `critical_speeds_hz` (and `critical_speeds` with whirl and log decrement);
 //! `stability_threshold_hz` (null: stable over the range); `unbalance_response` per sensor
 //! `{vertical|horizontal: {amplitude_um, phase_deg}, major_um, minor_um}` over `speeds_hz`
@@ -22,7 +23,7 @@ use nalgebra::DVector;
 use rotorsweep::linear::campbell::{sweep, CampbellData};
 use rotorsweep::linear::floquet::{growth_per_rev, scene_multipliers, unstable_ranges};
 use rotorsweep::linear::map::critical_map;
-use rotorsweep::linear::modes::Kind;
+use rotorsweep::linear::modes::{node_shape, Kind};
 use rotorsweep::linear::response::{point_unbalance, sensor_response, SensorResponse};
 use rotorsweep::linear::statics::{self, Static};
 use rotorsweep::linear::{LinearSystem, FRAME_NOTE};
@@ -65,6 +66,9 @@ pub struct Args {
     /// `linear::floquet` before cutting).
     #[arg(long)]
     floquet_cutoff_hz: Option<f64>,
+    /// Add each mode's complex shape at the nodes to the JSON (`shape`, nodes at `node_z_mm`).
+    #[arg(long)]
+    shapes: bool,
     /// Print one JSON object instead of tables.
     #[arg(long)]
     json: bool,
@@ -124,6 +128,17 @@ struct ModeOut {
     whirl: String,
     kind: String,
     whirl_index: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    shape: Option<ShapeOut>,
+}
+
+/// A mode's shape at the nodes of `node_z_mm`, largest translation 1.
+#[derive(Serialize)]
+struct ShapeOut {
+    x_re: Vec<f64>,
+    x_im: Vec<f64>,
+    y_re: Vec<f64>,
+    y_im: Vec<f64>,
 }
 
 /// Every result, computed once.
@@ -193,7 +208,7 @@ fn compute(a: &Args, scene: &Scene, model: &Model, sys: &LinearSystem) -> Result
     })
 }
 
-fn modes_json(r: &Results) -> Vec<Vec<ModeOut>> {
+fn modes_json(sys: &LinearSystem, r: &Results, shapes: bool) -> Vec<Vec<ModeOut>> {
     r.campbell
         .sets
         .iter()
@@ -207,6 +222,15 @@ fn modes_json(r: &Results) -> Vec<Vec<ModeOut>> {
                     whirl: m.whirl.to_string(),
                     kind: m.kind.to_string(),
                     whirl_index: m.whirl_index,
+                    shape: shapes.then(|| {
+                        let (x, y) = node_shape(sys, m);
+                        ShapeOut {
+                            x_re: x.iter().map(|z| z.re).collect(),
+                            x_im: x.iter().map(|z| z.im).collect(),
+                            y_re: y.iter().map(|z| z.re).collect(),
+                            y_im: y.iter().map(|z| z.im).collect(),
+                        }
+                    }),
                 })
                 .collect()
         })
@@ -307,7 +331,8 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
         "scene": scene.name,
         "frame": FRAME_NOTE,
         "speeds_hz": c.speeds_hz,
-        "modes": modes_json(&r),
+        "modes": modes_json(&sys, &r, a.shapes),
+        "node_z_mm": sys.node_z.iter().map(|z| 1e3 * z).collect::<Vec<_>>(),
         "supported_hz": {"vertical": r.supported.0, "horizontal": r.supported.1},
         "critical_speeds_hz": c.critical.iter().map(|x| x.speed_hz).collect::<Vec<_>>(),
         "critical_speeds": c.critical.iter().map(|x| json!({

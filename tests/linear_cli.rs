@@ -124,9 +124,30 @@ fn json_has_the_documented_keys_and_sensible_values() {
 #[test]
 fn one_speed_computes_that_speed_only() {
     let scene = common::repo().join("studies/scenes/jeffcott.toml");
-    let r = linear(&[scene.to_str().unwrap(), "--speed-hz", "20"]);
+    let r = linear(&[scene.to_str().unwrap(), "--speed-hz", "20", "--shapes"]);
     assert_eq!(floats(&r["speeds_hz"]), [20.0]);
     assert_eq!(r["modes"].as_array().unwrap().len(), 1);
     assert!(floats(&r["critical_speeds_hz"]).is_empty());
     assert_eq!(floats(&r["floquet"]["speeds_hz"]), [20.0]);
+    // The first mode's shape: the first bending mode peaks at the disk (z = 350 mm).
+    let z = floats(&r["node_z_mm"]);
+    let shape = &r["modes"][0][0]["shape"];
+    let amp: Vec<f64> = (0..z.len())
+        .map(|i| {
+            ["x_re", "x_im", "y_re", "y_im"]
+                .iter()
+                .map(|k| floats(&shape[k])[i].powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .collect();
+    let peak = amp
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .unwrap()
+        .0;
+    assert!((z[peak] - 350.0).abs() < 1e-9, "peak at {} mm", z[peak]);
+    // The largest single translation is 1, so the node's orbit size lies in [1, √2].
+    assert!(amp[peak] >= 1.0 - 1e-12 && amp[peak] <= 2f64.sqrt() + 1e-12);
 }

@@ -342,6 +342,22 @@ fn make_mode(sys: &LinearSystem, lam: C64, v: DVector<C64>) -> DampedMode {
     }
 }
 
+/// A mode's complex shape at every rotor node: the horizontal (x) and vertical (y) translation,
+/// scaled so that the largest is 1 (real): x(t) = Re(X e^{λt}) per node, z as in
+/// [`LinearSystem::node_z`].
+pub fn node_shape(sys: &LinearSystem, mode: &DampedMode) -> (Vec<C64>, Vec<C64>) {
+    let vm = DMatrix::from_column_slice(mode.shape.len(), 1, mode.shape.as_slice());
+    let (x, y) = rotor_xy(sys, &vm);
+    let big = x
+        .iter()
+        .chain(y.iter())
+        .map(|z| z.norm())
+        .fold(0.0, f64::max)
+        .max(1e-300);
+    let scale = |m: &DMatrix<C64>| m.iter().map(|z| z / big).collect();
+    (scale(&x), scale(&y))
+}
+
 /// The modal assurance criterion of two shapes, M-weighted: |aᴴMb|² / (aᴴMa · bᴴMb).
 pub fn mac(m: &DMatrix<f64>, a: &DVector<C64>, b: &DVector<C64>) -> f64 {
     let mc = m.map(|x| C64::new(x, 0.0));
