@@ -9,7 +9,8 @@
 //! `critical_speeds_hz` (and `critical_speeds` with whirl and log decrement);
 //! `stability_threshold_hz` (null: stable over the range); `unbalance_response` per sensor
 //! `{vertical|horizontal: {amplitude_um, phase_deg}, major_um, minor_um}` over `speeds_hz`
-//! (phase of x(t) = A cos(θ + φ) against roll angle θ = 0, as the study analysis);
+//! (phase of x(t) = A cos(θ + φ) against roll angle θ = 0, as the study analysis), and the same
+//! at every named node in `unbalance_response_nodes`;
 //! `floquet` `{unstable_ranges_hz, speeds_hz, growth_per_rev, cutoff_hz, frame}`; `static`
 //! (sag per sensor [µm], journal positions [µm], support and contact forces [N]);
 //! `critical_map` (undamped critical speeds against the supports' stiffness, actual marked);
@@ -24,7 +25,7 @@ use rotorsweep::linear::campbell::{sweep, CampbellData};
 use rotorsweep::linear::floquet::{growth_per_rev, scene_multipliers, unstable_ranges};
 use rotorsweep::linear::map::critical_map;
 use rotorsweep::linear::modes::{node_shape, Kind};
-use rotorsweep::linear::response::{point_unbalance, sensor_response, SensorResponse};
+use rotorsweep::linear::response::{plane_response, point_unbalance, SensorResponse};
 use rotorsweep::linear::statics::{self, Static};
 use rotorsweep::linear::{LinearSystem, FRAME_NOTE};
 use rotorsweep::model::Model;
@@ -164,9 +165,10 @@ fn compute(a: &Args, scene: &Scene, model: &Model, sys: &LinearSystem) -> Result
     let campbell = sweep(sys, &speeds, a.max_freq_hz).map_err(|e| e.to_string())?;
     times.insert("campbell".into(), json!(t0.elapsed().as_secs_f64()));
     let t0 = Instant::now();
+    let planes: Vec<_> = sys.sensors.iter().chain(&sys.named).cloned().collect();
     let responses = speeds
         .iter()
-        .map(|s| sensor_response(sys, TAU * s, &fc))
+        .map(|s| plane_response(sys, TAU * s, &fc, &planes))
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| e.to_string())?;
     times.insert("unbalance".into(), json!(t0.elapsed().as_secs_f64()));
@@ -237,9 +239,11 @@ fn modes_json(sys: &LinearSystem, r: &Results, shapes: bool) -> Vec<Vec<ModeOut>
         .collect()
 }
 
-fn response_json(sys: &LinearSystem, r: &Results) -> Value {
+/// The responses at `names`, which sit from column `offset` on in each speed's responses.
+fn response_json(names: &[(String, nalgebra::DMatrix<f64>)], offset: usize, r: &Results) -> Value {
     let mut out = Map::new();
-    for (i, (name, _)) in sys.sensors.iter().enumerate() {
+    for (j, (name, _)) in names.iter().enumerate() {
+        let i = offset + j;
         let col = |f: &dyn Fn(&SensorResponse) -> f64| -> Vec<f64> {
             r.responses.iter().map(|s| f(&s[i])).collect()
         };
@@ -341,7 +345,8 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
         "stability_threshold_hz": c.threshold_hz,
         "unbalance": a.unbalance.clone().unwrap_or_else(|| "scene".into()),
         "phase_convention": PHASE_NOTE,
-        "unbalance_response": response_json(&sys, &r),
+        "unbalance_response": response_json(&sys.sensors, 0, &r),
+        "unbalance_response_nodes": response_json(&sys.named, sys.sensors.len(), &r),
         "floquet": {
             "unstable_ranges_hz": r.floquet_ranges,
             "speeds_hz": r.floquet_speeds,

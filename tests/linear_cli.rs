@@ -92,6 +92,14 @@ fn json_has_the_documented_keys_and_sensible_values() {
         assert_eq!(floats(&disk[dir]["amplitude_um"]).len(), 31);
         assert_eq!(floats(&disk[dir]["phase_deg"]).len(), 31);
     }
+    // The named nodes too: the disk (a sensor) reads the same, the bearings move less.
+    let nodes = &r["unbalance_response_nodes"];
+    assert_eq!(
+        floats(&nodes["disk"]["vertical"]["amplitude_um"]),
+        floats(&disk["vertical"]["amplitude_um"])
+    );
+    let at = |v: &Value| floats(&v["vertical"]["amplitude_um"])[10];
+    assert!(at(&nodes["bearing_a"]) < at(disk));
     // Static: the sag at the disk is downward, the two supports carry the weight.
     let st = &r["static"];
     assert!(st["sag_um"]["disk"]["vertical"].as_f64().unwrap() < 0.0);

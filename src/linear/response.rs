@@ -3,7 +3,7 @@
 //! In: a [`LinearSystem`], a spin speed Ω [rad/s] and an unbalance as a body-frame modal load
 //! per Ω² [N/(rad/s)²] (the scene's own, [`LinearSystem::unbalance`]: the thickness map's
 //! centroid offsets and the point masses; or [`point_unbalance`]).
-//! Out: per sensor the complex 1× amplitudes of the horizontal (x) and vertical (y) displacement
+//! Out: per sensor (or named node) the complex 1× amplitudes of the horizontal (x) and vertical (y) displacement
 //! of the section centre [m] in the inertial frame, x(t) = Re(X e^{iθ}), θ = Ωt the roll angle,
 //! so |X| is the amplitude and arg X the phase against roll angle 0: the convention of the
 //! study analysis (`analysis::lines`, `/analysis/lines`: x ≈ A cos(Ωt + φ)). And the orbit's
@@ -107,10 +107,19 @@ pub fn sensor_response(
     omega: f64,
     fc: &DVector<f64>,
 ) -> Result<Vec<SensorResponse>, LinearError> {
+    plane_response(sys, omega, fc, &sys.sensors)
+}
+
+/// The 1× response at `at` (names and u_x, u_y rows of Φ, e.g. [`LinearSystem::named`]).
+pub fn plane_response(
+    sys: &LinearSystem,
+    omega: f64,
+    fc: &DVector<f64>,
+    at: &[(String, DMatrix<f64>)],
+) -> Result<Vec<SensorResponse>, LinearError> {
     let q = response(sys, omega, fc)?;
     let p = q.rows(0, sys.nm);
-    Ok(sys
-        .sensors
+    Ok(at
         .iter()
         .map(|(_, rows)| {
             let at = |r: usize| {

@@ -206,6 +206,9 @@ pub struct LinearSystem {
     pub nm: usize,
     /// Sensor names and their u_x, u_y rows of Φ (2 × nm).
     pub sensors: Vec<(String, DMatrix<f64>)>,
+    /// Every named node of the rotor (supports, drive, sensors, `[rotor.nodes]`) with its u_x,
+    /// u_y rows of Φ (2 × nm).
+    pub named: Vec<(String, DMatrix<f64>)>,
     /// Centrifugal load of the undeformed mass per Ω² (the scene's unbalance), modal, body frame.
     pub unbalance: DVector<f64>,
     /// u_x rows then u_y rows of Φ at every rotor node (2·nodes × nm).
@@ -241,16 +244,17 @@ impl LinearSystem {
             )
         });
         let mut sys = Self::build(&model.reduced, &stages, drive, Some(&scene.damping));
+        let rows = |node: usize| model.reduced.node_rows(node).rows(0, 2).into_owned();
         sys.sensors = scene
             .sensors
             .iter()
-            .map(|name| {
-                let node = model.rotor.named[name];
-                (
-                    name.clone(),
-                    model.reduced.node_rows(node).rows(0, 2).into_owned(),
-                )
-            })
+            .map(|name| (name.clone(), rows(model.rotor.named[name])))
+            .collect();
+        sys.named = model
+            .rotor
+            .named
+            .iter()
+            .map(|(name, node)| (name.clone(), rows(*node)))
             .collect();
         Ok(sys)
     }
@@ -327,6 +331,7 @@ impl LinearSystem {
             gs,
             nm,
             sensors: Vec::new(),
+            named: Vec::new(),
             unbalance: model.fc.clone(),
             lateral,
             node_z: model.node_z.clone(),
