@@ -46,6 +46,11 @@ pub fn monodromy(
     steps: usize,
     kc: impl Fn(f64) -> (DMatrix<f64>, DMatrix<f64>),
 ) -> Result<DMatrix<f64>, LinearError> {
+    if !(omega.is_finite() && omega > 0.0) {
+        return Err(LinearError::Singular(format!(
+            "Floquet needs a positive spin speed (one revolution), got {omega} rad/s"
+        )));
+    }
     let n = m.nrows();
     let minv = m
         .clone()
