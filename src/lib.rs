@@ -11,6 +11,7 @@ pub mod error;
 pub mod fe;
 pub mod integrators;
 pub mod job;
+pub mod linear;
 pub mod model;
 pub mod reduction;
 pub mod report;

@@ -8,6 +8,7 @@
 //! 75 the output is in use by another rotorsweep process (try again later).
 
 mod campaign_cli;
+mod linear_cli;
 mod modes;
 mod report_cli;
 mod simulate;
@@ -32,6 +33,9 @@ struct Cli {
 enum Command {
     /// The reduced model of a scene: mass, modes, supported frequencies, critical speeds.
     Modes(modes::Args),
+    /// Linear rotordynamics of a scene: damped modes vs speed, critical speeds, stability,
+    /// unbalance response, Floquet, statics.
+    Linear(linear_cli::Args),
     /// One time simulation of a scene: statistics, and results to HDF5 with -o.
     Simulate(simulate::Args),
     /// The jobs of a study, without running them: count, parameters, models, cost.
@@ -66,6 +70,7 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Modes(a) => modes::run(&a).map(|()| true),
+        Command::Linear(a) => linear_cli::run(&a).map(|()| true),
         Command::Simulate(a) => simulate::run(&a),
         Command::Plan(a) => campaign_cli::plan(&a).map(|()| true),
         Command::Run(a) => campaign_cli::run(&a),

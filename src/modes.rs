@@ -1,10 +1,21 @@
 //! `rotorsweep modes SCENE`: the reduced model, the supported frequencies and the critical speeds.
+//!
+//! In: a scene (and `--modes`, `--speed-hz`, `--max-speed-hz`, `--set`).
+//! Out: tables or one JSON object: the kept modes (free rotor, body frame, Hz), the undamped
+//! frequencies on the linearised supports at standstill split into horizontal and vertical
+//! (cross-coupled stiffness kept, degenerate pairs split into their planes), the damped whirl
+//! frequencies at `--speed-hz` (supports at that speed, support and modal damping included) and
+//! the critical speeds of a damped Campbell sweep 0 … `--max-speed-hz` (branches followed by
+//! shape). With `--speed-hz` alone only that speed is solved (no sweep, `critical_speeds_hz`
+//! null). Frame: stationary ([`rotorsweep::linear`]).
 
 use std::path::PathBuf;
 
-use rotorsweep::dynamics::linear::{campbell, LinearSystem};
+use rotorsweep::linear::campbell::sweep;
+use rotorsweep::linear::modes::Kind;
+use rotorsweep::linear::{LinearSystem, FRAME_NOTE};
 use rotorsweep::model::Model;
-use rotorsweep::reduction::{ModeKind, ModeSelection};
+use rotorsweep::reduction::ModeSelection;
 use rotorsweep::scene::Scene;
 use serde::Serialize;
 
@@ -16,12 +27,13 @@ pub struct Args {
     /// Modes to keep, "30n+12st" or a list "0-4,7" (default: the scene's).
     #[arg(long)]
     modes: Option<String>,
-    /// Spin speed [Hz] at which to report the supported whirl frequencies (default: standstill).
-    #[arg(long, default_value_t = 0.0)]
-    speed_hz: f64,
-    /// Upper end of the Campbell speed range [Hz].
-    #[arg(long, default_value_t = 100.0)]
-    max_speed_hz: f64,
+    /// Spin speed [Hz] at which to report the supported whirl frequencies (default: standstill;
+    /// given alone, only this speed is solved).
+    #[arg(long)]
+    speed_hz: Option<f64>,
+    /// Upper end of the Campbell speed range [Hz] (default 100).
+    #[arg(long)]
+    max_speed_hz: Option<f64>,
     /// Override a scene value, `--set roll.shell.elements=60` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
@@ -66,36 +78,62 @@ struct Report {
     speed_hz: f64,
     supported_hz: Supported,
     whirl_hz: Vec<f64>,
-    critical_speeds_hz: Vec<f64>,
+    critical_speeds_hz: Option<Vec<f64>>,
+    frame: String,
+    warnings: Vec<String>,
+}
+
+/// A scene with its `--set` overrides and its model with the `--modes` selection (the scene's
+/// own when `None`): the start of `modes` and `linear`.
+pub fn load_model(
+    path: &std::path::Path,
+    set: &[String],
+    modes: Option<&str>,
+) -> Result<(Scene, Model), Box<dyn std::error::Error>> {
+    let scene = Scene::load(path, set)?;
+    let sel = modes
+        .map(ModeSelection::parse)
+        .transpose()
+        .map_err(|e| format!("--modes {e}"))?;
+    let model = Model::build(&scene, sel.as_ref())?;
+    Ok((scene, model))
 }
 
 /// Runs the command.
 pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
-    let scene = Scene::load(&a.scene, &a.set)?;
-    let sel = a
-        .modes
-        .as_deref()
-        .map(ModeSelection::parse)
-        .transpose()
-        .map_err(|e| format!("--modes {e}"))?;
-    if !(a.speed_hz.is_finite() && a.speed_hz >= 0.0) {
+    let speed_hz = a.speed_hz.unwrap_or(0.0);
+    if !(speed_hz.is_finite() && speed_hz >= 0.0) {
         return Err("--speed-hz must be zero or positive".into());
     }
-    if !(a.max_speed_hz.is_finite() && a.max_speed_hz > 0.0) {
+    let max_speed_hz = a.max_speed_hz.unwrap_or(100.0);
+    if !(max_speed_hz.is_finite() && max_speed_hz > 0.0) {
         return Err("--max-speed-hz must be positive".into());
     }
-    let model = Model::build(&scene, sel.as_ref())?;
+    let (scene, model) = load_model(&a.scene, &a.set, a.modes.as_deref())?;
     let r = &model.reduced;
     let sys = LinearSystem::of_scene(&scene, &model)?;
-    let standstill = sys.standstill_modes()?;
-    let pick = |k: ModeKind| -> Vec<f64> {
-        standstill
-            .iter()
-            .filter(|m| m.kind == k && m.freq_hz > 1e-6)
-            .map(|m| m.freq_hz)
-            .collect()
+    let (vertical, horizontal) = sys.supported_hz()?;
+    let camp = if a.speed_hz.is_some() && a.max_speed_hz.is_none() {
+        None
+    } else {
+        let speeds: Vec<f64> = (0..=100).map(|i| max_speed_hz * i as f64 / 100.0).collect();
+        Some(sweep(&sys, &speeds, None)?)
     };
-    let camp = campbell(&sys, a.max_speed_hz, 101)?;
+    let at_speed = rotorsweep::linear::modes::damped_modes(
+        &sys,
+        2.0 * std::f64::consts::PI * speed_hz,
+        rotorsweep::linear::modes::Split::Whirl,
+    )?;
+    let mut warnings = camp
+        .as_ref()
+        .map(|c| c.warnings.clone())
+        .unwrap_or_default();
+    if at_speed.unstable() {
+        warnings.push(format!(
+            "unstable at {speed_hz} Hz: a mode has a negative log decrement (damping ratio {:.3e})",
+            -at_speed.max_growth
+        ));
+    }
     let report = Report {
         scene: scene.name.clone(),
         mass_kg: model.rotor.mass(),
@@ -123,13 +161,20 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
                 kind: r.kinds[i].to_string(),
             })
             .collect(),
-        speed_hz: a.speed_hz,
+        speed_hz,
         supported_hz: Supported {
-            vertical: pick(ModeKind::BendingY),
-            horizontal: pick(ModeKind::BendingX),
+            vertical,
+            horizontal,
         },
-        whirl_hz: sys.whirl_hz(2.0 * std::f64::consts::PI * a.speed_hz)?,
-        critical_speeds_hz: camp.critical_hz,
+        whirl_hz: at_speed
+            .modes
+            .iter()
+            .filter(|m| m.kind == Kind::Lateral)
+            .map(|m| m.freq_hz)
+            .collect(),
+        critical_speeds_hz: camp.map(|c| c.critical.iter().map(|x| x.speed_hz).collect()),
+        frame: FRAME_NOTE.to_string(),
+        warnings,
     };
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
@@ -176,13 +221,17 @@ fn print_tables(r: &Report) {
     println!("  horizontal: {}", list(&r.supported_hz.horizontal, 6));
     if r.speed_hz > 0.0 {
         println!(
-            "whirl frequencies at {} Hz spin [Hz]: {}",
+            "damped whirl frequencies at {} Hz spin [Hz]: {}",
             r.speed_hz,
             list(&r.whirl_hz, 8)
         );
     }
-    println!(
-        "critical speeds (whirl = spin) [Hz]: {}",
-        list(&r.critical_speeds_hz, 12)
-    );
+    match &r.critical_speeds_hz {
+        Some(c) => println!("critical speeds (whirl = spin) [Hz]: {}", list(c, 12)),
+        None => println!("critical speeds: not computed (one speed asked for)"),
+    }
+    println!("({})", r.frame);
+    for w in &r.warnings {
+        println!("warning: {w}");
+    }
 }

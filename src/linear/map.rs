@@ -1,0 +1,99 @@
+//! Undamped critical-speed map: critical speeds against a support stiffness.
+//!
+//! In: a [`LinearSystem`] and support stiffnesses [N/m].
+//! Out: per stiffness k the undamped critical speeds [Hz] (lateral, ascending) with every
+//! support's spring between journal and support mass (or ground) replaced by an isotropic k
+//! (no cross-coupling, no damping; support masses and their ground springs kept), and the
+//! actual supports' direct stiffnesses (kx, ky) [N/m] to mark on the map.
+//!
+//! Method: a synchronous whirl q = Re(X e^{iΩt}) of the undamped system needs
+//! (K − Ω² (M − i G_s)) X = 0; with X = a + ib this is the real symmetric pencil
+//! diag(K, K) − Ω² [[M, G_s], [−G_s, M]] (each root twice, for X and iX), solved as the real
+//! eigenproblem of its inverse-mass form. Frame: stationary.
+
+use nalgebra::DMatrix;
+
+use super::system::{LinearError, LinearSystem};
+use crate::eigen;
+use crate::reduction::ModeKind;
+
+const TAU: f64 = 2.0 * std::f64::consts::PI;
+
+/// The map (module doc).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CriticalMap {
+    /// Support stiffness [N/m].
+    pub stiffness: Vec<f64>,
+    /// Critical speeds [Hz] per stiffness, ascending.
+    pub critical_hz: Vec<Vec<f64>>,
+    /// The actual supports' (kx, ky) [N/m].
+    pub actual: Vec<(f64, f64)>,
+}
+
+/// Undamped critical speeds [Hz] of the lateral modes of `sys` with its supports as they are.
+pub fn undamped_critical_hz(sys: &LinearSystem) -> Result<Vec<f64>, LinearError> {
+    let (k, _) = sys.at(0.0);
+    critical_of(sys, &k)
+}
+
+fn critical_of(sys: &LinearSystem, k: &DMatrix<f64>) -> Result<Vec<f64>, LinearError> {
+    let n = sys.n();
+    let mut b = DMatrix::zeros(2 * n, 2 * n);
+    b.view_mut((0, 0), (n, n)).copy_from(&sys.m);
+    b.view_mut((n, n), (n, n)).copy_from(&sys.m);
+    b.view_mut((0, n), (n, n)).copy_from(&sys.gs);
+    b.view_mut((n, 0), (n, n)).copy_from(&(-&sys.gs));
+    let mut kk = DMatrix::zeros(2 * n, 2 * n);
+    kk.view_mut((0, 0), (n, n)).copy_from(k);
+    kk.view_mut((n, n), (n, n)).copy_from(k);
+    let a = b
+        .lu()
+        .solve(&kk)
+        .ok_or_else(|| LinearError::Singular("critical-speed map: singular inertia".into()))?;
+    let (values, vectors) = eigen::general(&a)?;
+    let mut out = Vec::new();
+    for (i, l) in values.iter().enumerate() {
+        if l.re <= (TAU * 0.01).powi(2) || l.im.abs() > 1e-8 * l.re {
+            continue;
+        }
+        let part = |off: usize, f: fn(&faer::c64) -> f64| {
+            nalgebra::DVector::from_fn(n, |r, _| f(&vectors[(r + off, i)]))
+        };
+        let ea = sys.family_energy(&part(0, |z| z.re), &part(0, |z| z.im));
+        let eb = sys.family_energy(&part(n, |z| z.re), &part(n, |z| z.im));
+        let e = std::array::from_fn(|f| ea[f] + eb[f]);
+        if matches!(
+            crate::reduction::classify(e),
+            ModeKind::Axial | ModeKind::Torsion
+        ) {
+            continue;
+        }
+        out.push(l.re.sqrt() / TAU);
+    }
+    out.sort_by(f64::total_cmp);
+    // Each root appears twice (X and iX): keep one of each close pair.
+    let mut dedup: Vec<f64> = Vec::new();
+    let mut i = 0;
+    while i < out.len() {
+        dedup.push(out[i]);
+        if i + 1 < out.len() && (out[i + 1] - out[i]).abs() <= 1e-6 * out[i] {
+            i += 2;
+        } else {
+            i += 1;
+        }
+    }
+    Ok(dedup)
+}
+
+/// The critical-speed map over `stiffness` [N/m] (module doc).
+pub fn critical_map(sys: &LinearSystem, stiffness: &[f64]) -> Result<CriticalMap, LinearError> {
+    let critical_hz = stiffness
+        .iter()
+        .map(|&ks| critical_of(sys, &sys.stiffness_with_supports(ks)))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(CriticalMap {
+        stiffness: stiffness.to_vec(),
+        critical_hz,
+        actual: sys.support_direct_stiffness(),
+    })
+}

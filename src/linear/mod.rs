@@ -1,0 +1,41 @@
+//! The linear rotordynamics toolkit: one linear system per scene and speed, and every analysis
+//! built on it.
+//!
+//! In: a [`Scene`](crate::scene::Scene) and its [`Model`](crate::model::Model).
+//! Out, SI inside and Hz / µm / N at the interfaces:
+//! - [`system`]: the reduced rotor plus its supports linearised at the static equilibrium, with
+//!   damping, as M q̈ + (C(Ω) + Ω G_s) q̇ + K(Ω) q = f (stationary frame);
+//! - [`modes`]: damped modes at one speed (state-space complex eigenproblem): damped frequency,
+//!   damping ratio, log decrement, whirl direction, kind, complex shape;
+//! - [`campbell`]: damped modes over speed with branches matched by shape (MAC), critical speeds
+//!   (whirl = spin) and the stability threshold (lowest speed with a negative log decrement);
+//! - [`response`]: the steady 1× response to unbalance at the sensors (frequency domain);
+//! - [`floquet`]: stability of the asymmetric rotor on anisotropic supports (monodromy over one
+//!   revolution, body frame, supports rotating);
+//! - [`statics`]: static equilibrium under gravity (sag, journal positions, support forces);
+//! - [`map`]: undamped critical speeds against a support stiffness.
+//!
+//! Frames and approximations: every analysis except Floquet works in the **stationary frame**
+//! with the rotor's stationary-frame gyroscopic matrix and its stiffness frozen at roll angle 0:
+//! exact for an axisymmetric rotor on any (anisotropic, cross-coupled) supports; for an
+//! asymmetric rotor (a roll with an oval bore) it is the analysis of the mean rotor, and only
+//! Floquet ([`floquet`], body frame, supports turning backwards) is exact. The body-frame modal
+//! damping of the time simulation is rotating damping; in the stationary frame it is the damping
+//! D plus the circulatory stiffness −Ω·skew(D Ŝ) (Ŝ: the rotation generator on the modal
+//! coordinates), exact for an axisymmetric rotor.
+
+pub mod campbell;
+pub mod floquet;
+pub mod map;
+pub mod modes;
+pub mod response;
+pub mod statics;
+pub mod system;
+
+pub use system::{LinearError, LinearStage, LinearSystem};
+
+/// The frame and approximation of the stationary-frame analyses, as printed and stored.
+pub const FRAME_NOTE: &str = "stationary frame; rotor stiffness frozen at roll angle 0 with the \
+stationary-frame gyroscopic matrix (exact for an axisymmetric rotor, the mean rotor otherwise); \
+supports linearised at the static equilibrium; rotating modal damping as damping plus \
+circulatory stiffness";
