@@ -650,6 +650,15 @@ impl Scene {
         n
     }
 
+    /// Most FE nodes the scene's mesh can have (6 DOFs each), as [`MAX_FE_NODES`] counts them.
+    pub fn max_nodes(&self) -> usize {
+        let r = &self.rotor;
+        node_bound(
+            r.segments.iter().map(|s| s.elements),
+            r.named_points.len() + r.disks.len(),
+        )
+    }
+
     /// Samples per channel of a run: one every 1 / sample_rate from settle_s to t_end_s.
     pub fn samples(&self) -> f64 {
         let sim = &self.simulation;
@@ -915,9 +924,7 @@ pub const MAX_FE_NODES: usize = 500;
 /// the elements key of each segment and the elements it adds) plus one per named point or disk
 /// (`extra`), which may each add a node. Too many: an error at the key that adds the most.
 fn mesh_size(c: &Check, written: &[(String, usize)], extra: usize) -> Result<(), InputError> {
-    let nodes = written
-        .iter()
-        .fold(1 + extra, |n, (_, e)| n.saturating_add(*e));
+    let nodes = node_bound(written.iter().map(|(_, e)| *e), extra);
     if nodes <= MAX_FE_NODES {
         return Ok(());
     }
@@ -944,6 +951,12 @@ struct Body<'a> {
     segments: &'a [SegmentSpec],
     z_start: f64,
     disks: &'a [DiskSpec],
+}
+
+/// Most nodes a mesh of segments of `elements` can have: one more than the elements, plus one
+/// per named point or disk (`extra`) that may fall between nodes.
+fn node_bound(elements: impl Iterator<Item = usize>, extra: usize) -> usize {
+    elements.fold(1 + extra, usize::saturating_add)
 }
 
 /// A mass at `radius` [m] from the axis at `(z, phi)` (axial position [m], body angle [rad]) must
