@@ -874,3 +874,33 @@ fn model_build_errors_name_the_scene_and_key() {
         &[path.display().to_string(), "reduction.modes".into()],
     );
 }
+
+/// A rigid disk's inertias must be a body's (found by the mutation test: a 1e-308 kg disk with
+/// the Jeffcott disk's inertias made the eigen-solver fail without naming the scene).
+#[test]
+fn disk_inertias_of_no_body() {
+    let jeffcott = fs::read_to_string(root().join("studies/scenes/jeffcott.toml")).unwrap();
+    let (text, line) = replace_line(&jeffcott, "mass_kg = 12.331", "mass_kg = 1e-308");
+    case(
+        "weightless-disk",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("rotor.disks[0].mass_kg"),
+            says: &["1e-308 kg", "ten times the rotor's 700.0 mm length"],
+        },
+    );
+    // Polar 0.07 > 2 × diametral 0.033396 kg m².
+    let (text, line) = replace_line(&jeffcott, "polar_kg_m2 = 0.061654", "polar_kg_m2 = 0.07");
+    case(
+        "flat-disk",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("rotor.disks[0].polar_kg_m2"),
+            says: &["twice the diametral"],
+        },
+    );
+}

@@ -723,14 +723,17 @@ fn build_roll(
         }
         (Some(csv), None) => {
             let p = c.file.parent().unwrap_or(Path::new(".")).join(csv);
-            // Errors inside the CSV name the CSV and its line; an unreadable file is reported
-            // where the scene names it.
-            let map = ThicknessMap::from_csv(&p, length).map_err(|e| match e.line {
-                Some(_) => e,
-                None => c.err(
-                    "roll.shell.thickness_map",
-                    format!("{}: {}", p.display(), e.reason),
-                ),
+            // Errors inside the CSV name the CSV and its line, and where the scene names it; an
+            // unreadable file is reported where the scene names it.
+            let key = "roll.shell.thickness_map";
+            let map = ThicknessMap::from_csv(&p, length).map_err(|mut e| match e.line {
+                Some(_) => {
+                    let at = c.err(key, "");
+                    let line = at.line.map(|l| format!(":{l}")).unwrap_or_default();
+                    e.reason += &format!(" (the map of `{key}`, {}{line})", at.file.display());
+                    e
+                }
+                None => c.err(key, format!("{}: {}", p.display(), e.reason)),
             })?;
             Some(map)
         }
@@ -745,10 +748,21 @@ fn build_roll(
     if let Some(m) = &map {
         let st = m.stats();
         if st.min_m <= 0.0 || st.max_m >= 0.5 * outer {
+            let source = match &sh.thickness_map {
+                Some(csv) => format!(
+                    " ({})",
+                    c.file
+                        .parent()
+                        .unwrap_or(Path::new("."))
+                        .join(csv)
+                        .display()
+                ),
+                None => String::new(),
+            };
             return Err(c.err(
                 "roll.shell.thickness_map",
                 format!(
-                    "map thickness {:.3}..{:.3} mm does not fit a {} mm tube",
+                    "map thickness {:.3}..{:.3} mm{source} does not fit a {} mm tube",
                     st.min_m * 1e3,
                     st.max_m * 1e3,
                     outer * 1e3
@@ -1147,12 +1161,14 @@ fn build_rotor(
     let mut disks = Vec::new();
     for (i, d) in r.disks.iter().enumerate() {
         let k = format!("rotor.disks[{i}]");
-        disks.push(DiskSpec {
+        let disk = DiskSpec {
             z: in_rotor(&format!("{k}.z_mm"), d.z_mm)?,
             mass: c.positive(&format!("{k}.mass_kg"), d.mass_kg)?,
             polar: c.non_negative(&format!("{k}.polar_kg_m2"), d.polar_kg_m2)?,
             diametral: c.non_negative(&format!("{k}.diametral_kg_m2"), d.diametral_kg_m2)?,
-        });
+        };
+        disk_inertia(c, &k, &disk, z1 - z0)?;
+        disks.push(disk);
     }
     let written: Vec<(String, usize)> = segments
         .iter()
@@ -1179,6 +1195,35 @@ fn build_rotor(
         sensors,
         Vec::new(),
     ))
+}
+
+/// A rigid disk's inertias must be those of a body: the polar moment at most twice the diametral
+/// one (an axisymmetric body: I_p = ∫r² dm ≤ 2 I_d = ∫r² dm + 2∫z² dm), and its size, the radius
+/// √(2 I_p / m) of a uniform disk with these values, at most ten rotor lengths (a mass of
+/// 1e-308 kg with the inertia of a 12 kg disk makes the eigen-solvers fail).
+fn disk_inertia(c: &Check, key: &str, d: &DiskSpec, length: f64) -> Result<(), InputError> {
+    if d.polar > 2.0 * d.diametral * (1.0 + 1e-9) {
+        return Err(c.err(
+            &format!("{key}.polar_kg_m2"),
+            format!(
+                "a polar moment of {} kg m² cannot exceed twice the diametral one ({} kg m²)",
+                d.polar, d.diametral
+            ),
+        ));
+    }
+    let radius = (2.0 * d.polar.max(d.diametral) / d.mass).sqrt();
+    if radius > 10.0 * length {
+        return Err(c.err(
+            &format!("{key}.mass_kg"),
+            format!(
+                "{:e} kg with these inertias is a disk of radius {radius:.3e} m (√(2 I / m)), \
+                 more than ten times the rotor's {:.1} mm length",
+                d.mass,
+                length * 1e3
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn spring(c: &Check, key: &str, s: &SpringFile) -> Result<SpringDamper, InputError> {

@@ -807,13 +807,15 @@ impl Study {
                 .iter()
                 .map(|(k, v)| format!("{k}={}", value_text(v)))
                 .collect();
-            let scene = Scene::from_text(&scene_path, &scene_text, &strings).map_err(|e| {
+            let scene = Scene::from_text(&scene_path, &scene_text, &strings).map_err(|mut e| {
                 let key = override_key(&e, &overrides);
                 if e.file.as_os_str() == "<command line --set>" {
                     let mut err = c.err(&locate_key(&key), format!("job {index}: {}", e.reason));
                     err.key = Some(key);
                     err
                 } else {
+                    // In the scene or its map: say which study and job read it.
+                    e.reason += &format!(" (job {index} of {})", path.display());
                     e
                 }
             })?;
