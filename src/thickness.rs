@@ -728,11 +728,18 @@ fn harmonic_field(harmonics: &[HarmonicSpec], grid: &Grid) -> Vec<f64> {
         .collect()
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a tiny seeded generator, ample for smooth fields.
-struct SplitMix64(u64);
+/// SplitMix64 (Steele, Lea & Flood 2014): a tiny seeded generator, ample for smooth fields (and
+/// the seeded cases of the input mutation test), the same stream on every machine and version.
+pub struct SplitMix64(u64);
 
 impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
+    /// The generator started at `seed`.
+    pub fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
