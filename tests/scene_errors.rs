@@ -836,24 +836,32 @@ fn record_above_the_sample_limit() {
     );
 }
 
-/// Overrides that overlap (`speed.hz` and `speed.hz.x`) would drop one silently.
+/// An override that replaces an earlier one (`speed.hz` after `speed.hz.x`) would drop it
+/// silently; one inside an earlier one refines it (`roll.masses` and then its first mass).
 #[test]
-fn overlapping_overrides() {
+fn an_override_that_replaces_an_earlier_one() {
     let text = reference_text();
-    let path = write_scene("overlap", &text);
-    let over = ["speed.hz=3".to_string(), "speed.hz.x=1".to_string()];
+    let path = write_scene("replace", &text);
+    let over = ["speed.hz.x=1".to_string(), "speed.hz=3".to_string()];
     let x = Expect {
         file: CLI,
         line: None,
-        key: Some("speed.hz.x"),
-        says: &["overlap"],
+        key: Some("speed.hz"),
+        says: &["would replace `speed.hz.x`"],
     };
     fails(&path, &text, &over, &x);
     cli_fails(
         &path,
-        &["--set", "speed.hz=3", "--set", "speed.hz.x=1"],
-        &[CLI.into(), "speed.hz.x".into()],
+        &["--set", "speed.hz.x=1", "--set", "speed.hz=3"],
+        &[CLI.into(), "speed.hz".into()],
     );
+    let refine = [
+        "roll.masses=[{z_mm = 2250.0, radius_mm = 160.0, angle_deg = 0.0, mass_g = 100.0}]"
+            .to_string(),
+        "roll.masses[0].mass_g=50.0".to_string(),
+    ];
+    let scene = Scene::from_text(&path, &text, &refine).expect("a refinement");
+    assert!((scene.rotor.point_masses[0].mass - 0.05).abs() < 1e-12);
 }
 
 /// A model that cannot be built names the scene file and the key to blame: 300 normal modes of

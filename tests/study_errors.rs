@@ -1,6 +1,6 @@
 //! Study inputs that would change the physics silently or exhaust the machine are input errors
 //! found when the study is loaded, naming the study (or scene) file, the line and the key
-//! (issue 9, items 5 and 6): overlapping keys, repeated axis values, unchecked [pruning] and
+//! (issue 9, items 5 and 6): keys that replace earlier ones, repeated axis values, unchecked [pruning] and
 //! [reference] keys, job counts beyond the limit (counted before expanding), TOML syntax and
 //! duplicate-key errors; and the references obey the study's budget.
 //!
@@ -40,7 +40,7 @@ fn fails(name: &str, text: &str, needle: &str, key: &str, says: &[&str]) -> Inpu
 }
 
 #[test]
-fn a_set_key_inside_a_swept_key_is_an_overlap() {
+fn a_swept_key_that_replaces_a_set_key() {
     // Issue 9: `speed.hz.x` in [set] was dropped when the axis set `speed.hz`.
     let text =
         study_text("\"speed.hz.x\" = 3.0\n[[axes]]\nkey = \"speed.hz\"\nvalues = [10.0, 12.0]\n");
@@ -49,7 +49,7 @@ fn a_set_key_inside_a_swept_key_is_an_overlap() {
         &text,
         "[[axes]]",
         "axes[0]",
-        &["`speed.hz` and `speed.hz.x`", "set.speed.hz.x", "overlap"],
+        &["`speed.hz` would replace `speed.hz.x` (at set.speed.hz.x)"],
     );
 }
 

@@ -10,7 +10,7 @@
 //! errors; nothing panics on bad input. So is anything that would change the physics silently or
 //! exhaust the machine: a nominal wall next to a thickness map, a map that does not cover the
 //! shell, masses outside the material (in the bore, beyond the outer surface), no supports,
-//! overrides that overlap (`speed.hz` and `speed.hz.x`), a mesh above [`MAX_FE_NODES`], a record
+//! an override that replaces an earlier one (`speed.hz` after `speed.hz.x`), a mesh above [`MAX_FE_NODES`], a record
 //! above [`MAX_SAMPLES_PER_CHANNEL`] or [`MAX_RECORD_VALUES`].
 
 mod file;
@@ -349,12 +349,11 @@ pub fn parse_override(s: &str) -> Result<(String, toml::Value), String> {
     Ok((k, value))
 }
 
-/// Whether two different dotted keys overlap, one lying inside the other (`speed.hz` and
-/// `speed.hz.x`): setting both, the later one replaces (or is dropped into) the earlier one.
-pub fn overlap(a: &str, b: &str) -> bool {
-    let (a, b) = (locate::parse_path(a), locate::parse_path(b));
-    let n = a.len().min(b.len());
-    a.len() != b.len() && a[..n] == b[..n]
+/// Whether setting dotted key `later` after `earlier` replaces it: `earlier` lies strictly inside
+/// `later` (`speed.hz` after `speed.hz.x`), so the earlier value would be dropped.
+pub fn replaces(later: &str, earlier: &str) -> bool {
+    let (l, e) = (locate::parse_path(later), locate::parse_path(earlier));
+    l.len() < e.len() && e[..l.len()] == l[..]
 }
 
 /// Sets a dotted key (with `[i]` indices) in a TOML value, creating tables on the way.
@@ -421,10 +420,10 @@ impl Scene {
             );
             for o in overrides {
                 let (k, v) = parse_override(o).map_err(|r| InputError::new(cli, r))?;
-                if let Some(other) = keys.iter().find(|p| overlap(p, &k)) {
+                if let Some(other) = keys.iter().find(|p| replaces(&k, p)) {
                     return Err(InputError::new(
                         cli,
-                        format!("`{k}` and `{other}` overlap: one would replace the other"),
+                        format!("`{k}` would replace `{other}`, given before it: `{other}` would be dropped"),
                     )
                     .with_key(k));
                 }

@@ -10,8 +10,9 @@
 //! reference run it is compared with. Errors name the study file, the line, the key and the
 //! reason; every job's scene, every reference's and every pruning pilot's is validated before
 //! anything runs. Also errors: more than [`MAX_JOBS`] jobs (counted before the axes are
-//! expanded), an axis value given twice (`10` and `10.0` alike), keys that overlap between
-//! [set], the axes, [[jobs]], [budget], [reference] and [pruning] (`speed.hz.x` and `speed.hz`),
+//! expanded), an axis value given twice (`10` and `10.0` alike), a key of [set], the axes,
+//! [[jobs]], [budget], [reference] or [pruning] that replaces one applied before it
+//! (`speed.hz` after `speed.hz.x`),
 //! [pruning] without pruned jobs or with model keys. The study's [budget] binds the reference
 //! runs too, unless [reference] sets `solver.cpu_budget_s` / `solver.max_steps` itself.
 
@@ -25,7 +26,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::error::InputError;
-use crate::scene::{locate, overlap, set_path, Scene};
+use crate::scene::{locate, replaces, set_path, Scene};
 
 /// The pseudo-key that asks for strain-energy pruning (not a scene key).
 pub const PRUNE_KEY: &str = "reduction.prune_threshold";
@@ -502,10 +503,11 @@ fn override_key(e: &InputError, overrides: &[(String, toml::Value)]) -> String {
     })
 }
 
-/// No two keys that a job combines may overlap (`speed.hz.x` in [set] and `speed.hz` on an
-/// axis): the later would replace the earlier, or be dropped into it, silently. A job combines
-/// [set], [budget], [reference] and [pruning] with either every axis or one explicit job.
-fn overlapping_keys(
+/// No key a job applies may replace one applied before it (`speed.hz` on an axis after
+/// `speed.hz.x` in [set]): the earlier would be dropped silently. A job applies [set] and
+/// [budget], then every axis or one explicit job; its reference and its pruning pilot apply
+/// [reference] or [pruning] after that. A later key inside an earlier one refines it.
+fn replaced_keys(
     c: &Ctx,
     base: &[(String, toml::Value)],
     raw: &StudyFile,
@@ -520,24 +522,14 @@ fn overlapping_keys(
     if raw.budget.steps.is_some() {
         common.push(("solver.max_steps".into(), "budget.steps".into()));
     }
-    common.extend(
-        reference
-            .iter()
-            .map(|(k, _)| (k.clone(), format!("reference.{k}"))),
-    );
-    common.extend(
-        pilot
-            .iter()
-            .map(|(k, _)| (k.clone(), format!("pruning.{k}"))),
-    );
-    let mut groups = Vec::new();
+    let mut jobs = Vec::new();
     let mut with_axes = common.clone();
     for (i, a) in raw.axes.iter().enumerate() {
         for k in a.key_list().unwrap_or_default() {
             with_axes.push((k, format!("axes[{i}]")));
         }
     }
-    groups.push(with_axes);
+    jobs.push(with_axes);
     for (j, t) in raw.jobs.iter().enumerate() {
         let mut o = Vec::new();
         flatten("", t, &mut o);
@@ -546,16 +538,28 @@ fn overlapping_keys(
             o.into_iter()
                 .map(|(k, _)| (k.clone(), format!("jobs[{j}].{k}"))),
         );
-        groups.push(g);
+        jobs.push(g);
+    }
+    let mut groups = Vec::new();
+    for (table, after) in [("reference", reference), ("pruning", pilot)] {
+        for g in &jobs {
+            let mut g = g.clone();
+            g.extend(
+                after
+                    .iter()
+                    .map(|(k, _)| (k.clone(), format!("{table}.{k}"))),
+            );
+            groups.push(g);
+        }
     }
     for g in &groups {
         for (n, (b, at_b)) in g.iter().enumerate() {
-            if let Some((a, at_a)) = g[..n].iter().find(|(a, _)| overlap(a, b)) {
+            if let Some((a, at_a)) = g[..n].iter().find(|(a, _)| replaces(b, a)) {
                 return Err(c.err(
                     at_b,
                     format!(
-                        "`{b}` and `{a}` (at {at_a}) overlap: one would replace the other in \
-                         every job"
+                        "`{b}` would replace `{a}` (at {at_a}), which is inside it: `{a}` would \
+                         be dropped"
                     ),
                 ));
             }
@@ -769,7 +773,7 @@ impl Study {
                 ));
             }
         }
-        overlapping_keys(&c, &base, &raw, &reference, &pilot)?;
+        replaced_keys(&c, &base, &raw, &reference, &pilot)?;
         let mut physics_of = BTreeMap::new();
         for (index, (combo, labels)) in combos.into_iter().enumerate() {
             // Where to point errors: the axis (or explicit job) that set a key.
