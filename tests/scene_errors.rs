@@ -912,3 +912,20 @@ fn disk_inertias_of_no_body() {
         },
     );
 }
+
+/// Spin speeds are bounded (module doc of src/scene/run.rs: 1e5 Hz): 1e308 Hz overflowed Ω².
+#[test]
+fn spin_speed_beyond_the_bound() {
+    let text = reference_text();
+    let path = write_scene("fast", &text);
+    for set in ["speed.hz=1e308", "speed.hz=100001.0"] {
+        let x = Expect {
+            file: CLI,
+            line: None,
+            key: Some("speed.hz"),
+            says: &["must lie in [0, 100000]"],
+        };
+        fails(&path, &text, &[set.to_string()], &x);
+    }
+    Scene::from_text(&path, &text, &["speed.hz=1e5".into()]).expect("at the bound");
+}

@@ -19,6 +19,7 @@ mod run;
 
 pub use run::{
     DampingBands, IntegratorKind, Outputs, SimulationSettings, SolverSettings, SpeedProfile,
+    MAX_SPEED_HZ,
 };
 
 use std::collections::BTreeMap;
