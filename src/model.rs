@@ -2,23 +2,55 @@
 //!
 //! In: a validated [`Scene`] (and optionally another mode selection).
 //! Out: a [`Model`]: the mesh, the full orthogonalised set and the selected subset, ready for
-//! linear analysis and time integration. SI units.
+//! linear analysis and time integration, SI units; or a [`ModelError`] that names the scene file
+//! (and the scene key to blame where there is one).
 
+use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::fe::{MeshError, Rotor};
 use crate::reduction::{craig_bampton, ModeSelection, ReducedModel, ReductionError};
 use crate::scene::Scene;
 
-/// Why a model could not be built.
+/// Why a scene's model could not be built: the scene file, the scene key to blame where there is
+/// one, and the cause. It reads `SCENE: key `KEY`: cannot build the model: CAUSE`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ModelError {
+#[error("{}:{} cannot build the model: {cause}", scene.display(), key.map(|k| format!(" key `{k}`:")).unwrap_or_default())]
+pub struct ModelError {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// The scene key to blame (`reduction.modes`, `reduction.boundary`), when one is.
+    pub key: Option<&'static str>,
+    /// What went wrong.
+    pub cause: ModelCause,
+}
+
+/// What went wrong in a model build.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ModelCause {
     /// Meshing failed.
     #[error("mesh: {0}")]
     Mesh(#[from] MeshError),
     /// Reduction failed.
     #[error("reduction: {0}")]
     Reduction(#[from] ReductionError),
+}
+
+impl ModelError {
+    fn of(scene: &Scene, cause: ModelCause) -> Self {
+        let key = match &cause {
+            ModelCause::Reduction(
+                ReductionError::TooManyModes { .. } | ReductionError::Selection(_),
+            ) => Some("reduction.modes"),
+            ModelCause::Reduction(ReductionError::InteriorSingular) => Some("reduction.boundary"),
+            _ => None,
+        };
+        Self {
+            scene: scene.source.clone(),
+            key,
+            cause,
+        }
+    }
 }
 
 /// A scene's rotor, reduced.
@@ -39,15 +71,16 @@ impl Model {
     pub fn build(scene: &Scene, modes: Option<&ModeSelection>) -> Result<Model, ModelError> {
         let t0 = Instant::now();
         let sel = modes.unwrap_or(&scene.modes);
-        let rotor = Rotor::mesh(&scene.rotor)?;
+        let fail = |cause: ModelCause| ModelError::of(scene, cause);
+        let rotor = Rotor::mesh(&scene.rotor).map_err(|e| fail(e.into()))?;
         let fe = rotor.assemble();
         let boundary: Vec<usize> = scene.boundary.iter().map(|b| rotor.named[b]).collect();
         let n_normal = match sel.normal_needed() {
             Some(n) => n,
             None => ModeSelection::default_normal(),
         };
-        let full = craig_bampton(&rotor, &fe, &boundary, n_normal)?;
-        let reduced = full.select(sel)?;
+        let full = craig_bampton(&rotor, &fe, &boundary, n_normal).map_err(|e| fail(e.into()))?;
+        let reduced = full.select(sel).map_err(|e| fail(e.into()))?;
         Ok(Model {
             rotor,
             full,

@@ -4,7 +4,8 @@
 //! ([`SyntheticSpec`] → [`ThicknessMap::synthetic`]) or one thickness ([`ThicknessMap::uniform`]),
 //! plus the shell length.
 //! **Out:** the wall thickness t(φ, z) in metres anywhere on the shell
-//! ([`ThicknessMap::thickness`]), its statistics ([`ThicknessMap::stats`]) and the map written
+//! ([`ThicknessMap::thickness`]), the thinnest wall at a z ([`ThicknessMap::min_thickness_at`]),
+//! its statistics ([`ThicknessMap::stats`]) and the map written
 //! back as CSV ([`ThicknessMap::write_csv`]). The section integrator turns t into
 //! R_i(φ, z) = R_o − t(φ, z).
 //!
@@ -34,9 +35,11 @@
 //! Blank lines and lines starting with `#` are ignored; spaces around values are tolerated. Points
 //! with the same z_mm form a station. Problems are [`InputError`]s naming the file and the 1-based
 //! line (and the column as the key): unreadable file, empty file, wrong header, wrong column
-//! count, non-numeric or non-finite value, thickness ≤ 0, z more than 1 mm outside [0, L],
-//! duplicate point (same z, angles closer than 1e-9 rad, 0° and 360° included), a station with
-//! fewer than three angles. Points up to 1 mm outside the shell are kept where they are.
+//! count, non-numeric or non-finite value, an angle beyond ±360°, thickness ≤ 0, z more than
+//! 1 mm outside [0, L], duplicate point (same z, angles closer than 1e-9 rad, 0° and 360°
+//! included), a station with fewer than three angles, a single station, and stations that do not
+//! reach both ends of the shell within [`COVERAGE_SHARE`] (1 %) of its length (so a map written
+//! for a shorter shell is refused). Points up to 1 mm outside the shell are kept where they are.
 //!
 //! # Synthetic maps
 //! On a grid of `n_angles` uniform angles φ_i = 2πi/n and `n_stations` uniform stations
@@ -72,6 +75,16 @@ use crate::error::InputError;
 const HEADER: [&str; 3] = ["angle_deg", "z_mm", "thickness_mm"];
 /// How far outside [0, L] a measured station may lie before it is an error, mm.
 const Z_TOLERANCE_MM: f64 = 1.0;
+/// How far from each end of the shell a measured map's first and last stations may lie, as a
+/// share of the shell length (1 %: 45 mm on the reference roll's 4500 mm shell, well under half of
+/// its 112.5 mm shell elements). Beyond the stations the wall is the nearest station's, so a map
+/// must reach the ends; a measured map may start a few centimetres in (probes cannot sit on the
+/// head's weld), and the first bending mode has almost no strain energy in the last 1 % of the
+/// shell (∝ sin²(πz/L): 3e-6 of it). A map written for a shorter shell ends far from the drive
+/// end and is refused.
+pub const COVERAGE_SHARE: f64 = 0.01;
+/// Largest magnitude of a CSV angle, degrees: one turn either way.
+const MAX_ANGLE_DEG: f64 = 360.0;
 /// Angles of one station closer than this (rad) are the same point.
 const SAME_ANGLE_RAD: f64 = 1e-9;
 /// Highest angular order of the random field.
@@ -308,7 +321,7 @@ impl ThicknessMap {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError::new(path, format!("cannot be read: {e}")))?;
         let points = parse_points(path, &text, length_m)?;
-        let stations = group_stations(path, points)?;
+        let stations = group_stations(path, points, length_m)?;
         Ok(Self { length_m, stations })
     }
 
@@ -352,6 +365,20 @@ impl ThicknessMap {
         let w = (z_m - lo.z_m) / (hi.z_m - lo.z_m);
         let t_lo = lo.at(phi_rad);
         t_lo + w * (hi.at(phi_rad) - t_lo)
+    }
+
+    /// The thinnest wall (m) at axial position `z_m` over every angle. Between the points of a
+    /// station and between two stations t is linear, so the minimum lies at one of the angles of
+    /// the (one or two) stations around `z_m`.
+    pub fn min_thickness_at(&self, z_m: f64) -> f64 {
+        let s = &self.stations;
+        let j = s.partition_point(|st| st.z_m <= z_m);
+        let around = &s[j.saturating_sub(1)..(j + 1).min(s.len())];
+        around
+            .iter()
+            .flat_map(|st| st.phi_rad.iter())
+            .map(|&phi| self.thickness(phi, z_m))
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// Mean, population standard deviation, minimum and maximum over the stored points, m.
@@ -510,6 +537,17 @@ fn parse_points(path: &Path, text: &str, length_m: f64) -> Result<Vec<Point>, In
             }
         }
         let [angle_deg, z_mm, t_mm] = values;
+        if angle_deg.abs() > MAX_ANGLE_DEG {
+            return Err(InputError::new(
+                path,
+                format!(
+                    "the angle must lie in [-{MAX_ANGLE_DEG}, {MAX_ANGLE_DEG}] degrees (one turn), \
+                     found {angle_deg}"
+                ),
+            )
+            .at_line(line)
+            .with_key("angle_deg"));
+        }
         if t_mm <= 0.0 {
             return Err(InputError::new(
                 path,
@@ -545,7 +583,11 @@ fn parse_points(path: &Path, text: &str, length_m: f64) -> Result<Vec<Point>, In
 }
 
 /// Groups points into stations of equal z, rejecting duplicate points and sparse stations.
-fn group_stations(path: &Path, mut points: Vec<Point>) -> Result<Vec<Station>, InputError> {
+fn group_stations(
+    path: &Path,
+    mut points: Vec<Point>,
+    length_m: f64,
+) -> Result<Vec<Station>, InputError> {
     points.sort_by(|a, b| {
         a.z_mm
             .total_cmp(&b.z_mm)
@@ -591,6 +633,7 @@ fn group_stations(path: &Path, mut points: Vec<Point>) -> Result<Vec<Station>, I
             .with_key("z_mm"));
         }
     }
+    check_coverage(path, &groups, length_m)?;
     Ok(groups
         .into_iter()
         .map(|group| Station {
@@ -599,6 +642,57 @@ fn group_stations(path: &Path, mut points: Vec<Point>) -> Result<Vec<Station>, I
             t_m: group.iter().map(|p| p.t_mm * 1e-3).collect(),
         })
         .collect())
+}
+
+/// The stations (ascending z) must reach both ends of the shell within [`COVERAGE_SHARE`] of its
+/// length; a single station is no map of a shell.
+fn check_coverage(path: &Path, groups: &[&[Point]], length_m: f64) -> Result<(), InputError> {
+    let (Some(first), Some(last)) = (groups.first(), groups.last()) else {
+        return Ok(());
+    };
+    let line = |g: &[Point]| g.iter().map(|p| p.line).min().unwrap_or(0);
+    let length_mm = length_m * 1e3;
+    let tol_mm = COVERAGE_SHARE * length_mm;
+    let err = |g: &[Point], reason: String| {
+        Err(InputError::new(path, reason)
+            .at_line(line(g))
+            .with_key("z_mm"))
+    };
+    if groups.len() < 2 {
+        return err(
+            first,
+            format!(
+                "the map has a single z station (z = {} mm); it must have stations at both ends \
+                 of the {length_mm} mm shell (roll.shell.length_mm)",
+                first[0].z_mm
+            ),
+        );
+    }
+    let (z0, z1) = (first[0].z_mm, last[0].z_mm);
+    let covers = format!(
+        "the map's stations cover z = {z0} ... {z1} mm of the shell's 0 ... {length_mm} mm \
+         (roll.shell.length_mm)"
+    );
+    let share = 100.0 * COVERAGE_SHARE;
+    if z0 > tol_mm {
+        return err(
+            first,
+            format!(
+                "{covers}: the first station must lie within {tol_mm} mm ({share} % of the \
+                 length) of the tending end z = 0"
+            ),
+        );
+    }
+    if z1 < length_mm - tol_mm {
+        return err(
+            last,
+            format!(
+                "{covers}: the last station must lie within {tol_mm} mm ({share} % of the \
+                 length) of the drive end z = {length_mm} mm (a map of a shorter shell?)"
+            ),
+        );
+    }
+    Ok(())
 }
 
 /// The storage grid of a synthetic map; fields on it are station-major (`j * n_angles + i`).
@@ -634,11 +728,18 @@ fn harmonic_field(harmonics: &[HarmonicSpec], grid: &Grid) -> Vec<f64> {
         .collect()
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a tiny seeded generator, ample for smooth fields.
-struct SplitMix64(u64);
+/// SplitMix64 (Steele, Lea & Flood 2014): a tiny seeded generator, ample for smooth fields (and
+/// the seeded cases of the input mutation test), the same stream on every machine and version.
+pub struct SplitMix64(u64);
 
 impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
+    /// The generator started at `seed`.
+    pub fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -1052,7 +1153,8 @@ mod tests {
         // spot at angle_deg = 90 lies at body-frame φ = π/2 (on +y).
         let map = load_ok(
             "angles.csv",
-            "angle_deg,z_mm,thickness_mm\n0,0,18\n90,0,20\n180,0,18\n270,0,16\n",
+            "angle_deg,z_mm,thickness_mm\n0,0,18\n90,0,20\n180,0,18\n270,0,16\n\
+             0,4500,18\n90,4500,20\n180,4500,18\n270,4500,16\n",
         );
         assert!((map.thickness(0.5 * PI, 0.0) - 0.020).abs() < 1e-15);
         assert!((map.thickness(1.5 * PI, 0.0) - 0.016).abs() < 1e-15);
@@ -1067,40 +1169,55 @@ mod tests {
         std::fs::remove_file(&path).unwrap();
         assert_eq!(
             text,
-            "angle_deg,z_mm,thickness_mm\n0,0,18\n90,0,20\n180,0,18\n270,0,16\n"
+            "angle_deg,z_mm,thickness_mm\n0,0,18\n90,0,20\n180,0,18\n270,0,16\n\
+             0,4500,18\n90,4500,20\n180,4500,18\n270,4500,16\n"
         );
     }
 
     #[test]
     fn interpolates_between_stations_and_wraps_in_angle() {
-        // Two stations (z = 1000 and 3000 mm) with angles given out of order, and a body-frame
-        // profile 10, 12, 14, 16 mm at φ = 0°, 90°, 180°, 270° (the same source angles) at
-        // z = 1000 mm and 20 mm flat at z = 3000 mm.
+        // Two stations (z = 0 and 4500 mm, the ends of the shell) with angles given out of
+        // order, and a body-frame profile 10, 12, 14, 16 mm at φ = 0°, 90°, 180°, 270° (the same
+        // source angles) at z = 0 and 20 mm flat at z = 4500 mm.
         let map = load_ok(
             "stations.csv",
             "# test map\n\n  angle_deg , z_mm , thickness_mm \n\
-             180,1000,14\n0,1000,10\n3000.0e-3 , 3000 , 20\n90,1000,12\n270,1000,16\n\
-             0,3000,20\n120,3000,20\n",
+             180,0,14\n0,0,10\n3000.0e-3 , 4500 , 20\n90,0,12\n270,0,16\n\
+             0,4500,20\n120,4500,20\n",
         );
         let mm = |phi_deg: f64, z_mm: f64| map.thickness(phi_deg.to_radians(), z_mm * 1e-3) * 1e3;
         let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
         // Nodes.
-        assert!(close(mm(90.0, 1000.0), 12.0));
-        assert!(close(mm(270.0, 1000.0), 16.0));
+        assert!(close(mm(90.0, 0.0), 12.0));
+        assert!(close(mm(270.0, 0.0), 16.0));
         // Linear in φ: halfway between 90° (12) and 180° (14).
-        assert!(close(mm(135.0, 1000.0), 13.0));
-        // Periodic wrap: halfway between 270° (16) and 360° = 0° (10); also from below 0.
-        assert!(close(mm(315.0, 1000.0), 13.0));
-        assert!(close(mm(-45.0, 1000.0), 13.0));
-        assert!(close(mm(315.0 + 720.0, 1000.0), 13.0));
-        // Station at z = 3000 mm: given at 0°, 3°, 120°, all 20 mm.
-        assert!(close(mm(200.0, 3000.0), 20.0));
-        // Linear in z: a quarter of the way from 1000 mm (13) to 3000 mm (20) at φ = 135°.
-        assert!(close(mm(135.0, 1500.0), 13.0 + 0.25 * 7.0));
-        // Clamped outside the stations.
         assert!(close(mm(135.0, 0.0), 13.0));
-        assert!(close(mm(135.0, 4500.0), 20.0));
+        // Periodic wrap: halfway between 270° (16) and 360° = 0° (10); also from below 0.
+        assert!(close(mm(315.0, 0.0), 13.0));
+        assert!(close(mm(-45.0, 0.0), 13.0));
+        assert!(close(mm(315.0 + 720.0, 0.0), 13.0));
+        // Station at z = 4500 mm: given at 0°, 3°, 120°, all 20 mm.
+        assert!(close(mm(200.0, 4500.0), 20.0));
+        // Linear in z: a quarter of the way from 0 (13) to 4500 mm (20) at φ = 135°.
+        assert!(close(mm(135.0, 1125.0), 13.0 + 0.25 * 7.0));
+        // Clamped outside the stations.
+        assert!(close(mm(135.0, -1000.0), 13.0));
         assert!(close(mm(135.0, 1e6), 20.0));
+    }
+
+    #[test]
+    fn thinnest_wall_at_a_station_and_between_stations() {
+        // z = 0: 10, 12, 14, 16 mm at 0°, 90°, 180°, 270°; z = 4500 mm: 20 mm except 8 mm at 45°.
+        let map = load_ok(
+            "thin.csv",
+            "angle_deg,z_mm,thickness_mm\n0,0,10\n90,0,12\n180,0,14\n270,0,16\n\
+             0,4500,20\n45,4500,8\n180,4500,20\n",
+        );
+        let mm = |z_mm: f64| map.min_thickness_at(z_mm * 1e-3) * 1e3;
+        assert!((mm(0.0) - 10.0).abs() < 1e-12);
+        assert!((mm(4500.0) - 8.0).abs() < 1e-12);
+        // Halfway: at 0° (10 + 20) / 2 = 15, at 45° (11 + 8) / 2 = 9.5, the thinnest.
+        assert!((mm(2250.0) - 9.5).abs() < 1e-12);
     }
 
     #[test]
@@ -1234,6 +1351,37 @@ mod tests {
                 "already given on line 6",
             ),
             (
+                "huge-angle.csv",
+                format!("{HEAD}{}1e308,4500,18\n", station("0")),
+                5,
+                Some("angle_deg"),
+                "[-360, 360]",
+            ),
+            // One station (at z = 0): no map of a shell; reported at its first row.
+            (
+                "one-station.csv",
+                format!("{HEAD}# only z = 0\n{}", station("0")),
+                3,
+                Some("z_mm"),
+                "single z station",
+            ),
+            // Stations up to 1200 mm of the 4500 mm shell (issue 9): at the last station's row.
+            (
+                "short.csv",
+                format!("{HEAD}{}{}", station("0"), station("1200")),
+                5,
+                Some("z_mm"),
+                "cover z = 0 ... 1200 mm",
+            ),
+            // 1 % of 4500 mm is 45 mm: a first station at 46 mm is too far from the tending end.
+            (
+                "late-start.csv",
+                format!("{HEAD}{}{}", station("46"), station("4500")),
+                2,
+                Some("z_mm"),
+                "within 45 mm",
+            ),
+            (
                 "duplicate-360.csv",
                 format!("{HEAD}{}360,0,19\n", station("0")),
                 5,
@@ -1252,6 +1400,31 @@ mod tests {
                 .to_string()
                 .starts_with(&format!("{}:{line}:", path.display())));
         }
+    }
+
+    #[test]
+    fn a_map_must_cover_its_shell() {
+        let station = |z: &str| format!("0,{z},18\n120,{z},18\n240,{z},18\n");
+        // Stations 45 mm (1 % of 4500 mm) in from both ends still cover the shell.
+        let text = format!(
+            "angle_deg,z_mm,thickness_mm\n{}{}",
+            station("45"),
+            station("4455")
+        );
+        load_ok("inset.csv", &text);
+        // The shipped 4500 mm map on a 6000 mm shell: refused at its last station (z = 4500 mm,
+        // the last 36 rows of the file).
+        let shipped = shipped_map_path();
+        let err = ThicknessMap::from_csv(&shipped, 6.0).unwrap_err();
+        let text = std::fs::read_to_string(&shipped).unwrap();
+        let first_4500 = text
+            .lines()
+            .position(|l| l.split(',').nth(1) == Some("4500"))
+            .unwrap()
+            + 1;
+        assert_eq!(err.line, Some(first_4500), "{err}");
+        assert_eq!(err.key.as_deref(), Some("z_mm"), "{err}");
+        assert!(err.reason.contains("a map of a shorter shell"), "{err}");
     }
 
     #[test]

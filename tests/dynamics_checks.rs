@@ -39,7 +39,8 @@ const SETTLE_S: f64 = 3.0;
 /// shafts, Ø115 × 120 mm journals) on stiff linear supports, with the 2nd wall harmonic of
 /// amplitude `a_mm` (none for 0) at body angle `phase_deg`, spinning at `hz`.
 fn oval_roll(a_mm: f64, phase_deg: f64, hz: f64) -> Scene {
-    let map = if a_mm > 0.0 {
+    // The wall: the map when there is one, else the nominal mean wall (never both).
+    let wall = if a_mm > 0.0 {
         // A pure cos 2φ of amplitude a: std a/√2, extremes mean ± a; 36 angles hit both extremes
         // (φ = 0°, 90°), so the generator's monotone map onto these targets is the identity.
         format!(
@@ -61,7 +62,7 @@ harmonics = [{{ order = 2, weight = 1.0, phase_deg = {phase_deg}, axial_shape = 
             max = 18.72 + a_mm,
         )
     } else {
-        String::new()
+        "wall_thickness_mm = 18.72".to_string()
     };
     let rate = if hz > 0.0 { PER_REV * hz } else { 1000.0 };
     let t_end = if hz > 0.0 { SETTLE_S + REVS / hz } else { 0.01 };
@@ -79,9 +80,8 @@ material = "steel"
 [roll.shell]
 outer_diameter_mm = 320.0
 length_mm = 4500.0
-wall_thickness_mm = 18.72
 elements = 20
-{map}
+{wall}
 [roll.heads]
 thickness_mm = 40.0
 [[roll.shafts]]

@@ -49,6 +49,11 @@ fn reference_text() -> String {
     .0
 }
 
+/// The shipped ideal roll: the reference roll with a nominal wall instead of the map.
+fn ideal_text() -> String {
+    fs::read_to_string(root().join("studies/scenes/ideal-roll.toml")).expect("read the ideal scene")
+}
+
 /// Replaces the one line that reads exactly `old` (after trimming) by `new`; returns the text and
 /// the 1-based line number of the replaced line.
 fn replace_line(text: &str, old: &str, new: &str) -> (String, usize) {
@@ -221,7 +226,7 @@ fn unknown_top_level_table() {
 #[test]
 fn negative_wall_thickness() {
     let (text, line) = replace_line(
-        &reference_text(),
+        &ideal_text(),
         "wall_thickness_mm = 18.72",
         "wall_thickness_mm = -18.72",
     );
@@ -240,7 +245,7 @@ fn negative_wall_thickness() {
 #[test]
 fn wall_thicker_than_the_tube() {
     let (text, line) = replace_line(
-        &reference_text(),
+        &ideal_text(),
         "wall_thickness_mm = 18.72",
         "wall_thickness_mm = 160.0",
     );
@@ -500,10 +505,11 @@ fn bad_overrides() {
         ("roll.shell.elements=many", "roll.shell.elements", &["many"]),
         // Right type, out of range: the value check catches it.
         ("roll.shell.elements=0", "roll.shell.elements", &["0"]),
+        // A nominal wall on a roll with a map: one or the other, never both.
         (
-            "roll.shell.wall_thickness_mm=-1",
+            "roll.shell.wall_thickness_mm=25",
             "roll.shell.wall_thickness_mm",
-            &["positive"],
+            &["not both"],
         ),
         ("roll.shell.colour=3", "colour", &["unknown field"]),
         (
@@ -585,4 +591,341 @@ fn no_single_edit_panics() {
         }
     }
     assert!(edits > 300, "only {edits} edits tried");
+}
+
+/// The roll's wall is a nominal wall or a map, never both (issue 9: a nominal 25 mm wall was
+/// silently ignored for the map's 18.72 mm mean), and never neither.
+#[test]
+fn nominal_wall_and_map_together_or_neither() {
+    let (text, line) = replace_line(
+        &reference_text(),
+        "elements = 40",
+        "elements = 40\nwall_thickness_mm = 25.0",
+    );
+    case(
+        "wall-and-map",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line + 1),
+            key: Some("roll.shell.wall_thickness_mm"),
+            says: &["not both"],
+        },
+    );
+    let map_line = reference_text()
+        .lines()
+        .find(|l| l.starts_with("thickness_map = "))
+        .expect("the reference roll names its map")
+        .to_string();
+    let (text, _) = replace_line(&reference_text(), &map_line, "");
+    let line = line_number(&text, "[roll.shell]");
+    case(
+        "no-wall",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("roll.shell"),
+            says: &["wall_thickness_mm", "thickness_map"],
+        },
+    );
+}
+
+/// A map must cover its shell: one written for 0…1200 mm of the 4500 mm shell, and the shipped
+/// 4500 mm map on a 6000 mm shell, are refused at the CSV line of their last station.
+#[test]
+fn map_that_does_not_cover_the_shell() {
+    let csv = fs::read_to_string(root().join("studies/maps/reference-roll-thickness.csv")).unwrap();
+    // The shipped map's stations are 150 mm apart: keep the rows up to z = 1200 mm.
+    let short: String = csv
+        .lines()
+        .filter(|l| match l.split(',').nth(1).map(str::parse::<f64>) {
+            Some(Ok(z)) => z <= 1200.0,
+            _ => true,
+        })
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let last_line = short
+        .lines()
+        .position(|l| l.split(',').nth(1) == Some("1200"))
+        .expect("a station at 1200 mm")
+        + 1;
+    let dir = scratch("short-map");
+    fs::write(dir.join("map.csv"), &short).unwrap();
+    let shipped = root().join("studies/maps/reference-roll-thickness.csv");
+    let (text, _) = replace_line(
+        &reference_text(),
+        &format!("thickness_map = {:?}", shipped.to_str().unwrap()),
+        "thickness_map = \"map.csv\"",
+    );
+    let path = dir.join("scene.toml");
+    fs::write(&path, &text).unwrap();
+    let x = Expect {
+        file: "map.csv",
+        line: Some(last_line),
+        key: Some("z_mm"),
+        says: &["0 ... 1200 mm", "within 45 mm"],
+    };
+    fails(&path, &text, &[], &x);
+    cli_fails(&path, &[], &["map.csv".into(), format!(":{last_line}:")]);
+    // The shipped map on a 6000 mm shell: its last station (4500 mm) is 1500 mm short.
+    let (text, _) = replace_line(
+        &reference_text(),
+        "length_mm = 4500.0",
+        "length_mm = 6000.0",
+    );
+    let line_4500 = csv
+        .lines()
+        .position(|l| l.split(',').nth(1) == Some("4500"))
+        .unwrap()
+        + 1;
+    case(
+        "long-shell",
+        &text,
+        Expect {
+            file: "reference-roll-thickness.csv",
+            line: Some(line_4500),
+            key: Some("z_mm"),
+            says: &["0 ... 6000 mm", "a map of a shorter shell"],
+        },
+    );
+}
+
+/// Masses sit in the material: the reference roll's shell spans about 141…160 mm from the axis
+/// at its planes (320 mm outer diameter, a wall near 18.7 mm).
+#[test]
+fn masses_inside_the_bore_or_outside_the_shell() {
+    let (text, line) = replace_line(&reference_text(), "radius_mm = 160.0", "radius_mm = 100.0");
+    case(
+        "balancing-in-bore",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("roll.balancing.radius_mm"),
+            says: &["inside the bore", "141."],
+        },
+    );
+    let mass = |r: &str| {
+        format!("radius_mm = 160.0\n[[roll.masses]]\nz_mm = 2250.0\nradius_mm = {r}\nangle_deg = 0.0\nmass_g = 100.0")
+    };
+    for (r, says) in [("170.0", "outside the rotor"), ("120.0", "inside the bore")] {
+        let (text, line) = replace_line(&reference_text(), "radius_mm = 160.0", &mass(r));
+        case(
+            "trial-mass",
+            &text,
+            Expect {
+                file: "scene.toml",
+                line: Some(line + 3),
+                key: Some("roll.masses[0].radius_mm"),
+                says: &[says],
+            },
+        );
+    }
+    // On the wall (150 mm) and on the outer surface (160 mm) a trial mass is fine.
+    for r in ["150.0", "160.0"] {
+        let (text, _) = replace_line(&reference_text(), "radius_mm = 160.0", &mass(r));
+        let path = write_scene("trial-mass-ok", &text);
+        Scene::from_text(&path, &text, &[]).expect("a mass in the wall");
+    }
+}
+
+/// `supports = []`: the roll would fall ("ok" before issue 9).
+#[test]
+fn no_supports() {
+    let base = reference_text();
+    let first = line_number(&base, "[drive]");
+    let cut: Vec<&str> = base.lines().collect();
+    let supports = cut
+        .iter()
+        .position(|l| l.trim() == "[[supports]]")
+        .expect("the reference roll has supports");
+    // Everything but the supports, with `supports = []` at the top.
+    let text = format!(
+        "supports = []\n{}\n{}\n",
+        cut[..supports].join("\n"),
+        cut[first - 1..].join("\n")
+    );
+    case(
+        "no-supports",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(1),
+            key: Some("supports"),
+            says: &["at least one support"],
+        },
+    );
+}
+
+/// Meshes above 500 nodes (3000 DOFs) are refused before any matrix is allocated: 2000 shell
+/// elements (issue 9: it aborted), and a general rotor of two 2000-element segments.
+#[test]
+fn mesh_above_the_fe_limit() {
+    let (text, line) = replace_line(&reference_text(), "elements = 40", "elements = 2000");
+    case(
+        "huge-shell",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("roll.shell.elements"),
+            says: &["500 nodes", "3000 DOFs", "dense eigen"],
+        },
+    );
+    let jeffcott = fs::read_to_string(root().join("studies/scenes/jeffcott.toml")).unwrap();
+    let text = jeffcott.replace("elements = 8", "elements = 2000");
+    let line = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.trim() == "elements = 2000")
+        .map(|(i, _)| i + 1)
+        .last()
+        .unwrap();
+    case(
+        "huge-rotor",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("rotor.segments[1].elements"),
+            // 1 + 2 × 2000 + one each for its 3 named nodes and its disk.
+            says: &["4005 nodes", "limit of 500 nodes"],
+        },
+    );
+    // Within the limit, the model builds.
+    let (ok, _) = replace_line(&reference_text(), "elements = 40", "elements = 100");
+    let path = write_scene("finer-shell", &ok);
+    let scene = Scene::from_text(&path, &ok, &[]).expect("110 elements");
+    rotorsweep::model::Model::build(&scene, None).expect("the model builds");
+}
+
+/// A record of more than 1e7 samples per channel is refused (issue 9: sample_rate_hz = 1e12
+/// aborted); the timing case records 10 s at 1 kHz.
+#[test]
+fn record_above_the_sample_limit() {
+    let timing =
+        fs::read_to_string(root().join("studies/scenes/timing-case.toml")).expect("timing case");
+    let csv = root().join("studies/maps/reference-roll-thickness.csv");
+    let timing = timing.replace(
+        "\"../maps/reference-roll-thickness.csv\"",
+        &format!("{:?}", csv.to_str().unwrap()),
+    );
+    let (text, line) = replace_line(&timing, "sample_rate_hz = 1000.0", "sample_rate_hz = 1e12");
+    case(
+        "fast-sampling",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("simulation.sample_rate_hz"),
+            says: &["1.0000e13 samples per channel", "limit of 1e7"],
+        },
+    );
+    // A 50 000 s typo: the window is to blame.
+    let (text, line) = replace_line(&timing, "t_end_s = 10.0", "t_end_s = 50000.0");
+    case(
+        "long-window",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("simulation.t_end_s"),
+            says: &["5.0000e7 samples"],
+        },
+    );
+}
+
+/// An override that replaces an earlier one (`speed.hz` after `speed.hz.x`) would drop it
+/// silently; one inside an earlier one refines it (`roll.masses` and then its first mass).
+#[test]
+fn an_override_that_replaces_an_earlier_one() {
+    let text = reference_text();
+    let path = write_scene("replace", &text);
+    let over = ["speed.hz.x=1".to_string(), "speed.hz=3".to_string()];
+    let x = Expect {
+        file: CLI,
+        line: None,
+        key: Some("speed.hz"),
+        says: &["would replace `speed.hz.x`"],
+    };
+    fails(&path, &text, &over, &x);
+    cli_fails(
+        &path,
+        &["--set", "speed.hz.x=1", "--set", "speed.hz=3"],
+        &[CLI.into(), "speed.hz".into()],
+    );
+    let refine = [
+        "roll.masses=[{z_mm = 2250.0, radius_mm = 160.0, angle_deg = 0.0, mass_g = 100.0}]"
+            .to_string(),
+        "roll.masses[0].mass_g=50.0".to_string(),
+    ];
+    let scene = Scene::from_text(&path, &text, &refine).expect("a refinement");
+    assert!((scene.rotor.point_masses[0].mass - 0.05).abs() < 1e-12);
+}
+
+/// A model that cannot be built names the scene file and the key to blame: 300 normal modes of
+/// the reference roll's 294 interior DOFs (50 elements, 51 nodes × 6 − 2 journals × 6).
+#[test]
+fn model_build_errors_name_the_scene_and_key() {
+    let text = reference_text();
+    let path = write_scene("too-many-modes", &text);
+    let scene = Scene::from_text(&path, &text, &["reduction.modes=\"300n+12st\"".into()]).unwrap();
+    let e = rotorsweep::model::Model::build(&scene, None).unwrap_err();
+    let msg = e.to_string();
+    assert!(msg.starts_with(&path.display().to_string()), "{msg}");
+    assert!(msg.contains("key `reduction.modes`"), "{msg}");
+    assert!(msg.contains("294 DOFs"), "{msg}");
+    cli_fails(
+        &path,
+        &["--set", "reduction.modes=300n+12st"],
+        &[path.display().to_string(), "reduction.modes".into()],
+    );
+}
+
+/// A rigid disk's inertias must be a body's (found by the mutation test: a 1e-308 kg disk with
+/// the Jeffcott disk's inertias made the eigen-solver fail without naming the scene).
+#[test]
+fn disk_inertias_of_no_body() {
+    let jeffcott = fs::read_to_string(root().join("studies/scenes/jeffcott.toml")).unwrap();
+    let (text, line) = replace_line(&jeffcott, "mass_kg = 12.331", "mass_kg = 1e-308");
+    case(
+        "weightless-disk",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("rotor.disks[0].mass_kg"),
+            says: &["1e-308 kg", "ten times the rotor's 700.0 mm length"],
+        },
+    );
+    // Polar 0.07 > 2 × diametral 0.033396 kg m².
+    let (text, line) = replace_line(&jeffcott, "polar_kg_m2 = 0.061654", "polar_kg_m2 = 0.07");
+    case(
+        "flat-disk",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("rotor.disks[0].polar_kg_m2"),
+            says: &["twice the diametral"],
+        },
+    );
+}
+
+/// Spin speeds are bounded (module doc of src/scene/run.rs: 1e5 Hz): 1e308 Hz overflowed Ω².
+#[test]
+fn spin_speed_beyond_the_bound() {
+    let text = reference_text();
+    let path = write_scene("fast", &text);
+    for set in ["speed.hz=1e308", "speed.hz=100001.0"] {
+        let x = Expect {
+            file: CLI,
+            line: None,
+            key: Some("speed.hz"),
+            says: &["must lie in [0, 100000]"],
+        };
+        fails(&path, &text, &[set.to_string()], &x);
+    }
+    Scene::from_text(&path, &text, &["speed.hz=1e5".into()]).expect("at the bound");
 }

@@ -128,7 +128,7 @@ fn validation_errors_name_the_study_file_line_and_key() {
             study_text(
                 "[[axes]]\nkey = \"speed.hz\"\nvalues = [10.0]\n[reference]\n\"speed.hz\" = 3.0\n",
             ),
-            "[reference]",
+            "\"speed.hz\" = 3.0",
             "solver",
         ),
     ];

@@ -251,7 +251,7 @@ pub(super) struct BalancingFile {
 pub(super) struct ShellFile {
     pub outer_diameter_mm: f64,
     pub length_mm: f64,
-    pub wall_thickness_mm: f64,
+    pub wall_thickness_mm: Option<f64>,
     pub elements: usize,
     pub thickness_map: Option<String>,
     pub synthetic_map: Option<SyntheticMapFile>,

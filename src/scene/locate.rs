@@ -3,13 +3,15 @@
 //! In: the file's text and a path like `roll.shafts[1].diameter_mm` (or a byte offset).
 //! Out: the 1-based line of that key (or of its nearest existing parent); the dotted path of the
 //! key written at an offset ([`key_at`]). Paths run through tables, arrays of tables, inline
-//! tables and arrays (`supports[0].journal_roundness[1].amplitude_um`).
+//! tables and arrays (`supports[0].journal_roundness[1].amplitude_um`). A TOML parse or schema
+//! error as an [`InputError`] with its line and key ([`toml_error`]).
 
 use std::ops::Range;
+use std::path::Path;
 
 use toml_edit::{Document, Item, Table, Value};
 
-use crate::error::line_of_offset;
+use crate::error::{line_of_offset, InputError};
 
 /// One step of a dotted path.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,34 +47,104 @@ pub fn parse_path(path: &str) -> Vec<Step> {
 }
 
 /// The 1-based line where `path` (or the deepest existing prefix of it) is written in `text`.
+/// A table key may itself contain dots when written quoted (`"simulation.t_end_s" = 1` in a
+/// study's `[set]`): the longest run of path keys that names one written key wins.
 pub fn line_of(text: &str, path: &str) -> Option<usize> {
     let doc = Document::parse(text).ok()?;
+    let steps = parse_path(path);
     let mut node = Node::Table(doc.as_table());
     let mut best = None;
-    for step in parse_path(path) {
-        let (span, next) = match (step, node) {
-            (Step::Key(k), Node::Table(t)) => match t.get_key_value(&k) {
-                Some((key, item)) => (key.span(), Node::of_item(item)),
-                None => break,
-            },
-            (Step::Key(k), Node::Inline(t)) => match t.get_key_value(&k) {
-                Some((key, item)) => (key.span(), Node::of_item(item)),
-                None => break,
-            },
-            (Step::Index(i), Node::Tables(a)) => match a.get(i) {
-                Some(t) => (t.span(), Node::Table(t)),
-                None => break,
-            },
-            (Step::Index(i), Node::Array(a)) => match a.get(i) {
-                Some(v) => (v.span(), Node::of_value(v)),
-                None => break,
-            },
-            _ => break,
+    let mut i = 0;
+    while i < steps.len() {
+        let Some((taken, span, next)) = step_into(node, &steps[i..]) else {
+            break;
         };
         best = span.or(best);
         node = next;
+        i += taken;
     }
     best.map(|r| line_of_offset(text, r.start))
+}
+
+/// One move down from `node` along `steps`: how many steps it took, the span of what it found
+/// and where it leads.
+fn step_into<'a>(
+    node: Node<'a>,
+    steps: &[Step],
+) -> Option<(usize, Option<Range<usize>>, Node<'a>)> {
+    match (&steps[0], node) {
+        (Step::Key(_), Node::Table(_) | Node::Inline(_)) => {
+            let keys = steps
+                .iter()
+                .take_while(|s| matches!(s, Step::Key(_)))
+                .count();
+            (1..=keys).rev().find_map(|n| {
+                let name = steps[..n]
+                    .iter()
+                    .filter_map(|s| match s {
+                        Step::Key(k) => Some(k.as_str()),
+                        Step::Index(_) => None,
+                    })
+                    .collect::<Vec<_>>()
+                    .join(".");
+                let (key, item) = match node {
+                    Node::Table(t) => t.get_key_value(&name)?,
+                    Node::Inline(t) => t.get_key_value(&name)?,
+                    _ => return None,
+                };
+                Some((n, key.span(), Node::of_item(item)))
+            })
+        }
+        (Step::Index(i), Node::Tables(a)) => a.get(*i).map(|t| (1, t.span(), Node::Table(t))),
+        (Step::Index(i), Node::Array(a)) => a.get(*i).map(|v| (1, v.span(), Node::of_value(v))),
+        _ => None,
+    }
+}
+
+/// A TOML error of `text` (the file `file`) as an input error: the line of its span and the
+/// dotted key there. A text that does not parse (a syntax error, a key given twice) has no
+/// document to look keys up in: the key is then the one written at the span, under the nearest
+/// table header above it (`set.speed.hz`).
+pub fn toml_error(file: &Path, text: &str, e: &toml::de::Error) -> InputError {
+    let mut err = InputError::new(file, e.message().to_string());
+    if let Some(span) = e.span() {
+        let start = span.start.min(text.len());
+        err = err.at_line(line_of_offset(text, start));
+        let key = key_at(text, start).or_else(|| written_key(text, span));
+        if let Some(key) = key {
+            if e.message().contains("duplicate key") && !err.reason.contains('`') {
+                err.reason = format!("duplicate key `{key}`: given twice in one table");
+            }
+            err = err.with_key(key);
+        }
+    }
+    err
+}
+
+/// The key written at `span` of a text that may not parse, prefixed with the table header above
+/// it; `None` when the span does not hold a bare or quoted key.
+fn written_key(text: &str, span: Range<usize>) -> Option<String> {
+    let raw = text.get(span.clone())?.trim();
+    let name = raw
+        .strip_prefix('"')
+        .and_then(|r| r.strip_suffix('"'))
+        .or_else(|| raw.strip_prefix('\'').and_then(|r| r.strip_suffix('\'')))
+        .unwrap_or(raw);
+    let bare = |c: char| c.is_ascii_alphanumeric() || "_-.".contains(c);
+    if name.is_empty() || (name == raw && !name.chars().all(bare)) {
+        return None;
+    }
+    let header = text[..span.start.min(text.len())]
+        .lines()
+        .rev()
+        .map(str::trim)
+        .find(|l| l.starts_with('['))
+        .and_then(|l| l.split(']').next())
+        .map(|h| h.trim_start_matches('[').trim().to_string());
+    Some(match header {
+        Some(h) if !h.is_empty() => format!("{h}.{name}"),
+        _ => name.to_string(),
+    })
 }
 
 /// The dotted path (`roll.shell.length_mm`, `supports[0].journal_roundness[1].order`) of the
@@ -196,6 +268,15 @@ mod tests {
     }
 
     #[test]
+    fn finds_quoted_dotted_keys() {
+        let text = "[set]\n\"simulation.t_end_s\" = 1.0\n[set.speed]\nhz = 3\n";
+        assert_eq!(line_of(text, "set.simulation.t_end_s"), Some(2));
+        assert_eq!(line_of(text, "set.speed.hz"), Some(4));
+        // A quoted key that is only a prefix of the path: its line.
+        assert_eq!(line_of(text, "set.simulation.t_end_s.x"), Some(2));
+    }
+
+    #[test]
     fn finds_lines_inside_inline_tables_and_arrays() {
         let text = "[[s]]\nh = [\n  { o = 1, a = 2 },\n  { o = 2, a = 3 },\n]\nk = { x = 1 }\n";
         assert_eq!(line_of(text, "s[0].h[1].a"), Some(4));
@@ -215,6 +296,20 @@ mod tests {
         assert_eq!(at("\"4500\"").as_deref(), Some("roll.shell.length_mm"));
         assert_eq!(at("\"x\"").as_deref(), Some("s[0].h[1].o"));
         assert_eq!(at("{ o = 1").as_deref(), Some("s[0].h[0]"));
+    }
+
+    #[test]
+    fn names_duplicate_keys_and_keeps_lines_of_syntax_errors() {
+        let p = Path::new("f.toml");
+        let text = "[set]\n\"speed.hz\" = 1\n\"speed.hz\" = 2\n";
+        let e = toml::from_str::<toml::Table>(text).unwrap_err();
+        let e = toml_error(p, text, &e);
+        assert_eq!(e.line, Some(3), "{e}");
+        assert_eq!(e.key.as_deref(), Some("set.speed.hz"), "{e}");
+        assert!(e.reason.contains("duplicate key `set.speed.hz`"), "{e}");
+        let text = "a = 1\nb = = 2\n";
+        let e = toml::from_str::<toml::Table>(text).unwrap_err();
+        assert_eq!(toml_error(p, text, &e).line, Some(2));
     }
 
     #[test]

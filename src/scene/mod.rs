@@ -7,7 +7,11 @@
 //! converted here, once.
 //!
 //! Unknown keys, missing keys, wrong types, out-of-range values and inconsistent geometry are all
-//! errors; nothing panics on bad input.
+//! errors; nothing panics on bad input. So is anything that would change the physics silently or
+//! exhaust the machine: a nominal wall next to a thickness map, a map that does not cover the
+//! shell, masses outside the material (in the bore, beyond the outer surface), no supports,
+//! an override that replaces an earlier one (`speed.hz` after `speed.hz.x`), a mesh above [`MAX_FE_NODES`], a record
+//! above [`MAX_SAMPLES_PER_CHANNEL`] or [`MAX_RECORD_VALUES`].
 
 mod file;
 pub mod locate;
@@ -15,6 +19,7 @@ mod run;
 
 pub use run::{
     DampingBands, IntegratorKind, Outputs, SimulationSettings, SolverSettings, SpeedProfile,
+    MAX_SPEED_HZ,
 };
 
 use std::collections::BTreeMap;
@@ -22,7 +27,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::error::{line_of_offset, InputError};
+use crate::error::InputError;
 use crate::fe::{
     BalancingSpec, DiskSpec, Material, PointMassSpec, RotorSpec, SectionSpec, SegmentSpec,
 };
@@ -345,6 +350,13 @@ pub fn parse_override(s: &str) -> Result<(String, toml::Value), String> {
     Ok((k, value))
 }
 
+/// Whether setting dotted key `later` after `earlier` replaces it: `earlier` lies strictly inside
+/// `later` (`speed.hz` after `speed.hz.x`), so the earlier value would be dropped.
+pub fn replaces(later: &str, earlier: &str) -> bool {
+    let (l, e) = (locate::parse_path(later), locate::parse_path(earlier));
+    l.len() < e.len() && e[..l.len()] == l[..]
+}
+
 /// Sets a dotted key (with `[i]` indices) in a TOML value, creating tables on the way.
 pub fn set_path(root: &mut toml::Value, key: &str, value: toml::Value) -> Result<(), String> {
     fn set_in(
@@ -382,18 +394,6 @@ pub fn set_path(root: &mut toml::Value, key: &str, value: toml::Value) -> Result
     set_in(root, &steps, value, key)
 }
 
-fn de_error(file: &Path, text: &str, e: toml::de::Error) -> InputError {
-    let mut err = InputError::new(file, e.message().to_string());
-    if let Some(span) = e.span() {
-        err = err.at_line(line_of_offset(text, span.start));
-        // The span is the offending key, value or table: name it by its dotted path.
-        if let Some(key) = locate::key_at(text, span.start) {
-            err = err.with_key(key);
-        }
-    }
-    err
-}
-
 /// The dotted key a deserialisation error of the overridden scene `table` is about.
 fn override_error_key(table: &toml::Value) -> Option<String> {
     let text = toml::to_string(table).ok()?;
@@ -411,14 +411,23 @@ impl Scene {
 
     /// Validates a scene given as text (`path` names it in errors and anchors relative paths).
     pub fn from_text(path: &Path, text: &str, overrides: &[String]) -> Result<Scene, InputError> {
-        let mut raw: SceneFile = toml::from_str(text).map_err(|e| de_error(path, text, e))?;
-        let mut keys = Vec::new();
+        let mut raw: SceneFile =
+            toml::from_str(text).map_err(|e| locate::toml_error(path, text, &e))?;
+        let mut keys: Vec<String> = Vec::new();
         if !overrides.is_empty() {
             let cli = Path::new("<command line --set>");
-            let mut table =
-                toml::Value::Table(toml::from_str(text).map_err(|e| de_error(path, text, e))?);
+            let mut table = toml::Value::Table(
+                toml::from_str(text).map_err(|e| locate::toml_error(path, text, &e))?,
+            );
             for o in overrides {
                 let (k, v) = parse_override(o).map_err(|r| InputError::new(cli, r))?;
+                if let Some(other) = keys.iter().find(|p| replaces(&k, p)) {
+                    return Err(InputError::new(
+                        cli,
+                        format!("`{k}` would replace `{other}`, given before it: `{other}` would be dropped"),
+                    )
+                    .with_key(k));
+                }
                 set_path(&mut table, &k, v)
                     .map_err(|r| InputError::new(cli, r).with_key(k.clone()))?;
                 keys.push(k);
@@ -485,6 +494,12 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
             ))
         }
     };
+    if raw.supports.is_empty() {
+        return Err(c.err(
+            "supports",
+            "a scene needs at least one support ([[supports]]): without supports the rotor falls",
+        ));
+    }
     let mut supports = Vec::new();
     for (i, s) in raw.supports.iter().enumerate() {
         let key = format!("supports[{i}]");
@@ -525,7 +540,7 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
     }
     let modes =
         ModeSelection::parse(&raw.reduction.modes).map_err(|r| c.err("reduction.modes", r))?;
-    Ok(Scene {
+    let scene = Scene {
         name: raw.name.clone().unwrap_or_else(|| {
             c.file
                 .file_stem()
@@ -546,7 +561,109 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         simulation: run::simulation(c, &raw.simulation)?,
         solver: run::solver(c, &raw.solver)?,
         outputs: run::outputs(&raw.outputs),
-    })
+    };
+    record_size(c, &scene)?;
+    Ok(scene)
+}
+
+/// Most samples one output channel of a run may hold, (t_end − settle) × sample_rate + 1: 80 MB
+/// per channel (10 000 s at 1 kHz, 100 s at 100 kHz). The analysis needs far fewer (the source's
+/// spectra use 8192 samples); a record this long is almost surely a typo in t_end_s or
+/// sample_rate_hz, and an unbounded one exhausts the memory.
+pub const MAX_SAMPLES_PER_CHANNEL: f64 = 1e7;
+
+/// Most values (samples × channels, time included, 8 bytes each) one run may record: 2 GB, so
+/// that a long record with every output on (the modal coordinates too) still fits in memory.
+pub const MAX_RECORD_VALUES: f64 = 2.5e8;
+
+/// A run's record stays within [`MAX_SAMPLES_PER_CHANNEL`] and [`MAX_RECORD_VALUES`]. The error
+/// names `simulation.t_end_s` when the window alone is too long at the default 1 kHz, else
+/// `simulation.sample_rate_hz`.
+fn record_size(c: &Check, scene: &Scene) -> Result<(), InputError> {
+    let sim = &scene.simulation;
+    let samples = scene.samples();
+    let channels = scene.channels() + 1;
+    let values = samples * channels as f64;
+    let basis = format!(
+        "(t_end_s − settle_s) × sample_rate_hz = ({} − {}) s × {} Hz gives {samples:.4e} samples \
+         per channel",
+        sim.t_end, sim.settle, sim.sample_rate
+    );
+    let reason = if samples > MAX_SAMPLES_PER_CHANNEL {
+        format!(
+            "{basis}, more than the limit of {MAX_SAMPLES_PER_CHANNEL:e} (80 MB per channel; the \
+             analysis needs thousands, not millions)"
+        )
+    } else if values > MAX_RECORD_VALUES {
+        format!(
+            "{basis}, × {channels} channels (time, runout, outputs.*) = {values:.4e} values, more \
+             than the limit of {MAX_RECORD_VALUES:e} (2 GB) one run may record"
+        )
+    } else {
+        return Ok(());
+    };
+    let key = if (sim.t_end - sim.settle) * 1e3 > MAX_SAMPLES_PER_CHANNEL {
+        "simulation.t_end_s"
+    } else {
+        "simulation.sample_rate_hz"
+    };
+    Err(c.err(key, reason))
+}
+
+impl Scene {
+    /// Modal coordinates of the scene's reduced model: the five rigid modes and the elastic
+    /// modes its selection keeps (`reduction.modes`; a pruned run keeps fewer).
+    pub fn modal_coordinates(&self) -> usize {
+        match &self.modes {
+            ModeSelection::Counts { normal, statics } => 5 + normal + statics.saturating_sub(6),
+            ModeSelection::List(l) => {
+                let elastic: std::collections::BTreeSet<usize> =
+                    l.iter().copied().filter(|&i| i >= 5).collect();
+                5 + elastic.len()
+            }
+        }
+    }
+
+    /// Output channels a run records (the time axis not counted): two runout directions per
+    /// sensor, and as `[outputs]` asks two journal and two stand directions per support, a
+    /// contact force per roller, the modal coordinates.
+    pub fn channels(&self) -> usize {
+        let o = &self.outputs;
+        let mut n = 0;
+        if o.runout {
+            n += 2 * self.sensors.len();
+        }
+        for s in &self.supports {
+            if o.journal_orbits {
+                n += 2;
+            }
+            if o.stand_motion && s.has_mass() {
+                n += 2;
+            }
+            if let (true, SupportModel::Rollers(r)) = (o.contact_forces, &s.model) {
+                n += r.rollers.len();
+            }
+        }
+        if o.modal {
+            n += self.modal_coordinates();
+        }
+        n
+    }
+
+    /// Most FE nodes the scene's mesh can have (6 DOFs each), as [`MAX_FE_NODES`] counts them.
+    pub fn max_nodes(&self) -> usize {
+        let r = &self.rotor;
+        node_bound(
+            r.segments.iter().map(|s| s.elements),
+            r.named_points.len() + r.disks.len(),
+        )
+    }
+
+    /// Samples per channel of a run: one every 1 / sample_rate from settle_s to t_end_s.
+    pub fn samples(&self) -> f64 {
+        let sim = &self.simulation;
+        ((sim.t_end - sim.settle) * sim.sample_rate).floor() + 1.0
+    }
 }
 
 fn roll_journal(raw: &SceneFile) -> Option<f64> {
@@ -569,18 +686,34 @@ fn build_roll(
     let sh = &roll.shell;
     let outer = 1e-3 * c.positive("roll.shell.outer_diameter_mm", sh.outer_diameter_mm)?;
     let length = 1e-3 * c.positive("roll.shell.length_mm", sh.length_mm)?;
-    let wall = 1e-3 * c.positive("roll.shell.wall_thickness_mm", sh.wall_thickness_mm)?;
-    if 2.0 * wall >= outer {
-        return Err(c.err(
-            "roll.shell.wall_thickness_mm",
-            format!(
-                "a wall of {} mm does not fit in a {} mm tube",
-                wall * 1e3,
-                outer * 1e3
-            ),
-        ));
-    }
     let elements = c.count("roll.shell.elements", sh.elements, 1, 2000)?;
+    // The wall is either nominal (uniform) or a map, never both: with a map, a nominal wall would
+    // be ignored in favour of the map's, a silent change of the roll's mass and stiffness.
+    let wall = match (sh.wall_thickness_mm, &sh.thickness_map, &sh.synthetic_map) {
+        (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
+            return Err(c.err(
+                "roll.shell.wall_thickness_mm",
+                "give either a nominal wall (wall_thickness_mm) or a thickness map \
+                 (thickness_map or synthetic_map), not both: with a map the wall, and so the \
+                 shell's mass and stiffness, come from the map",
+            ))
+        }
+        (Some(w), None, None) => {
+            let wall = 1e-3 * c.positive("roll.shell.wall_thickness_mm", w)?;
+            if 2.0 * wall >= outer {
+                return Err(c.err(
+                    "roll.shell.wall_thickness_mm",
+                    format!(
+                        "a wall of {} mm does not fit in a {} mm tube",
+                        wall * 1e3,
+                        outer * 1e3
+                    ),
+                ));
+            }
+            Some(wall)
+        }
+        (None, _, _) => None,
+    };
     let map = match (&sh.thickness_map, &sh.synthetic_map) {
         (Some(_), Some(_)) => {
             return Err(c.err(
@@ -590,14 +723,17 @@ fn build_roll(
         }
         (Some(csv), None) => {
             let p = c.file.parent().unwrap_or(Path::new(".")).join(csv);
-            // Errors inside the CSV name the CSV and its line; an unreadable file is reported
-            // where the scene names it.
-            let map = ThicknessMap::from_csv(&p, length).map_err(|e| match e.line {
-                Some(_) => e,
-                None => c.err(
-                    "roll.shell.thickness_map",
-                    format!("{}: {}", p.display(), e.reason),
-                ),
+            // Errors inside the CSV name the CSV and its line, and where the scene names it; an
+            // unreadable file is reported where the scene names it.
+            let key = "roll.shell.thickness_map";
+            let map = ThicknessMap::from_csv(&p, length).map_err(|mut e| match e.line {
+                Some(_) => {
+                    let at = c.err(key, "");
+                    let line = at.line.map(|l| format!(":{l}")).unwrap_or_default();
+                    e.reason += &format!(" (the map of `{key}`, {}{line})", at.file.display());
+                    e
+                }
+                None => c.err(key, format!("{}: {}", p.display(), e.reason)),
             })?;
             Some(map)
         }
@@ -612,10 +748,21 @@ fn build_roll(
     if let Some(m) = &map {
         let st = m.stats();
         if st.min_m <= 0.0 || st.max_m >= 0.5 * outer {
+            let source = match &sh.thickness_map {
+                Some(csv) => format!(
+                    " ({})",
+                    c.file
+                        .parent()
+                        .unwrap_or(Path::new("."))
+                        .join(csv)
+                        .display()
+                ),
+                None => String::new(),
+            };
             return Err(c.err(
                 "roll.shell.thickness_map",
                 format!(
-                    "map thickness {:.3}..{:.3} mm does not fit a {} mm tube",
+                    "map thickness {:.3}..{:.3} mm{source} does not fit a {} mm tube",
                     st.min_m * 1e3,
                     st.max_m * 1e3,
                     outer * 1e3
@@ -645,16 +792,23 @@ fn build_roll(
     };
     let shell = SegmentSpec {
         length,
-        section: match &map {
-            Some(m) => SectionSpec::Mapped {
+        section: match (&map, wall) {
+            (Some(m), _) => SectionSpec::Mapped {
                 outer,
                 map: Arc::clone(m),
                 map_z0: 0.0,
             },
-            None => SectionSpec::Tube {
+            (None, Some(w)) => SectionSpec::Tube {
                 outer,
-                inner: outer - 2.0 * wall,
+                inner: outer - 2.0 * w,
             },
+            (None, None) => {
+                return Err(c.err(
+                    "roll.shell",
+                    "the shell needs its wall: wall_thickness_mm (uniform) or a thickness map \
+                     (thickness_map or synthetic_map)",
+                ))
+            }
         },
         elements,
         material: mat,
@@ -691,7 +845,19 @@ fn build_roll(
         named_points.push((s.name.clone(), z));
         sensors.push(s.name.clone());
     }
-    let point_masses = masses(c, "roll.masses", &roll.masses, (z_start, length + outboard))?;
+    let mut written = vec![("roll.shell.elements".to_string(), elements)];
+    for (i, s) in shafts.iter().enumerate() {
+        written.push((format!("roll.shafts[{i}].elements"), 2 * s.elements));
+    }
+    written.push(("roll.heads.elements".to_string(), 2 * head_el));
+    written.push(("roll.journal.elements".to_string(), 2 * journal.elements));
+    mesh_size(c, &written, named_points.len())?;
+    let body = Body {
+        segments: &segments,
+        z_start,
+        disks: &[],
+    };
+    let point_masses = masses(c, "roll.masses", &roll.masses, &body)?;
     let balancing = match &roll.balancing {
         Some(b) => {
             let key = "roll.balancing.planes_mm";
@@ -712,10 +878,13 @@ fn build_roll(
             if sorted.windows(2).any(|w| w[1] - w[0] < 1e-3) {
                 return Err(c.err(key, "the planes must be at least 1 mm apart"));
             }
-            Some(BalancingSpec {
-                planes,
-                radius: 1e-3 * c.positive("roll.balancing.radius_mm", b.radius_mm)?,
-            })
+            let rk = "roll.balancing.radius_mm";
+            let radius = 1e-3 * c.positive(rk, b.radius_mm)?;
+            for (i, &z) in planes.iter().enumerate() {
+                let what = format!("the balancing mass of plane {}", i + 1);
+                in_material(c, rk, &what, radius, (z, None), &body)?;
+            }
+            Some(BalancingSpec { planes, radius })
         }
         None => None,
     };
@@ -756,20 +925,139 @@ fn shaft(
     })
 }
 
+/// Most FE nodes a model may have (6 DOFs each). The reduction solves dense eigenproblems of the
+/// interior DOFs and holds the assembled matrices densely: memory grows with DOFs² and time with
+/// DOFs³. Measured with `rotorsweep modes` on the 2-core machine of the README (busy with other
+/// builds): the reference roll at the limit (`roll.shell.elements = 482`, 493 nodes, 2958 DOFs)
+/// built in 13.8 s with a peak of 0.74 GB, the Jeffcott rotor at it (2 × 243 elements, 487
+/// nodes) in 18.0 s and 0.72 GB; at 600 shell elements it took 28.6 s and 1.1 GB, at 800 74 s
+/// and 1.9 GB, and 2000 would need about 60 times the time of the limit and 16 times its memory.
+pub const MAX_FE_NODES: usize = 500;
+
+/// The mesh stays within [`MAX_FE_NODES`]: one node more than the elements as written (`written`:
+/// the elements key of each segment and the elements it adds) plus one per named point or disk
+/// (`extra`), which may each add a node. Too many: an error at the key that adds the most.
+fn mesh_size(c: &Check, written: &[(String, usize)], extra: usize) -> Result<(), InputError> {
+    let nodes = node_bound(written.iter().map(|(_, e)| *e), extra);
+    if nodes <= MAX_FE_NODES {
+        return Ok(());
+    }
+    let worst = written
+        .iter()
+        .max_by_key(|(_, e)| *e)
+        .map_or("elements", |(k, _)| k.as_str());
+    Err(c.err(
+        worst,
+        format!(
+            "the mesh would have up to {nodes} nodes ({} DOFs), more than the limit of \
+             {MAX_FE_NODES} nodes ({} DOFs): the reduction solves dense eigenproblems of that \
+             size (memory grows with DOFs², time with DOFs³; at the limit a model takes about \
+             15-20 s and 0.75 GB to build)",
+            6 * nodes,
+            6 * MAX_FE_NODES
+        ),
+    ))
+}
+
+/// The rotor's material as far as masses go: its segments from `z_start` on, and the axial
+/// positions of its rigid disks.
+struct Body<'a> {
+    segments: &'a [SegmentSpec],
+    z_start: f64,
+    disks: &'a [DiskSpec],
+}
+
+/// Most nodes a mesh of segments of `elements` can have: one more than the elements, plus one
+/// per named point or disk (`extra`) that may fall between nodes.
+fn node_bound(elements: impl Iterator<Item = usize>, extra: usize) -> usize {
+    elements.fold(1 + extra, usize::saturating_add)
+}
+
+/// A mass at `radius` [m] from the axis at `(z, phi)` (axial position [m], body angle [rad]) must
+/// sit in the rotor's material there: between the bore and the outer surface of a segment that
+/// holds z (either one at a joint), or on a rigid disk at that z (a disk's radius is not part of
+/// the scene: any radius). Without an angle (a balancing mass, placed later at any angle) a
+/// mapped shell's bore is its widest at that z.
+fn in_material(
+    c: &Check,
+    key: &str,
+    what: &str,
+    radius: f64,
+    (z, phi): (f64, Option<f64>),
+    body: &Body,
+) -> Result<(), InputError> {
+    // Radii compare to 1 nm: a mass on the surface, written in mm, is on it.
+    const SLACK_M: f64 = 1e-9;
+    if body.disks.iter().any(|d| (d.z - z).abs() <= SLACK_M) {
+        return Ok(());
+    }
+    let mut spans = Vec::new();
+    let mut z0 = body.z_start;
+    for s in body.segments {
+        let z1 = z0 + s.length;
+        if z >= z0 - SLACK_M && z <= z1 + SLACK_M {
+            spans.push(match &s.section {
+                SectionSpec::Tube { outer, inner } => (0.5 * inner, 0.5 * outer),
+                SectionSpec::Mapped { outer, map, map_z0 } => {
+                    let t = match phi {
+                        Some(p) => map.thickness(p, z - map_z0),
+                        None => map.min_thickness_at(z - map_z0),
+                    };
+                    (0.5 * outer - t, 0.5 * outer)
+                }
+            });
+        }
+        z0 = z1;
+    }
+    if spans
+        .iter()
+        .any(|&(a, b)| radius >= a - SLACK_M && radius <= b + SLACK_M)
+    {
+        return Ok(());
+    }
+    let inner = spans.iter().map(|s| s.0).fold(f64::INFINITY, f64::min);
+    let outer = spans.iter().map(|s| s.1).fold(0.0, f64::max);
+    let place = if radius < inner {
+        "inside the bore"
+    } else {
+        "outside the rotor"
+    };
+    Err(c.err(
+        key,
+        format!(
+            "{what} at radius {} mm (z = {} mm) lies {place}: the material there spans {:.3} \
+             ... {:.3} mm from the axis",
+            radius * 1e3,
+            z * 1e3,
+            inner * 1e3,
+            outer * 1e3
+        ),
+    ))
+}
+
+/// Point masses on the rotor: each within its length and in its material.
 fn masses(
     c: &Check,
     key: &str,
     list: &[MassFile],
-    (z0, z1): (f64, f64),
+    body: &Body,
 ) -> Result<Vec<PointMassSpec>, InputError> {
+    let z_start = body.z_start;
+    let z_end = z_start + body.segments.iter().map(|s| s.length).sum::<f64>();
     list.iter()
         .enumerate()
         .map(|(i, m)| {
             let k = format!("{key}[{i}]");
+            let z = 1e-3 * c.range(&format!("{k}.z_mm"), m.z_mm, z_start * 1e3, z_end * 1e3)?;
+            let radius = 1e-3 * c.non_negative(&format!("{k}.radius_mm"), m.radius_mm)?;
+            let angle =
+                c.range(&format!("{k}.angle_deg"), m.angle_deg, -360.0, 360.0)? * PI / 180.0;
+            let rk = format!("{k}.radius_mm");
+            in_material(c, &rk, "the mass", radius, (z, Some(angle)), body)?;
             Ok(PointMassSpec {
-                z: 1e-3 * c.range(&format!("{k}.z_mm"), m.z_mm, z0 * 1e3, z1 * 1e3)?,
-                radius: 1e-3 * c.non_negative(&format!("{k}.radius_mm"), m.radius_mm)?,
-                angle: c.finite(&format!("{k}.angle_deg"), m.angle_deg)? * PI / 180.0,
+                z,
+                radius,
+                angle,
                 mass: 1e-3 * c.positive(&format!("{k}.mass_g"), m.mass_g)?,
             })
         })
@@ -873,14 +1161,27 @@ fn build_rotor(
     let mut disks = Vec::new();
     for (i, d) in r.disks.iter().enumerate() {
         let k = format!("rotor.disks[{i}]");
-        disks.push(DiskSpec {
+        let disk = DiskSpec {
             z: in_rotor(&format!("{k}.z_mm"), d.z_mm)?,
             mass: c.positive(&format!("{k}.mass_kg"), d.mass_kg)?,
             polar: c.non_negative(&format!("{k}.polar_kg_m2"), d.polar_kg_m2)?,
             diametral: c.non_negative(&format!("{k}.diametral_kg_m2"), d.diametral_kg_m2)?,
-        });
+        };
+        disk_inertia(c, &k, &disk, z1 - z0)?;
+        disks.push(disk);
     }
-    let point_masses = masses(c, "rotor.masses", &r.masses, (z0, z1))?;
+    let written: Vec<(String, usize)> = segments
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (format!("rotor.segments[{i}].elements"), s.elements))
+        .collect();
+    mesh_size(c, &written, named_points.len() + disks.len())?;
+    let body = Body {
+        segments: &segments,
+        z_start: z0,
+        disks: &disks,
+    };
+    let point_masses = masses(c, "rotor.masses", &r.masses, &body)?;
     Ok((
         RotorSpec {
             z_start: z0,
@@ -894,6 +1195,35 @@ fn build_rotor(
         sensors,
         Vec::new(),
     ))
+}
+
+/// A rigid disk's inertias must be those of a body: the polar moment at most twice the diametral
+/// one (an axisymmetric body: I_p = ∫r² dm ≤ 2 I_d = ∫r² dm + 2∫z² dm), and its size, the radius
+/// √(2 I_p / m) of a uniform disk with these values, at most ten rotor lengths (a mass of
+/// 1e-308 kg with the inertia of a 12 kg disk makes the eigen-solvers fail).
+fn disk_inertia(c: &Check, key: &str, d: &DiskSpec, length: f64) -> Result<(), InputError> {
+    if d.polar > 2.0 * d.diametral * (1.0 + 1e-9) {
+        return Err(c.err(
+            &format!("{key}.polar_kg_m2"),
+            format!(
+                "a polar moment of {} kg m² cannot exceed twice the diametral one ({} kg m²)",
+                d.polar, d.diametral
+            ),
+        ));
+    }
+    let radius = (2.0 * d.polar.max(d.diametral) / d.mass).sqrt();
+    if radius > 10.0 * length {
+        return Err(c.err(
+            &format!("{key}.mass_kg"),
+            format!(
+                "{:e} kg with these inertias is a disk of radius {radius:.3e} m (√(2 I / m)), \
+                 more than ten times the rotor's {:.1} mm length",
+                d.mass,
+                length * 1e3
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn spring(c: &Check, key: &str, s: &SpringFile) -> Result<SpringDamper, InputError> {

@@ -194,10 +194,15 @@ pub struct Outputs {
     pub modal: bool,
 }
 
+/// Highest spin speed a scene may ask for, Hz (6 million rpm): far above any rotor this tool
+/// models (a tube roll turns below 100 Hz, a turbocharger below 5 kHz), and far below where
+/// 2π·f, Ω² and the centrifugal loads overflow (speed.hz = 1e308 was accepted).
+pub const MAX_SPEED_HZ: f64 = 1e5;
+
 pub(super) fn speed(c: &Check, s: &SpeedFile) -> Result<SpeedProfile, InputError> {
     let hz = |key: &str, v: Option<f64>| -> Result<f64, InputError> {
         let v = v.ok_or_else(|| c.err(key, "missing for this speed profile"))?;
-        Ok(2.0 * PI * c.non_negative(key, v)?)
+        Ok(2.0 * PI * c.range(key, v, 0.0, MAX_SPEED_HZ)?)
     };
     match s.profile.as_str() {
         "constant" => Ok(SpeedProfile::Constant(hz("speed.hz", s.hz)?)),
@@ -239,7 +244,8 @@ pub(super) fn speed(c: &Check, s: &SpeedFile) -> Result<SpeedProfile, InputError
             }
             let mut sp = Vec::new();
             for (i, v) in speeds.iter().enumerate() {
-                sp.push(2.0 * PI * c.non_negative(&format!("speed.steps_hz[{i}]"), *v)?);
+                let k = format!("speed.steps_hz[{i}]");
+                sp.push(2.0 * PI * c.range(&k, *v, 0.0, MAX_SPEED_HZ)?);
             }
             Ok(SpeedProfile::Steps { times, speeds: sp })
         }

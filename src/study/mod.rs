@@ -8,7 +8,13 @@
 //! Out: a [`Study`] with its [`Job`]s — each the scene's key=value overrides, a stable id (a hash
 //! of every input that defines the job), the id of the reduced model it needs and of the
 //! reference run it is compared with. Errors name the study file, the line, the key and the
-//! reason; every job's scene is validated before anything runs.
+//! reason; every job's scene, every reference's and every pruning pilot's is validated before
+//! anything runs. Also errors: more than [`MAX_JOBS`] jobs (counted before the axes are
+//! expanded), an axis value given twice (`10` and `10.0` alike), a key of [set], the axes,
+//! [[jobs]], [budget], [reference] or [pruning] that replaces one applied before it
+//! (`speed.hz` after `speed.hz.x`),
+//! [pruning] without pruned jobs or with model keys. The study's [budget] binds the reference
+//! runs too, unless [reference] sets `solver.cpu_budget_s` / `solver.max_steps` itself.
 
 pub mod campaign;
 pub mod identity;
@@ -19,8 +25,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::error::{line_of_offset, InputError};
-use crate::scene::{locate, set_path, Scene};
+use crate::error::InputError;
+use crate::scene::{locate, replaces, set_path, Scene};
 
 /// The pseudo-key that asks for strain-energy pruning (not a scene key).
 pub const PRUNE_KEY: &str = "reduction.prune_threshold";
@@ -346,10 +352,16 @@ fn axis_values(
             if !(r.step > 0.0 && r.stop >= r.start && r.start.is_finite() && r.stop.is_finite()) {
                 return Err(c.err(&format!("{key}.range"), "needs start <= stop and step > 0"));
             }
-            let n = ((r.stop - r.start) / r.step + 1e-9).floor() as usize + 1;
-            if n > 100_000 {
-                return Err(c.err(&format!("{key}.range"), format!("{n} values is too many")));
+            // Counted as a float first: (stop − start) / step may be far beyond any integer (or
+            // infinite for a subnormal step).
+            let count = ((r.stop - r.start) / r.step + 1e-9).floor() + 1.0;
+            if count > MAX_JOBS as f64 {
+                return Err(c.err(
+                    &format!("{key}.range"),
+                    format!("{count:e} values, more than the {MAX_JOBS} jobs a study may have"),
+                ));
             }
+            let n = count as usize;
             (0..n)
                 .map(|j| {
                     // Rounded to 12 significant digits so that 7.2 + 3·0.2 reads as 7.8.
@@ -364,19 +376,255 @@ fn axis_values(
     Ok((keys, rows))
 }
 
+/// Most jobs a study may expand to. `plan` and `run` validate every job's scene before anything
+/// runs: measured, 4901 jobs of the reference roll took 4.3 s and 274 MB to load (0.9 ms and
+/// 56 KB each), so the limit loads in about 10 s and 0.6 GB; that many jobs of a second of CPU
+/// each are already a night on a workstation (use shards of several studies beyond that).
+pub const MAX_JOBS: usize = 10_000;
+
+/// Scene tables that make the reduced model (a pruning pilot runs on its jobs' model).
+const MODEL_TABLES: [&str; 4] = ["materials", "roll", "rotor", "reduction"];
+
+/// The number of jobs, the product of the axes (each counted before any is expanded) plus the
+/// explicit jobs, stays within [`MAX_JOBS`].
+fn job_count(
+    c: &Ctx,
+    axes: &[(Vec<String>, Vec<Vec<toml::Value>>)],
+    explicit: usize,
+) -> Result<(), InputError> {
+    let limit = |n: u128| {
+        format!(
+            "{n} jobs, more than the limit of {MAX_JOBS}: every job is validated (and held) \
+             before anything runs, about 1 ms and 60 KB each"
+        )
+    };
+    let mut product: u128 = 1;
+    for (i, (_, rows)) in axes.iter().enumerate() {
+        product = product.saturating_mul(rows.len() as u128);
+        if product > MAX_JOBS as u128 {
+            return Err(c.err(
+                &format!("axes[{i}]"),
+                format!("the axes up to this one already make {}", limit(product)),
+            ));
+        }
+    }
+    let from_axes = if axes.is_empty() && explicit > 0 {
+        0
+    } else {
+        product
+    };
+    let total = from_axes + explicit as u128;
+    if total > MAX_JOBS as u128 {
+        return Err(c.err(
+            "jobs",
+            format!("the axes and [[jobs]] make {}", limit(total)),
+        ));
+    }
+    Ok(())
+}
+
+/// An axis must not list one value twice, even written differently (`10` and `10.0`, `[1, 2]`
+/// and `[1.0, 2.0]`): that is two jobs of the same physics.
+fn distinct_rows(
+    c: &Ctx,
+    at: &str,
+    keys: &[String],
+    rows: &[Vec<toml::Value>],
+) -> Result<(), InputError> {
+    let mut seen = BTreeMap::new();
+    for (j, row) in rows.iter().enumerate() {
+        let text: Vec<String> = row.iter().map(normal_value).collect();
+        if let Some(first) = seen.insert(text.join(","), j) {
+            let shown = |r: &[toml::Value]| {
+                r.iter()
+                    .map(toml::Value::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            return Err(c.err(
+                at,
+                format!(
+                    "axis `{}`: values {first} ({}) and {j} ({}) are the same, so two jobs \
+                     would have the same physics",
+                    keys.join(", "),
+                    shown(&rows[first]),
+                    shown(row)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A value as text that is the same for values of the same meaning: integers as the floats they
+/// are read as (up to 2⁵³, where both are exact), −0 as 0, tables with sorted keys.
+fn normal_value(v: &toml::Value) -> String {
+    const EXACT: i64 = 1 << 53;
+    match v {
+        toml::Value::Integer(i) if i.abs() <= EXACT => format!("{:?}", *i as f64 + 0.0),
+        toml::Value::Float(f) => format!("{:?}", f + 0.0),
+        toml::Value::Array(a) => {
+            let items: Vec<String> = a.iter().map(normal_value).collect();
+            format!("[{}]", items.join(","))
+        }
+        toml::Value::Table(t) => {
+            let items: BTreeMap<&String, String> =
+                t.iter().map(|(k, v)| (k, normal_value(v))).collect();
+            let items: Vec<String> = items.iter().map(|(k, v)| format!("{k:?}={v}")).collect();
+            format!("{{{}}}", items.join(","))
+        }
+        other => value_text(other),
+    }
+}
+
+/// A job's overrides as normalised text, by key ([`normal_value`]).
+fn normal_text(overrides: &[(String, toml::Value)]) -> String {
+    let by_key: BTreeMap<&String, String> = overrides
+        .iter()
+        .map(|(k, v)| (k, normal_value(v)))
+        .collect();
+    let items: Vec<String> = by_key.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    items.join(";")
+}
+
+/// The dotted key a scene error from overrides is about: its own key, or (for an unknown field,
+/// whose key is the table) the override whose last part the reason names.
+fn override_key(e: &InputError, overrides: &[(String, toml::Value)]) -> String {
+    e.key.clone().unwrap_or_else(|| {
+        overrides
+            .iter()
+            .map(|(k, _)| k.as_str())
+            .find(|k| {
+                e.reason
+                    .contains(&format!("`{}`", k.rsplit('.').next().unwrap_or(k)))
+            })
+            .unwrap_or_default()
+            .to_string()
+    })
+}
+
+/// No key a job applies may replace one applied before it (`speed.hz` on an axis after
+/// `speed.hz.x` in [set]): the earlier would be dropped silently. A job applies [set] and
+/// [budget], then every axis or one explicit job; its reference and its pruning pilot apply
+/// [reference] or [pruning] after that. A later key inside an earlier one refines it.
+fn replaced_keys(
+    c: &Ctx,
+    base: &[(String, toml::Value)],
+    raw: &StudyFile,
+    reference: &[(String, toml::Value)],
+    pilot: &[(String, toml::Value)],
+) -> Result<(), InputError> {
+    let mut common: Vec<(String, String)> = Vec::new();
+    common.extend(base.iter().map(|(k, _)| (k.clone(), format!("set.{k}"))));
+    if raw.budget.cpu_s.is_some() {
+        common.push(("solver.cpu_budget_s".into(), "budget.cpu_s".into()));
+    }
+    if raw.budget.steps.is_some() {
+        common.push(("solver.max_steps".into(), "budget.steps".into()));
+    }
+    let mut jobs = Vec::new();
+    let mut with_axes = common.clone();
+    for (i, a) in raw.axes.iter().enumerate() {
+        for k in a.key_list().unwrap_or_default() {
+            with_axes.push((k, format!("axes[{i}]")));
+        }
+    }
+    jobs.push(with_axes);
+    for (j, t) in raw.jobs.iter().enumerate() {
+        let mut o = Vec::new();
+        flatten("", t, &mut o);
+        let mut g = common.clone();
+        g.extend(
+            o.into_iter()
+                .map(|(k, _)| (k.clone(), format!("jobs[{j}].{k}"))),
+        );
+        jobs.push(g);
+    }
+    let mut groups = Vec::new();
+    for (table, after) in [("reference", reference), ("pruning", pilot)] {
+        for g in &jobs {
+            let mut g = g.clone();
+            g.extend(
+                after
+                    .iter()
+                    .map(|(k, _)| (k.clone(), format!("{table}.{k}"))),
+            );
+            groups.push(g);
+        }
+    }
+    for g in &groups {
+        for (n, (b, at_b)) in g.iter().enumerate() {
+            if let Some((a, at_a)) = g[..n].iter().find(|(a, _)| replaces(b, a)) {
+                return Err(c.err(
+                    at_b,
+                    format!(
+                        "`{b}` would replace `{a}` (at {at_a}), which is inside it: `{a}` would \
+                         be dropped"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every pruning pilot's scene must load: the jobs' overrides, then [pruning], with the modal
+/// coordinates recorded. [pruning] without a pruned job is an error, not a silent no-op.
+fn pilots_load(
+    c: &Ctx,
+    scene_path: &Path,
+    scene_text: &str,
+    jobs: &[Job],
+    pilot: &[(String, toml::Value)],
+) -> Result<(), InputError> {
+    let pruned: std::collections::BTreeSet<&str> = jobs
+        .iter()
+        .filter(|j| j.prune.is_some())
+        .map(|j| j.model_id.as_str())
+        .collect();
+    if pruned.is_empty() {
+        if let Some((k, _)) = pilot.first() {
+            return Err(c.err(
+                &format!("pruning.{k}"),
+                format!("no job asks for pruning (the pseudo-key `{PRUNE_KEY}`), so [pruning] would be ignored"),
+            ));
+        }
+        return Ok(());
+    }
+    for j in jobs.iter().filter(|j| pruned.contains(j.model_id.as_str())) {
+        let mut over: Vec<String> = j
+            .overrides
+            .iter()
+            .chain(pilot)
+            .map(|(k, v)| format!("{k}={}", value_text(v)))
+            .collect();
+        over.push("outputs.modal=true".into());
+        Scene::from_text(scene_path, scene_text, &over).map_err(|e| {
+            let key = override_key(&e, pilot);
+            let at = if pilot.iter().any(|(k, _)| *k == key) {
+                format!("pruning.{key}")
+            } else {
+                "pruning".to_string()
+            };
+            let mut err = c.err(
+                &at,
+                format!("the pruning pilot of job {}: {}", j.index, e.reason),
+            );
+            err.key = Some(at);
+            err
+        })?;
+    }
+    Ok(())
+}
+
 impl Study {
     /// Reads, expands and validates a study file.
     pub fn load(path: &Path) -> Result<Study, InputError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError::new(path, format!("cannot read the study file: {e}")))?;
         let c = Ctx { path, text: &text };
-        let raw: StudyFile = toml::from_str(&text).map_err(|e| {
-            let mut err = InputError::new(path, e.message().to_string());
-            if let Some(span) = e.span() {
-                err = err.at_line(line_of_offset(&text, span.start));
-            }
-            err
-        })?;
+        let raw: StudyFile =
+            toml::from_str(&text).map_err(|e| locate::toml_error(path, &text, &e))?;
         let scene_path = path.parent().unwrap_or(Path::new(".")).join(&raw.scene);
         let scene_text = std::fs::read_to_string(&scene_path).map_err(|e| {
             c.err(
@@ -385,16 +633,23 @@ impl Study {
             )
         })?;
         let scene_table: toml::Table = toml::from_str(&scene_text)
-            .map_err(|e| InputError::new(&scene_path, e.message().to_string()))?;
+            .map_err(|e| locate::toml_error(&scene_path, &scene_text, &e))?;
         let mut base = Vec::new();
         flatten("", &raw.set, &mut base);
+        let mut axes = Vec::new();
+        for (i, a) in raw.axes.iter().enumerate() {
+            let (keys, rows) = axis_values(&c, i, a)?;
+            let at = if a.range.is_some() { "range" } else { "values" };
+            distinct_rows(&c, &format!("axes[{i}].{at}"), &keys, &rows)?;
+            axes.push((keys, rows));
+        }
+        job_count(&c, &axes, raw.jobs.len())?;
         // The product of the axes.
         type Combo = (Vec<(String, toml::Value)>, Vec<(String, String)>);
         let mut combos: Vec<Combo> = vec![(Vec::new(), Vec::new())];
         let mut varying = Vec::new();
         let mut axis_of_key = BTreeMap::new();
-        for (i, a) in raw.axes.iter().enumerate() {
-            let (keys, rows) = axis_values(&c, i, a)?;
+        for (i, (a, (keys, rows))) in raw.axes.iter().zip(axes).enumerate() {
             if let Some(l) = &a.labels {
                 let key = format!("axes[{i}].labels");
                 if l.len() != rows.len() {
@@ -433,6 +688,7 @@ impl Study {
         if raw.axes.is_empty() && !raw.jobs.is_empty() {
             combos.clear();
         }
+        let axis_combos = combos.len();
         for (j, t) in raw.jobs.iter().enumerate() {
             let mut o = Vec::new();
             flatten("", t, &mut o);
@@ -465,6 +721,16 @@ impl Study {
         let ref_sets_modes = reference.iter().any(|(k, _)| k == "reduction.modes");
         let mut pilot = Vec::new();
         flatten("", &raw.pruning, &mut pilot);
+        if let Some((k, _)) = pilot
+            .iter()
+            .find(|(k, _)| MODEL_TABLES.contains(&k.split('.').next().unwrap_or_default()))
+        {
+            return Err(c.err(
+                &format!("pruning.{k}"),
+                "the pilot runs on its jobs' reduced model: [pruning] may not change materials, \
+                 roll, rotor or reduction keys",
+            ));
+        }
         let mut budget = Vec::new();
         if let Some(s) = raw.budget.cpu_s {
             if !(s > 0.0 && s.is_finite()) {
@@ -507,15 +773,18 @@ impl Study {
                 ));
             }
         }
+        replaced_keys(&c, &base, &raw, &reference, &pilot)?;
+        let mut physics_of = BTreeMap::new();
         for (index, (combo, labels)) in combos.into_iter().enumerate() {
             // Where to point errors: the axis (or explicit job) that set a key.
             let locate_key = |k: &str| -> String {
                 match axis_of_key.get(k) {
                     Some(i) => format!("axes[{i}].values"),
-                    None if raw.set.contains_key(k.split('.').next().unwrap_or("")) => {
-                        format!("set.{k}")
-                    }
-                    None => "jobs".to_string(),
+                    None if base.iter().any(|(b, _)| b == k) => format!("set.{k}"),
+                    None => match index.checked_sub(axis_combos) {
+                        Some(j) => format!("jobs[{j}].{k}"),
+                        None => "jobs".to_string(),
+                    },
                 }
             };
             let mut overrides: Vec<(String, toml::Value)> = base.clone();
@@ -542,27 +811,33 @@ impl Study {
                 .iter()
                 .map(|(k, v)| format!("{k}={}", value_text(v)))
                 .collect();
-            let scene = Scene::from_text(&scene_path, &scene_text, &strings).map_err(|e| {
-                // Errors without a key (unknown fields) name the field in their reason.
-                let key = e.key.clone().unwrap_or_else(|| {
-                    overrides
-                        .iter()
-                        .map(|(k, _)| k.as_str())
-                        .find(|k| {
-                            e.reason
-                                .contains(&format!("`{}`", k.rsplit('.').next().unwrap_or(k)))
-                        })
-                        .unwrap_or_default()
-                        .to_string()
-                });
+            let scene = Scene::from_text(&scene_path, &scene_text, &strings).map_err(|mut e| {
+                let key = override_key(&e, &overrides);
                 if e.file.as_os_str() == "<command line --set>" {
                     let mut err = c.err(&locate_key(&key), format!("job {index}: {}", e.reason));
                     err.key = Some(key);
                     err
                 } else {
+                    // In the scene or its map: say which study and job read it.
+                    e.reason += &format!(" (job {index} of {})", path.display());
                     e
                 }
             })?;
+            // The same physics written twice (`10` and `10.0`): one job.
+            let written = normal_text(&overrides) + &format!("|{prune:?}");
+            if let Some(first) = physics_of.insert(written, index) {
+                let at = match index.checked_sub(axis_combos) {
+                    Some(j) => format!("jobs[{j}]"),
+                    None => "axes".to_string(),
+                };
+                return Err(c.err(
+                    &at,
+                    format!(
+                        "jobs {first} and {index} have the same inputs (values that differ only \
+                         in how they are written, such as 10 and 10.0, are the same)"
+                    ),
+                ));
+            }
             let mut merged = toml::Value::Table(scene_table.clone());
             for (k, v) in &overrides {
                 set_path(&mut merged, k, v.clone()).map_err(|r| c.err(&locate_key(k), r))?;
@@ -599,11 +874,9 @@ impl Study {
                 .unwrap_or_default();
             let all = canonical(&merged, &[], &[]);
             let id = hash_id('j', &[&inputs, &all, &prune_text]);
-            // Reference: the same physics with the reference solver keys.
-            // The jobs' budget does not bind the reference; the reference may set its own.
+            // Reference: the same physics with the reference solver keys. The study's budget
+            // binds the reference too, unless [reference] sets its own.
             let mut ref_over = overrides.clone();
-            ref_over
-                .retain(|(k, _)| !k.starts_with("solver.cpu_budget") && k != "solver.max_steps");
             for (k, v) in &reference {
                 ref_over.retain(|(ok, _)| ok != k);
                 ref_over.push((k.clone(), v.clone()));
@@ -621,8 +894,17 @@ impl Study {
                     .iter()
                     .map(|(k, v)| format!("{k}={}", value_text(v)))
                     .collect();
-                let rscene = Scene::from_text(&scene_path, &scene_text, &rs)
-                    .map_err(|e| c.err("reference", e.reason))?;
+                let rscene = Scene::from_text(&scene_path, &scene_text, &rs).map_err(|e| {
+                    let key = override_key(&e, &ref_over);
+                    let at = if reference.iter().any(|(k, _)| *k == key) {
+                        format!("reference.{key}")
+                    } else {
+                        "reference".to_string()
+                    };
+                    let mut err = c.err(&at, format!("the reference of job {index}: {}", e.reason));
+                    err.key = Some(at);
+                    err
+                })?;
                 let rmodel = canonical(
                     &ref_merged,
                     &["materials", "roll", "rotor", "reduction"],
@@ -653,6 +935,7 @@ impl Study {
         if jobs.is_empty() {
             return Err(c.err("axes", "the study has no jobs: add axes or [[jobs]]"));
         }
+        pilots_load(&c, &scene_path, &scene_text, &jobs, &pilot)?;
         // Every line a study asks for must lie below the Nyquist frequency of its job's record
         // (with the default orders, lines above it are stored as NaN).
         let top = raw.analysis.orders.iter().copied().fold(0.0, f64::max);
