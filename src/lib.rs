@@ -5,6 +5,7 @@
 //! analysis.
 
 pub mod analysis;
+pub mod dense;
 pub mod dynamics;
 pub mod eigen;
 pub mod error;

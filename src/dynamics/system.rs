@@ -16,6 +16,7 @@
 //! roll angle (the source's choice) or of the roller's own angle −θ R_j/R_r.
 //! A scene pays for what it uses: a constant speed pre-combines the linear matrices.
 
+use crate::dense::matvec;
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use crate::model::Model;
@@ -100,23 +101,6 @@ pub struct RollSystem {
     /// Displacement [m] per unit of each coordinate: max lateral translation of a mode over the
     /// nodes, 1 for support masses (the error-norm weights of `integrators`).
     pub weights: Vec<f64>,
-}
-
-/// out ← (out if `accumulate`) + alpha A x, for a column-major A of out.len() rows given as a
-/// slice: faer's matrix kernels, whose SIMD width (SSE2, AVX2 + FMA, AVX-512) is chosen at run
-/// time, on one thread. nalgebra's gemv runs scalar here; this is the force's largest cost
-/// (two 45 × 45 products per evaluation in the timing case).
-fn matvec(out: &mut [f64], accumulate: bool, a: &[f64], x: &[f64], alpha: f64) {
-    let (n, m) = (out.len(), x.len());
-    let lhs = faer::MatRef::from_column_major_slice(a, n, m);
-    let rhs = faer::MatRef::from_column_major_slice(x, m, 1);
-    let dst = faer::MatMut::from_column_major_slice_mut(out, n, 1);
-    let beta = if accumulate {
-        faer::Accum::Add
-    } else {
-        faer::Accum::Replace
-    };
-    faer::linalg::matmul::matmul(dst, beta, lhs, rhs, alpha, faer::Par::Seq);
 }
 
 /// (rows) p for a 2 × nm matrix of lateral modal rows (column-major: row 0 and 1 of column j at
@@ -443,6 +427,8 @@ impl RollSystem {
         match &self.lin {
             Some(lin) if alpha == 0.0 && Some(omega) == self.constant_speed() => {
                 let (kq, cv) = lin.as_slice().split_at(n * n);
+                // nalgebra's gemv runs scalar here; these two 45 × 45 products are the force's
+                // largest cost in the timing case.
                 matvec(out.as_mut_slice(), false, kq, q.as_slice(), -1.0);
                 matvec(out.as_mut_slice(), true, cv, v.as_slice(), -1.0);
             }

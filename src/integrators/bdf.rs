@@ -18,10 +18,13 @@
 
 use std::collections::VecDeque;
 
+use crate::dense::matvec;
 use nalgebra::{DMatrix, DVector};
 
 use super::stability::Modes;
-use super::{corrector, finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
+use super::{
+    corrector, finite, wnorm, Guard, Newton, Observer, SecondOrder, Stats, Status, StepView,
+};
 use crate::scene::SolverSettings;
 
 struct Point {
@@ -107,7 +110,7 @@ pub(super) fn run(
     let mut h = s.h0.min(s.hmax);
     let mut k = 1usize;
     let mut at_order = 0usize;
-    let mut lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>> = None;
+    let mut lu: Option<Newton> = None;
     let mut alpha_lu = 0.0;
     let mut fails = 0usize;
     let (mut qp, mut vp) = (DVector::zeros(n), DVector::zeros(n));
@@ -168,11 +171,11 @@ pub(super) fn run(
                 pb.newton_matrix(tn, &qp, &vp, (a0 * a0, 1.0, a0), &mut nm);
                 st.jacobian_evals += 1;
                 st.factorizations += 1;
-                lu = Some(nm.clone().lu());
+                lu = Some(Newton::new(&nm));
                 alpha_lu = a0;
                 fresh = true;
             }
-            let lu_ref = lu.as_ref().expect("factorised above");
+            let lu_ref = lu.as_mut().expect("factorised above");
             q.copy_from(&qp);
             // The matrix was built for α_lu: scale the correction as DASSL does.
             let scale = 2.0 / (1.0 + a0 / alpha_lu);
@@ -191,7 +194,7 @@ pub(super) fn run(
                     a.copy_from(&hv);
                     a.axpy(a0, &v, 1.0);
                     pb.force(tn, q, &v, &mut f);
-                    r.gemv(1.0, m, &a, 0.0);
+                    matvec(r.as_mut_slice(), false, m.as_slice(), a.as_slice(), 1.0);
                     *r -= &f;
                 },
             );

@@ -8,9 +8,12 @@
 //! Error control (Zienkiewicz–Xie): the local displacement error ≈ h² |β − 1/6| ‖a₁ − a₀‖.
 //! With `fixed_step` the step is hmax throughout (the last one shortened to end on t_end).
 
+use crate::dense::matvec;
 use nalgebra::{DMatrix, DVector};
 
-use super::{corrector, finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
+use super::{
+    corrector, finite, wnorm, Guard, Newton, Observer, SecondOrder, Stats, Status, StepView,
+};
 use crate::scene::SolverSettings;
 
 /// Runs generalized-α (see the module doc).
@@ -49,7 +52,7 @@ pub(super) fn run(
     } else {
         s.h0.min(s.hmax)
     };
-    let mut lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>> = None;
+    let mut lu: Option<Newton> = None;
     let mut h_lu = 0.0;
     let mut fails = 0usize;
     let (mut q1, mut v1, mut a1) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
@@ -65,7 +68,13 @@ pub(super) fn run(
             h = t_end - t;
         }
         let tn = t + h;
-        fixed_part.gemv(am, m, &a0, 0.0);
+        matvec(
+            fixed_part.as_mut_slice(),
+            false,
+            m.as_slice(),
+            a0.as_slice(),
+            am,
+        );
         fixed_part.axpy(-af, &f0, 1.0);
         a1.copy_from(&a0);
         let mut fresh = false;
@@ -82,11 +91,11 @@ pub(super) fn run(
                 pb.newton_matrix(tn, &q1, &v1, coef, &mut nm);
                 st.jacobian_evals += 1;
                 st.factorizations += 1;
-                lu = Some(nm.clone().lu());
+                lu = Some(Newton::new(&nm));
                 h_lu = h;
                 fresh = true;
             }
-            let lu_ref = lu.as_ref().expect("factorised above");
+            let lu_ref = lu.as_mut().expect("factorised above");
             a1.copy_from(&a0);
             // The size of a correction as a displacement is β h² Δa.
             let out = corrector(
@@ -107,7 +116,13 @@ pub(super) fn run(
                     v1.axpy(h * (1.0 - gamma), &a0, 1.0);
                     v1.axpy(h * gamma, a1, 1.0);
                     pb.force(tn, &q1, &v1, &mut f1);
-                    r.gemv(1.0 - am, m, a1, 0.0);
+                    matvec(
+                        r.as_mut_slice(),
+                        false,
+                        m.as_slice(),
+                        a1.as_slice(),
+                        1.0 - am,
+                    );
                     *r += &fixed_part;
                     r.axpy(-(1.0 - af), &f1, 1.0);
                 },

@@ -4,6 +4,7 @@
 //! estimate; the norm is max(‖e_q‖, h‖e_v‖) in the weighted displacement norm of `integrators`.
 //! Stiffness shows honestly as a step count near the stability limit (h ≈ 3.3/ω_max).
 
+use crate::dense::matvec;
 use nalgebra::{DMatrix, DVector};
 
 use super::{finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
@@ -82,7 +83,13 @@ pub(super) fn run(
         |t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>, st: &mut Stats| {
             pb.force(t, q, v, &mut f);
             st.rhs_evals += 1;
-            out.gemv(1.0, &minv, &f, 0.0);
+            matvec(
+                out.as_mut_slice(),
+                false,
+                minv.as_slice(),
+                f.as_slice(),
+                1.0,
+            );
         };
     let mut t = t0;
     let mut h = s.h0.min(s.hmax);
