@@ -111,19 +111,25 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     }
     let (scene, model) = load_model(&a.scene, &a.set, a.modes.as_deref())?;
     let r = &model.reduced;
-    let sys = LinearSystem::of_scene(&scene, &model)?;
-    let (vertical, horizontal) = sys.supported_hz()?;
+    // A scene that loads may still have no linearisation (rollers that cannot carry the static
+    // load): the error names the scene.
+    let named = |e: &dyn std::fmt::Display| {
+        rotorsweep::error::InputError::new(&a.scene, format!("linear analysis: {e}"))
+    };
+    let sys = LinearSystem::of_scene(&scene, &model).map_err(|e| named(&e))?;
+    let (vertical, horizontal) = sys.supported_hz().map_err(|e| named(&e))?;
     let camp = if a.speed_hz.is_some() && a.max_speed_hz.is_none() {
         None
     } else {
         let speeds: Vec<f64> = (0..=100).map(|i| max_speed_hz * i as f64 / 100.0).collect();
-        Some(sweep(&sys, &speeds, None)?)
+        Some(sweep(&sys, &speeds, None).map_err(|e| named(&e))?)
     };
     let at_speed = rotorsweep::linear::modes::damped_modes(
         &sys,
         2.0 * std::f64::consts::PI * speed_hz,
         rotorsweep::linear::modes::Split::Whirl,
-    )?;
+    )
+    .map_err(|e| named(&e))?;
     let mut warnings = camp
         .as_ref()
         .map(|c| c.warnings.clone())

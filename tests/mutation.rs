@@ -239,10 +239,6 @@ fn key_value(line: &str) -> Option<(&str, &str)> {
 enum Outcome {
     Accepted,
     Rejected,
-    /// `modes` refused a scene that loads (its linear analysis: e.g. rollers that cannot carry
-    /// the static load), with a message that does not name the scene (src/modes.rs and the
-    /// linear analysis are outside the input layer).
-    AnalysisError,
     RejectedWithoutTheFile,
     OtherExitCode,
     Panic,
@@ -252,10 +248,7 @@ enum Outcome {
 
 impl Outcome {
     fn is_failure(self) -> bool {
-        !matches!(
-            self,
-            Outcome::Accepted | Outcome::Rejected | Outcome::AnalysisError
-        )
+        !matches!(self, Outcome::Accepted | Outcome::Rejected)
     }
 }
 
@@ -378,14 +371,7 @@ fn campaign(seed: u64, cases: usize) {
                 };
                 let (status, stderr) = run_limited(&dir, &[cmd, &target]);
                 let file = Path::new(name).file_name().unwrap().to_string_lossy();
-                let mut outcome = classify(status, &stderr, &file);
-                // A scene that loads was refused by the analysis of `modes`, not as input.
-                if outcome == Outcome::RejectedWithoutTheFile
-                    && cmd == "modes"
-                    && rotorsweep::scene::Scene::load(&dir.join(&target), &[]).is_ok()
-                {
-                    outcome = Outcome::AnalysisError;
-                }
+                let outcome = classify(status, &stderr, &file);
                 if !outcome.is_failure() {
                     let _ = fs::remove_dir_all(&dir);
                 }
@@ -409,16 +395,6 @@ fn campaign(seed: u64, cases: usize) {
     println!("mutation test, seed {seed:#x}, {cases} cases: {counts:?}");
     for (f, (a, r)) in &by_file {
         println!("  {f}: {a} accepted, {r} not");
-    }
-    for (i, o, e) in &results {
-        if *o == Outcome::AnalysisError {
-            println!(
-                "  analysis error, case {i} ({}: {}): {}",
-                plan[*i].0,
-                plan[*i].2,
-                e.trim()
-            );
-        }
     }
     let failures: Vec<String> = results
         .iter()
