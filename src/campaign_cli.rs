@@ -79,7 +79,13 @@ pub fn plan(a: &PlanArgs) -> Result<(), Box<dyn std::error::Error>> {
     println!("varying parameters:");
     for k in &st.varying {
         let vals: BTreeSet<String> = st.jobs.iter().filter_map(|j| st.value_text(j, k)).collect();
-        println!("  {k}: {}", vals.into_iter().collect::<Vec<_>>().join(", "));
+        let mut vals: Vec<String> = vals.into_iter().collect();
+        // Numbers in numeric order (10 after 9, not after 1), text as text.
+        vals.sort_by(|a, b| match (a.parse::<f64>(), b.parse::<f64>()) {
+            (Ok(x), Ok(y)) => x.total_cmp(&y),
+            _ => a.cmp(b),
+        });
+        println!("  {k}: {}", vals.join(", "));
     }
     let models: BTreeSet<&str> = st.jobs.iter().map(|j| j.model_id.as_str()).collect();
     let pruned = st.jobs.iter().filter(|j| j.prune.is_some()).count();

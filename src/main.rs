@@ -22,7 +22,19 @@ use rotorsweep::store::output::OutputError;
 #[command(
     name = "rotorsweep",
     version,
-    about = "Parameter studies of flexible-rotor dynamics"
+    about = "Parameter studies of flexible-rotor dynamics",
+    after_help = "Examples:
+  rotorsweep modes studies/scenes/reference-roll.toml         the model, its modes and critical speeds
+  rotorsweep simulate studies/scenes/timing-case.toml -o run.h5
+  rotorsweep plan studies/smoke.toml                          jobs, models, cost, memory and disk
+  rotorsweep run studies/smoke.toml -o smoke.h5 --threads 2   (--resume after a crash, --overwrite to redo)
+  rotorsweep run S.toml -o s0.h5 --shard 0/2; ... ; rotorsweep merge s0.h5 s1.h5 -o all.h5
+  rotorsweep report smoke.h5 --format csv --table solver
+
+Exit codes: 0 done, every job ok; 1 input error (the message names the file, line and key);
+2 done, some job or reference run not ok; 64 usage error (options, or an output that may not
+be replaced); 74 I/O error while writing (path and OS error named); 75 the output is in use by
+another rotorsweep process."
 )]
 struct Cli {
     #[command(subcommand)]

@@ -275,3 +275,36 @@ fn plan_prints_memory_and_disk_estimates() {
     assert!(stdout.contains("disk estimate: 0.4 MB"), "{stdout}");
     assert!(stdout.contains("memory estimate: "), "{stdout}");
 }
+
+#[test]
+fn a_study_given_as_a_scene_and_a_scene_given_as_a_study_say_so() {
+    let smoke = repo().join("studies/smoke.toml");
+    let e = rotorsweep::scene::Scene::load(&smoke, &[]).unwrap_err();
+    assert_eq!(e.file, smoke);
+    assert!(e.reason.contains("this is a study file"), "{e}");
+    assert!(e.reason.contains("rotorsweep run"), "{e}");
+    let roll = repo().join("studies/scenes/reference-roll.toml");
+    let e = Study::load(&roll).unwrap_err();
+    assert_eq!(e.file, roll);
+    assert!(e.reason.contains("this is a scene file"), "{e}");
+    assert!(e.reason.contains("rotorsweep modes"), "{e}");
+}
+
+#[test]
+fn plan_lists_numeric_values_in_numeric_order() {
+    let d = scratch_dir("plan-order");
+    let p = write_file(
+        &d,
+        "s.toml",
+        &study_text("[[axes]]\nkey = \"speed.hz\"\nvalues = [10.0, 5.0, 6.0, 12.5]\n"),
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_rotorsweep"))
+        .args(["plan", p.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("speed.hz: 5.0, 6.0, 10.0, 12.5"),
+        "as text 10.0 sorted before 5.0:\n{text}"
+    );
+}

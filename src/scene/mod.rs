@@ -411,8 +411,17 @@ impl Scene {
 
     /// Validates a scene given as text (`path` names it in errors and anchors relative paths).
     pub fn from_text(path: &Path, text: &str, overrides: &[String]) -> Result<Scene, InputError> {
-        let mut raw: SceneFile =
-            toml::from_str(text).map_err(|e| locate::toml_error(path, text, &e))?;
+        let mut raw: SceneFile = toml::from_str(text).map_err(|e| {
+            if crate::error::toml_kind(text) == Some("study") {
+                InputError::new(
+                    path,
+                    "this is a study file (it names a `scene`), not a scene: run it with \
+                     `rotorsweep plan` or `rotorsweep run`",
+                )
+            } else {
+                locate::toml_error(path, text, &e)
+            }
+        })?;
         let mut keys: Vec<String> = Vec::new();
         if !overrides.is_empty() {
             let cli = Path::new("<command line --set>");

@@ -623,8 +623,17 @@ impl Study {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError::new(path, format!("cannot read the study file: {e}")))?;
         let c = Ctx { path, text: &text };
-        let raw: StudyFile =
-            toml::from_str(&text).map_err(|e| locate::toml_error(path, &text, &e))?;
+        let raw: StudyFile = toml::from_str(&text).map_err(|e| {
+            if crate::error::toml_kind(&text) == Some("scene") {
+                InputError::new(
+                    path,
+                    "this is a scene file, not a study: use it with `rotorsweep modes`, \
+                     `simulate` or `linear`, or name it in a study as `scene = \"…\"`",
+                )
+            } else {
+                locate::toml_error(path, &text, &e)
+            }
+        })?;
         let scene_path = path.parent().unwrap_or(Path::new(".")).join(&raw.scene);
         let scene_text = std::fs::read_to_string(&scene_path).map_err(|e| {
             c.err(
