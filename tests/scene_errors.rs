@@ -499,7 +499,7 @@ fn missing_scene_file() {
 fn bad_overrides() {
     let text = reference_text();
     let path = write_scene("overrides", &text);
-    let cases: [(&str, &str, &[&str]); 6] = [
+    let cases: [(&str, &str, &[&str]); 7] = [
         // A negative count: the type check catches it.
         ("roll.shell.elements=-3", "roll.shell.elements", &["-3"]),
         ("roll.shell.elements=many", "roll.shell.elements", &["many"]),
@@ -516,6 +516,12 @@ fn bad_overrides() {
             "roll.shafts[3].diameter_mm=100",
             "roll.shafts[3]",
             &["out of range"],
+        ),
+        // An index written as a key: the error says how arrays are indexed.
+        (
+            "supports.0.stand.mass_kg=1",
+            "supports.0.stand.mass_kg",
+            &["supports[0].stand.mass_kg"],
         ),
     ];
     for (set, key, says) in cases {

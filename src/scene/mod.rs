@@ -379,6 +379,18 @@ pub fn set_path(root: &mut toml::Value, key: &str, value: toml::Value) -> Result
                 a.get_mut(*i)
                     .ok_or_else(|| format!("`{key}`: index {i} out of range (length {len})"))?
             }
+            (Step::Key(k), toml::Value::Array(a)) => {
+                // `supports.0.x` for `supports[0].x`: say how arrays are indexed.
+                let hint = match k.parse::<usize>() {
+                    Ok(i) => format!(
+                        "; arrays are indexed with brackets: write `…[{i}]…` (e.g. `supports[0].stand.mass_kg`)"
+                    ),
+                    Err(_) => format!(" (an array of {} entries: index it as `[i]`)", a.len()),
+                };
+                return Err(format!(
+                    "`{key}`: the path does not match the file's structure{hint}"
+                ));
+            }
             _ => {
                 return Err(format!(
                     "`{key}`: the path does not match the file's structure"
