@@ -245,7 +245,12 @@ def channels(path: PathLike, job_id: str) -> list[str]:
 
 
 def channel(path: PathLike, job_id: str, name: str) -> tuple[np.ndarray, np.ndarray, str]:
-    """One channel of a run: ``(t [s], x, units of x)``, e.g. ``name="runout/centre/vertical"``."""
+    """One channel of a run with its axis: ``(axis, x, units of x)``.
+
+    A sampled channel (``"runout/centre/vertical"``) comes with the sample times [s]; a spectrum
+    (``"spectrum/centre/vertical"``) with its frequencies ``spectrum/freq_hz`` [Hz]. A channel
+    whose length matches neither axis is an error, never paired with the wrong one.
+    """
     with h5py.File(path, "r") as f:
         g = _run_group(f, job_id)
         if name not in g or not isinstance(g[name], h5py.Dataset):
@@ -253,7 +258,15 @@ def channel(path: PathLike, job_id: str, name: str) -> tuple[np.ndarray, np.ndar
             g.visititems(lambda n, o: have.append(n) if isinstance(o, h5py.Dataset) else None)
             raise KeyError(f"{job_id}: no channel {name!r} (there are: {', '.join(have)})")
         ds = g[name]
-        return _read(g["time"]), _read(ds), str(_value(ds.attrs.get("units", "")))
+        axis_name = "spectrum/freq_hz" if name.startswith("spectrum/") else "time"
+        axis = _read(g[axis_name])
+        x = _read(ds)
+        if x.shape[:1] != axis.shape[:1]:
+            raise ValueError(
+                f"{job_id}: channel {name!r} has {x.shape[0]} values but its axis {axis_name!r} "
+                f"has {axis.shape[0]}"
+            )
+        return axis, x, str(_value(ds.attrs.get("units", "")))
 
 
 def models(path: PathLike) -> dict[str, Model]:

@@ -361,3 +361,12 @@ def test_table_valued_axis_and_unicode_labels_read_back_distinct(tmp_path: Path)
     assert list(raw["label"]) == labels
     assert raw["damping.bands"].nunique() == 3
     assert list(raw["damping.bands"]) == list(df["damping.bands"])
+
+
+def test_channel_pairs_a_spectrum_with_its_frequencies(results: Path) -> None:
+    """Issue 12: a spectrum came back with the time axis (501 against 66 values, no error)."""
+    job = rp.load_summary(results)["job_id"][0]
+    f, a, units = rp.channel(results, job, "spectrum/centre/vertical")
+    t, x, _ = rp.channel(results, job, "runout/centre/vertical")
+    assert f.shape == a.shape and t.shape == x.shape and f.shape != t.shape
+    assert units == "um" and f[0] == 0.0 and np.all(np.diff(f) > 0)
