@@ -520,8 +520,8 @@ def _responses(sys_: dict[str, object]) -> list[str]:
 
 def bode(sys_: dict[str, object], title: str) -> Figure | None:
     """Bode plot of the 1× unbalance response per sensor (one column each): amplitude [µm] and
-    phase [°] (unwrapped, against roll angle 0) over spin speed [Hz], vertical and horizontal,
-    the critical speeds dotted; None without a stored response."""
+    phase [°] (unwrapped, against roll angle 0; none at zero amplitude) over spin speed [Hz],
+    vertical and horizontal, the critical speeds dotted; None without a stored response."""
     sensors = _responses(sys_)
     if not sensors:
         return None
@@ -532,7 +532,11 @@ def bode(sys_: dict[str, object], title: str) -> Figure | None:
         for d, colour in zip(DIRECTIONS, ("tab:orange", "tab:blue")):
             key = f"unbalance_response/{sensor}/{d}"
             amp = np.asarray(sys_[f"{key}/amplitude_um"])
-            phase = np.degrees(np.unwrap(np.radians(np.asarray(sys_[f"{key}/phase_deg"]))))
+            # Without amplitude (at standstill) the phase means nothing: left out, and the rest
+            # unwrapped.
+            phase = np.full(amp.shape, np.nan)
+            some = amp > 0
+            phase[some] = np.degrees(np.unwrap(np.radians(sys_[f"{key}/phase_deg"][some])))
             axes[0, c].plot(speed, amp, color=colour, label=d)
             axes[1, c].plot(speed, phase, color=colour, label=d)
         axes[0, c].set_title(sensor)
