@@ -369,6 +369,11 @@ def _linear_systems(path: PathLike) -> dict[str, dict[str, object]]:
         return {n: linear_system(groups[n]) for n in groups if "campbell" in groups[n]}
 
 
+def _over_speed(sys_: dict[str, object]) -> bool:
+    """Whether a system was solved at two or more speeds (a curve over speed to draw)."""
+    return len(sys_["campbell/speed_hz"]) >= 2
+
+
 def _log_dec_norm(values: np.ndarray) -> Normalize:
     """Colour scale of log decrements: red for the least damped, centred at zero (white-yellow)
     when some are negative (unstable)."""
@@ -395,8 +400,8 @@ def _campbell_panel(ax: Axes, sys_: dict[str, object], title: str) -> object | N
         ax.plot(speed, whirl, color="tab:blue", lw=1)
     scatter = None
     log_dec = sys_.get("campbell/log_dec")
-    if log_dec is not None:
-        shown = whirl <= top
+    shown = whirl <= top
+    if log_dec is not None and shown.any():
         norm = _log_dec_norm(np.asarray(log_dec)[shown])
         codes = np.asarray(sys_.get("campbell/whirl", np.zeros_like(whirl)))
         grid = np.broadcast_to(speed[:, None], whirl.shape)
@@ -433,8 +438,8 @@ def campbell(systems: list[tuple[str, dict[str, object]]], study: str) -> Figure
     grey line per branch (per rank when the branches are not stored), the 1× line (solid) and
     2×–4× (dotted), the critical speeds; where the log decrements are stored (``rotorsweep
     linear -o``) each mode a marker by whirl (▲ forward, ▼ backward, ● mixed) coloured by its log
-    decrement, with a colour bar. None without any system."""
-    systems = systems[:MAX_CAMPBELL_PANELS]
+    decrement, with a colour bar. None without any system of two or more speeds."""
+    systems = [s for s in systems if _over_speed(s[1])][:MAX_CAMPBELL_PANELS]
     if not systems:
         return None
     fig = _figure(figsize=(5.2 * len(systems) + 1.6, 5.4))
@@ -523,7 +528,7 @@ def bode(sys_: dict[str, object], title: str) -> Figure | None:
     phase [°] (unwrapped, against roll angle 0; none at zero amplitude) over spin speed [Hz],
     vertical and horizontal, the critical speeds dotted; None without a stored response."""
     sensors = _responses(sys_)
-    if not sensors:
+    if not sensors or not _over_speed(sys_):
         return None
     speed = np.asarray(sys_["campbell/speed_hz"])
     fig = _figure(figsize=(4.6 * len(sensors) + 0.6, 6.2))
@@ -555,9 +560,9 @@ def bode(sys_: dict[str, object], title: str) -> Figure | None:
 def polar(sys_: dict[str, object], title: str) -> Figure | None:
     """Polar plot of the 1× unbalance response per sensor: amplitude [µm] at angle φ [°] (phase
     against roll angle 0) as the speed rises, vertical and horizontal, a few speeds labelled;
-    None without a stored response."""
+    None without a stored response over two or more speeds."""
     sensors = _responses(sys_)
-    if not sensors:
+    if not sensors or not _over_speed(sys_):
         return None
     speed = np.asarray(sys_["campbell/speed_hz"])
     fig = _figure(figsize=(4.6 * len(sensors) + 0.6, 5.2))
@@ -619,11 +624,11 @@ def floquet(sys_: dict[str, object], title: str) -> Figure | None:
     """The Floquet stability chart: −ln max|μ| of the monodromy over one revolution (a log
     decrement per revolution; < 0 unstable) over spin speed [Hz], symmetric-log scale, the
     unstable ranges shaded and the constant-coefficient stability threshold dashed; None without
-    Floquet data."""
+    Floquet data at two or more speeds."""
     if "floquet/growth_per_rev" not in sys_:
         return None
     speed = np.asarray(sys_["floquet/speed_hz"])
-    if speed.size == 0:
+    if speed.size < 2:
         return None
     decay = -np.asarray(sys_["floquet/growth_per_rev"])
     ranges = np.asarray(sys_.get("floquet/unstable_ranges_hz", np.zeros((0, 2)))).reshape(-1, 2)

@@ -15,7 +15,11 @@
 //! (sag per sensor [µm], journal positions [µm], support and contact forces [N]);
 //! `critical_map` (undamped critical speeds against the supports' stiffness, actual marked);
 //! `frame`, `phase_convention`, `warnings`, `times_s`. `-o OUT.h5` writes it as a study's
-//! `/linear/<scene>` group (module doc of `src/study/campaign.rs`, extended).
+//! `/linear/<scene>` group (module doc of `src/study/campaign.rs`), extended by what `rotorsweep
+//! report` and `scripts/plots.py` draw: per Campbell entry the damping ratio, log decrement,
+//! whirl (code) and branch; the critical speeds' whirl and log decrement; the unbalance
+//! response; Floquet growth and ranges; the static sag; the critical-speed map; with `--shapes`
+//! the mode shapes at the nodes [speeds × modes × nodes] (README, `rotorsweep linear`).
 
 use std::path::PathBuf;
 use std::time::Instant;

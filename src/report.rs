@@ -789,12 +789,9 @@ fn linear_system(
             name.to_string(),
             "stability threshold [Hz]".into(),
             threshold.map_or_else(
-                || {
-                    format!(
-                        "none (stable over {}–{} Hz)",
-                        significant(speeds[0], 4),
-                        significant(top, 4)
-                    )
+                || match speeds.as_slice() {
+                    [one] => format!("none (stable at {one:.2} Hz)"),
+                    _ => format!("none (stable over {:.2}–{top:.2} Hz)", speeds[0]),
                 },
                 |t| significant(t, 6),
             ),

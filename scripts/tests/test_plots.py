@@ -290,3 +290,16 @@ def test_study_campbell_without_damping(trial_results: Path) -> None:
     fig = plots.campbell(systems, "t")
     assert len(fig.axes) == 2 and not any("log decrement" in a.get_ylabel() for a in fig.axes)
     assert plots.linear_figures(plots._linear_systems(trial_results)) == []
+
+
+def test_linear_file_of_one_speed(tmp_path: Path) -> None:
+    """`rotorsweep linear --speed-hz`: nothing to draw over speed, only the mode shapes (one
+    row) and the critical-speed map."""
+    scene = ROOT / "studies" / "scenes" / "jeffcott.toml"
+    run_ok("linear", scene, "--speed-hz", "20", "--shapes", "-o", "one.h5", cwd=tmp_path)
+    written = plots.render(tmp_path / "one.h5", tmp_path / "plots")
+    assert [p.name for p in written] == ["mode_shapes.png", "critical_map.png"]
+    for p in written:
+        check_png(p)
+    jeff = plots._linear_systems(tmp_path / "one.h5")["jeffcott"]
+    assert len(plots.mode_shapes(jeff, "jeffcott").axes) == 4
