@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""PNG plots of a study's results file (``rotorsweep run STUDY -o OUT.h5``).
+"""PNG plots of a study's results file (``rotorsweep run STUDY -o OUT.h5``) or of a linear
+analysis (``rotorsweep linear SCENE -o OUT.h5``).
 
     python3 scripts/plots.py OUT.h5 [-o DIR] [--channel centre/vertical]
 
@@ -21,14 +22,32 @@ data, and prints the paths written:
 * ``stability.png``: when ``solver.integrator`` and other keys vary, a matrix integrator ×
   setting coloured by status, with the error [µm] and CPU time [s] in the cells;
 * ``campbell.png``: the Campbell diagram of each linearised system (``/linear/<id>``, at most
-  four panels): whirl frequencies [Hz] of the model on its linearised supports over spin speed
-  [Hz], with the lines f = k·speed (k = 1…4) and the critical speeds.
+  four panels): damped whirl frequencies [Hz] of the model on its linearised supports over spin
+  speed [Hz], one line per branch, with the lines f = k·speed (k = 1…4, 1× solid) and the
+  critical speeds; where the file has the log decrements (``rotorsweep linear -o``) every mode
+  a marker by whirl (▲ forward, ▼ backward, ● mixed) coloured by its log decrement, with a
+  colour bar.
+
+Per linear system, each when its group holds the data (``rotorsweep linear -o`` writes them, a
+study's ``/linear`` groups do not), suffixed ``-<system>`` when several systems have one:
+
+* ``mode_shapes.png``: the lowest four lateral modes at the lowest and the highest speed,
+  horizontal and vertical translation along the rotor (``linear -o --shapes``);
+* ``bode.png`` and ``polar.png``: the 1× unbalance response per sensor, amplitude [µm] and
+  phase [°] over speed (critical speeds dotted), and amplitude at angle φ;
+* ``critical_map.png``: undamped critical speeds against the support stiffness, the actual
+  supports' stiffness marked;
+* ``floquet.png``: −ln max|μ| per revolution over speed (< 0 unstable), the Floquet-unstable
+  ranges shaded, the damped modes' stability threshold dashed.
+
+Besides study results files, a ``rotorsweep linear -o`` file is accepted: it gets the Campbell
+diagram and the per-system figures.
 
 The ``-<n>`` suffix (the sweep's number in the file) is added only when the file has several
 sweeps. ``--channel SENSOR/DIR`` picks the sensor of the maps and harmonics and the direction of
 the trial-mass panels. Importable: :func:`render` does the same and returns the paths. The
 figures are drawn on Agg canvases of their own; matplotlib's global backend is left alone.
-Exit code 1, with a message naming the file, when it is not a study results file.
+Exit code 1, with a message naming the file, when it is neither.
 """
 
 from __future__ import annotations
@@ -42,9 +61,10 @@ import numpy as np
 import pandas as pd
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.colors import LogNorm, to_rgb
+from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm, to_rgb
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
+from matplotlib.ticker import ScalarFormatter
 
 import rotorsweep_py as rp
 from rotorsweep_py.loader import PathLike
@@ -85,22 +105,26 @@ def _save(fig: Figure, path: Path) -> Path:
     return path
 
 
-def check_results_file(path: PathLike) -> None:
+def check_results_file(path: PathLike) -> bool:
     """Raises :class:`PlotError` naming ``path`` unless it is an HDF5 file written by
-    ``rotorsweep run`` or ``merge`` (tool attribute "rotorsweep" and a ``/summary`` table)."""
+    ``rotorsweep run`` or ``merge`` (tool attribute "rotorsweep" and a ``/summary`` table) or by
+    ``rotorsweep linear -o`` (a ``/linear`` group); True for a study results file."""
     if not Path(path).is_file():
         raise PlotError(f"{path}: no such file")
     try:
         with h5py.File(path, "r") as f:
             tool = f.attrs.get("tool")
             has_summary = "summary" in f
+            has_linear = "linear" in f
     except OSError as e:
         raise PlotError(f"{path}: not an HDF5 file ({e})") from None
-    if tool != "rotorsweep" or not has_summary:
+    if tool != "rotorsweep" or not (has_summary or has_linear):
         raise PlotError(
             f"{path}: not a rotorsweep study results file (no /summary table; "
-            "`rotorsweep run STUDY -o OUT.h5` writes one)"
+            "`rotorsweep run STUDY -o OUT.h5` writes one) nor a `rotorsweep linear -o` file "
+            "(no /linear group)"
         )
+    return has_summary
 
 
 def _format(value: object) -> str:
@@ -309,58 +333,360 @@ def stability(summary: pd.DataFrame, names: pd.Series, study: str) -> Figure:
     return fig
 
 
-def campbell(path: PathLike, names: pd.Series, study: str) -> Figure | None:
-    """The Campbell diagram of each ``/linear/<id>`` group (at most :data:`MAX_CAMPBELL_PANELS`,
-    in the order of their first job), titled by that job's setting ``names``; None without
-    any."""
-    attrs = rp.job_attrs(path)
-    if "linear_id" not in attrs:
-        return None
-    first = attrs.reset_index().drop_duplicates("linear_id").head(MAX_CAMPBELL_PANELS)
-    systems = []
+#: Marker and legend text of each whirl code of ``campbell/whirl`` (1 forward, -1 backward,
+#: 0 mixed).
+WHIRL_MARKERS = {1: ("^", "forward"), -1: ("v", "backward"), 0: ("o", "mixed")}
+#: Lowest lateral modes drawn in the mode-shape figure, at each of two speeds.
+MAX_SHAPE_MODES = 4
+#: Most sensors drawn in the Bode and polar figures (one column or polar axes each).
+MAX_SENSORS = 4
+#: Polar plots label speeds only where the amplitude is at least this share of the largest.
+POLAR_LABEL_SHARE = 0.1
+#: Lowest critical speeds drawn on the critical-speed map.
+MAX_MAP_CRITICALS = 6
+
+
+def linear_system(g: h5py.Group) -> dict[str, object]:
+    """The datasets of one ``/linear/<name>`` group as arrays (text decoded), under their path in
+    the group (``campbell/speed_hz``, ``critical_speeds_hz``, …), and its ``stability_threshold_hz``
+    attribute (None when absent)."""
+    data: dict[str, object] = {}
+
+    def visit(name: str, obj: h5py.HLObject) -> None:
+        if isinstance(obj, h5py.Dataset):
+            v = obj[()]
+            data[name] = v.astype(str) if v.dtype.kind == "O" else v
+
+    g.visititems(visit)
+    data["stability_threshold_hz"] = g.attrs.get("stability_threshold_hz")
+    return data
+
+
+def _linear_systems(path: PathLike) -> dict[str, dict[str, object]]:
+    """Every ``/linear/<name>`` group with Campbell data, by name."""
     with h5py.File(path, "r") as f:
-        for _, job in first.iterrows():
-            g = f.get(f"linear/{job['linear_id']}")
-            if g is None or "campbell" not in g:
-                continue
-            crit = g["critical_speeds_hz"][()] if "critical_speeds_hz" in g else np.array([])
-            title = names.get(job["job_id"], job["linear_id"]) if len(first) > 1 else ""
-            systems.append((g["campbell/speed_hz"][()], g["campbell/whirl_hz"][()], crit, title))
+        groups = f.get("linear", {})
+        return {n: linear_system(groups[n]) for n in groups if "campbell" in groups[n]}
+
+
+def _over_speed(sys_: dict[str, object]) -> bool:
+    """Whether a system was solved at two or more speeds (a curve over speed to draw)."""
+    return len(sys_["campbell/speed_hz"]) >= 2
+
+
+def _log_dec_norm(values: np.ndarray) -> Normalize:
+    """Colour scale of log decrements: red for the least damped, centred at zero (white-yellow)
+    when some are negative (unstable)."""
+    lo, hi = float(np.nanmin(values)), float(np.nanmax(values))
+    hi = max(hi, abs(lo) * 1e-3, 1e-12)
+    if lo < 0:
+        return TwoSlopeNorm(vmin=lo, vcenter=0.0, vmax=hi)
+    return Normalize(vmin=0.0, vmax=hi)
+
+
+def _campbell_panel(ax: Axes, sys_: dict[str, object], title: str) -> object | None:
+    """One Campbell panel; returns the scatter of the log decrements (None when not stored)."""
+    speed = np.asarray(sys_["campbell/speed_hz"])
+    whirl = np.asarray(sys_["campbell/whirl_hz"])
+    top = float(speed[-1])
+    branch = sys_.get("campbell/branch")
+    if branch is not None:
+        # One line per Campbell branch (followed by mode shape), not per rank.
+        for b in np.unique(branch[branch >= 0]):
+            rows, cols = np.nonzero(branch == b)
+            order = np.argsort(rows)
+            ax.plot(speed[rows[order]], whirl[rows[order], cols[order]], color="0.6", lw=0.8)
+    else:
+        ax.plot(speed, whirl, color="tab:blue", lw=1)
+    scatter = None
+    log_dec = sys_.get("campbell/log_dec")
+    shown = whirl <= top
+    if log_dec is not None and shown.any():
+        norm = _log_dec_norm(np.asarray(log_dec)[shown])
+        codes = np.asarray(sys_.get("campbell/whirl", np.zeros_like(whirl)))
+        grid = np.broadcast_to(speed[:, None], whirl.shape)
+        for code, (marker, label) in WHIRL_MARKERS.items():
+            pick = shown & (np.rint(codes) == code)
+            if pick.any():
+                scatter = ax.scatter(
+                    grid[pick], whirl[pick], c=log_dec[pick], norm=norm, cmap="RdYlGn",
+                    marker=marker, s=18, edgecolors="0.3", linewidths=0.3, zorder=3,
+                )
+            ax.scatter([], [], marker=marker, color="0.4", label=f"{label} whirl")
+    for k in HARMONICS:
+        ax.plot(speed, k * speed, color="0.2" if k == 1 else "0.5", lw=1.2 if k == 1 else 0.8,
+                ls="-" if k == 1 else ":")
+        ax.annotate(f"{k}×", (top / k, top), fontsize="small", ha="center", va="bottom")
+    crit = np.asarray(sys_.get("critical_speeds_hz", []))
+    ax.plot(crit, crit, "o", mfc="none", mec="tab:red", ms=9, mew=1.5, label="critical speeds",
+            zorder=4)
+    for i, c in enumerate(crit):
+        # Alternate below and above the point: neighbouring criticals lie close together.
+        ax.annotate(f"{c:.2f} Hz", (c, c), xytext=(8, -12 if i % 2 == 0 else 4),
+                    textcoords="offset points", fontsize="small", color="tab:red")
+    ax.set_xlim(0, top)
+    ax.set_ylim(0, top)
+    ax.set_xlabel("spin speed [Hz]")
+    ax.set_title(title, fontsize="small", pad=14)
+    ax.grid(alpha=0.3)
+    return scatter
+
+
+def campbell(systems: list[tuple[str, dict[str, object]]], study: str) -> Figure | None:
+    """The Campbell diagram of each linear system (``(title, data)``; at most
+    :data:`MAX_CAMPBELL_PANELS` panels): damped whirl frequencies [Hz] over spin speed [Hz], a
+    grey line per branch (per rank when the branches are not stored), the 1× line (solid) and
+    2×–4× (dotted), the critical speeds; where the log decrements are stored (``rotorsweep
+    linear -o``) each mode a marker by whirl (▲ forward, ▼ backward, ● mixed) coloured by its log
+    decrement, with a colour bar. None without any system of two or more speeds."""
+    systems = [s for s in systems if _over_speed(s[1])][:MAX_CAMPBELL_PANELS]
     if not systems:
         return None
-    fig = _figure(figsize=(5.2 * len(systems) + 0.8, 5))
+    fig = _figure(figsize=(5.2 * len(systems) + 1.6, 5.4))
     axes = fig.subplots(1, len(systems), sharey=True, squeeze=False)[0]
-    for ax, (speed, whirl, crit, title) in zip(axes, systems):
-        top = float(speed[-1])
-        ax.plot(speed, whirl, color="tab:blue", lw=1)
-        for k in HARMONICS:
-            ax.plot(speed, k * speed, color="0.4", lw=0.8, ls="-" if k == 1 else ":")
-            ax.annotate(f"{k}×", (top / k, top), fontsize="small", ha="center", va="bottom")
-        ax.plot(crit, crit, "o", color="tab:red", label="critical speeds")
-        for i, c in enumerate(crit):
-            # Alternate below and above the point: neighbouring criticals lie close together.
-            ax.annotate(f"{c:.2f} Hz", (c, c), xytext=(6, -12 if i % 2 == 0 else 4),
-                        textcoords="offset points", fontsize="small", color="tab:red")
-        ax.set_xlim(0, top)
-        ax.set_ylim(0, top)
-        ax.set_xlabel("spin speed [Hz]")
-        ax.set_title(title, fontsize="small", pad=14)
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel("whirl frequency, stationary frame [Hz]")
+    scatters = [_campbell_panel(ax, data, title) for ax, (title, data) in zip(axes, systems)]
+    axes[0].set_ylabel("damped whirl frequency, stationary frame [Hz]")
     axes[0].legend(loc="lower right", fontsize="small")
+    shown = [s for s in scatters if s is not None]
+    if shown:
+        fig.colorbar(shown[0], ax=list(axes), label="log decrement δ (< 0: unstable)")
     fig.suptitle(f"{study}: Campbell diagram on the linearised supports")
     return fig
+
+
+def _study_systems(path: PathLike, names: pd.Series) -> list[tuple[str, dict[str, object]]]:
+    """The linear systems of a study in the order of their first job, titled by that job's
+    setting ``names`` (no title for a single one)."""
+    attrs = rp.job_attrs(path)
+    if "linear_id" not in attrs:
+        return []
+    first = attrs.reset_index().drop_duplicates("linear_id")
+    systems = _linear_systems(path)
+    first = first[first["linear_id"].isin(systems)]
+    return [
+        (names.get(job["job_id"], job["linear_id"]) if len(first) > 1 else "",
+         systems[job["linear_id"]])
+        for _, job in first.iterrows()
+    ]
+
+
+def _mark_criticals(ax: Axes, sys_: dict[str, object]) -> None:
+    for c in np.asarray(sys_.get("critical_speeds_hz", [])):
+        ax.axvline(c, color="tab:red", lw=0.8, ls=":")
+
+
+def mode_shapes(sys_: dict[str, object], title: str) -> Figure | None:
+    """The lowest :data:`MAX_SHAPE_MODES` lateral modes at the lowest and the highest stored
+    speed: horizontal (x) and vertical (y) translation along the rotor, real part (the shape at
+    phase 0, largest translation 1) and the envelope ±|X|; None without stored shapes
+    (``rotorsweep linear -o --shapes``)."""
+    if "shapes/x_re" not in sys_:
+        return None
+    z = np.asarray(sys_["shapes/node_z_mm"])
+    parts = {p: np.asarray(sys_[f"shapes/{p}"]) for p in ("x_re", "x_im", "y_re", "y_im")}
+    speed = np.asarray(sys_["campbell/speed_hz"])
+    freq, log_dec = np.asarray(sys_["campbell/whirl_hz"]), sys_.get("campbell/log_dec")
+    codes = sys_.get("campbell/whirl")
+    n = min(MAX_SHAPE_MODES, parts["x_re"].shape[1])
+    rows = [0] if len(speed) == 1 else [0, len(speed) - 1]
+    fig = _figure(figsize=(3.4 * n + 0.5, 2.9 * len(rows) + 1.0))
+    axes = fig.subplots(len(rows), n, sharex=True, sharey=True, squeeze=False)
+    for r, s in enumerate(rows):
+        for k in range(n):
+            ax = axes[r, k]
+            for d, colour, name in (("x", "tab:blue", "horizontal x"), ("y", "tab:orange",
+                                                                       "vertical y")):
+                re, im = parts[f"{d}_re"][s, k], parts[f"{d}_im"][s, k]
+                size = np.hypot(re, im)
+                ax.plot(z, re, color=colour, lw=1.5, marker=".", label=f"{name}, real part")
+                ax.fill_between(z, -size, size, color=colour, alpha=0.12, lw=0)
+            ax.axhline(0.0, color="black", lw=0.5)
+            note = f"{freq[s, k]:.2f} Hz"
+            if log_dec is not None:
+                note += f", δ {log_dec[s, k]:.3g}"
+            if codes is not None:
+                note += f", {WHIRL_MARKERS[int(np.rint(codes[s, k]))][1]}"
+            ax.set_title(f"mode {k + 1} at {speed[s]:g} Hz\n{note}", fontsize="small")
+            ax.grid(alpha=0.3)
+        axes[r, 0].set_ylabel("translation (largest 1)")
+    for ax in axes[-1]:
+        ax.set_xlabel("z [mm]")
+    axes[0, 0].legend(fontsize="x-small", loc="lower center")
+    fig.suptitle(f"{title}: lateral mode shapes (shaded: envelope ±|X| of the orbit)")
+    return fig
+
+
+def _responses(sys_: dict[str, object]) -> list[str]:
+    """The sensors with an unbalance response, at most :data:`MAX_SENSORS`."""
+    names = [k.split("/")[1] for k in sys_ if k.startswith("unbalance_response/")
+             and k.endswith("/vertical/amplitude_um")]
+    return names[:MAX_SENSORS]
+
+
+def bode(sys_: dict[str, object], title: str) -> Figure | None:
+    """Bode plot of the 1× unbalance response per sensor (one column each): amplitude [µm] and
+    phase [°] (unwrapped, against roll angle 0; none at zero amplitude) over spin speed [Hz],
+    vertical and horizontal, the critical speeds dotted; None without a stored response."""
+    sensors = _responses(sys_)
+    if not sensors or not _over_speed(sys_):
+        return None
+    speed = np.asarray(sys_["campbell/speed_hz"])
+    fig = _figure(figsize=(4.6 * len(sensors) + 0.6, 6.2))
+    axes = fig.subplots(2, len(sensors), sharex=True, squeeze=False)
+    for c, sensor in enumerate(sensors):
+        for d, colour in zip(DIRECTIONS, ("tab:orange", "tab:blue")):
+            key = f"unbalance_response/{sensor}/{d}"
+            amp = np.asarray(sys_[f"{key}/amplitude_um"])
+            # Without amplitude (at standstill) the phase means nothing: left out, and the rest
+            # unwrapped.
+            phase = np.full(amp.shape, np.nan)
+            some = amp > 0
+            phase[some] = np.degrees(np.unwrap(np.radians(sys_[f"{key}/phase_deg"][some])))
+            axes[0, c].plot(speed, amp, color=colour, label=d)
+            axes[1, c].plot(speed, phase, color=colour, label=d)
+        axes[0, c].set_title(sensor)
+        axes[1, c].set_xlabel("spin speed [Hz]")
+        for ax in axes[:, c]:
+            _mark_criticals(ax, sys_)
+            ax.grid(alpha=0.3)
+    axes[0, 0].set_ylabel("1× amplitude [µm]")
+    axes[1, 0].set_ylabel("1× phase [°] (x = A cos(θ + φ))")
+    axes[0, 0].plot([], [], color="tab:red", lw=0.8, ls=":", label="critical speeds")
+    axes[0, 0].legend(fontsize="small")
+    fig.suptitle(f"{title}: unbalance response (Bode)")
+    return fig
+
+
+def polar(sys_: dict[str, object], title: str) -> Figure | None:
+    """Polar plot of the 1× unbalance response per sensor: amplitude [µm] at angle φ [°] (phase
+    against roll angle 0) as the speed rises, vertical and horizontal, a few speeds labelled;
+    None without a stored response over two or more speeds."""
+    sensors = _responses(sys_)
+    if not sensors or not _over_speed(sys_):
+        return None
+    speed = np.asarray(sys_["campbell/speed_hz"])
+    fig = _figure(figsize=(4.6 * len(sensors) + 0.6, 5.2))
+    for c, sensor in enumerate(sensors):
+        ax = fig.add_subplot(1, len(sensors), c + 1, projection="polar")
+        for d, colour in zip(DIRECTIONS, ("tab:orange", "tab:blue")):
+            key = f"unbalance_response/{sensor}/{d}"
+            amp = np.asarray(sys_[f"{key}/amplitude_um"])
+            phi = np.radians(np.asarray(sys_[f"{key}/phase_deg"]))
+            ax.plot(phi, amp, color=colour, marker=".", ms=3, label=d)
+            # A few speeds labelled, among the points away from the centre (where they crowd).
+            big = np.flatnonzero(amp >= POLAR_LABEL_SHARE * np.max(amp, initial=0.0))
+            for i in big[np.unique(np.linspace(0, len(big) - 1, 6).round().astype(int))]:
+                ax.annotate(f"{speed[i]:g}", (phi[i], amp[i]), fontsize="x-small", color=colour)
+        ax.set_title(f"{sensor} [µm]; labels: speed [Hz]", fontsize="small", pad=16)
+        ax.tick_params(labelsize="x-small")
+    fig.axes[0].legend(fontsize="small", loc="lower left", bbox_to_anchor=(-0.15, -0.12))
+    fig.suptitle(f"{title}: unbalance response (polar, phase against roll angle 0)")
+    return fig
+
+
+def critical_map(sys_: dict[str, object], title: str) -> Figure | None:
+    """The undamped critical-speed map: the lowest :data:`MAX_MAP_CRITICALS` critical speeds
+    [Hz] against the (isotropic) support stiffness [N/m], log–log, the actual supports' kx and
+    ky marked; None without a stored map."""
+    if "critical_map/critical_speeds_hz" not in sys_:
+        return None
+    k = np.asarray(sys_["critical_map/stiffness_n_per_m"])
+    crit = np.asarray(sys_["critical_map/critical_speeds_hz"])[:, :MAX_MAP_CRITICALS]
+    fig = _figure(figsize=(8.5, 5.5))
+    ax = fig.subplots()
+    for j in range(crit.shape[1]):
+        ax.plot(k, crit[:, j], color=f"C{j}", marker=".", label=f"critical {j + 1}")
+    nodes = list(sys_.get("critical_map/support_nodes", []))
+    actual = {}
+    for d, key in (("kx", "actual_kx_n_per_m"), ("ky", "actual_ky_n_per_m")):
+        for node, value in zip(nodes, np.asarray(sys_.get(f"critical_map/{key}", []))):
+            if value > 0:
+                actual.setdefault(float(value), []).append(f"{node} {d}")
+    for i, (value, who) in enumerate(sorted(actual.items())):
+        ax.axvline(value, color="0.3", ls="--", lw=0.9)
+        ax.annotate(f"actual: {', '.join(who)}\n{value:.3g} N/m", (value, 0.02 + 0.1 * i),
+                    xycoords=("data", "axes fraction"), xytext=(4, 0),
+                    textcoords="offset points", fontsize="x-small")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("support stiffness, every support isotropic [N/m]")
+    ax.set_ylabel("undamped critical speed [Hz]")
+    ax.grid(alpha=0.3, which="both")
+    ax.yaxis.set_major_formatter(ScalarFormatter())
+    ax.yaxis.set_minor_formatter(ScalarFormatter())
+    ax.tick_params(axis="y", which="minor", labelsize="x-small")
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.set_title(f"{title}: critical-speed map")
+    return fig
+
+
+def floquet(sys_: dict[str, object], title: str) -> Figure | None:
+    """The Floquet stability chart: −ln max|μ| of the monodromy over one revolution (a log
+    decrement per revolution; < 0 unstable) over spin speed [Hz], symmetric-log scale, the
+    unstable ranges shaded and the constant-coefficient stability threshold dashed; None without
+    Floquet data at two or more speeds."""
+    if "floquet/growth_per_rev" not in sys_:
+        return None
+    speed = np.asarray(sys_["floquet/speed_hz"])
+    if speed.size < 2:
+        return None
+    decay = -np.asarray(sys_["floquet/growth_per_rev"])
+    ranges = np.asarray(sys_.get("floquet/unstable_ranges_hz", np.zeros((0, 2)))).reshape(-1, 2)
+    fig = _figure(figsize=(7.5, 5))
+    ax = fig.subplots()
+    ax.plot(speed, decay, color="tab:blue", marker=".", label="−ln max|μ| per revolution")
+    for i, (a, b) in enumerate(ranges):
+        ax.axvspan(a, b, color="tab:red", alpha=0.2,
+                   label="Floquet-unstable" if i == 0 else None)
+    threshold = sys_.get("stability_threshold_hz")
+    if threshold is not None:
+        ax.axvline(threshold, color="0.2", ls="--", lw=1,
+                   label=f"threshold of the damped modes {threshold:.2f} Hz")
+    ax.axhline(0.0, color="black", lw=0.8)
+    small = np.abs(decay[decay != 0])
+    ax.set_yscale("symlog", linthresh=float(np.min(small)) if small.size else 1e-6)
+    ax.set_xlabel("spin speed [Hz]")
+    ax.set_ylabel("−ln max|μ| per revolution (< 0: unstable)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="small")
+    state = (f"unstable {', '.join(f'{a:.2f}–{b:.2f} Hz' for a, b in ranges)}"
+             if len(ranges) else "stable at every speed")
+    ax.set_title(f"{title}: Floquet stability over one revolution (body frame)\n{state}",
+                 fontsize="medium")
+    return fig
+
+
+def linear_figures(systems: dict[str, dict[str, object]]) -> list[tuple[str, Figure | None]]:
+    """The per-system figures (mode shapes, Bode, polar, critical-speed map, Floquet) of each
+    system, named ``<figure>[-<system>].png`` (the suffix only with several systems)."""
+    out: list[tuple[str, str, Figure]] = []
+    for what in (mode_shapes, bode, polar, critical_map, floquet):
+        for name, data in systems.items():
+            fig = what(data, name)
+            if fig is not None:
+                out.append((what.__name__, name, fig))
+    counts = pd.Series([w for w, _, _ in out]).value_counts()
+    return [(f"{w}-{n}.png" if counts[w] > 1 else f"{w}.png", fig) for w, n, fig in out]
 
 
 def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -> list[Path]:
     """Writes the plots the results file ``path`` has data for into ``outdir`` (created if
     needed) and returns their paths, in the order of the module doc. ``channel`` is
-    "SENSOR/DIR". Raises :class:`PlotError` when ``path`` is not a study results file or has no
-    such channel."""
-    check_results_file(path)
+    "SENSOR/DIR" (not used for a ``rotorsweep linear -o`` file). Raises :class:`PlotError` when
+    ``path`` is neither a study results file nor a ``linear -o`` file, or has no such channel."""
+    study_file = check_results_file(path)
     sensor, _, direction = channel.partition("/")
     if direction not in DIRECTIONS:
         raise PlotError(f"channel {channel!r}: expected SENSOR/DIR, DIR {' or '.join(DIRECTIONS)}")
+    out = Path(outdir)
+    if not study_file:
+        systems = _linear_systems(path)
+        figures = [("campbell.png", campbell([(n if len(systems) > 1 else "", d)
+                                               for n, d in systems.items()],
+                                              ", ".join(systems)))]
+        out.mkdir(parents=True, exist_ok=True)
+        figures += linear_figures(systems)
+        return [_save(fig, out / name) for name, fig in figures if fig is not None]
     summary = rp.load_summary(path)
     varying = rp.varying_keys(path)
     labels = rp.job_labels(path)
@@ -370,7 +696,6 @@ def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -
     have = sorted({c for s in sweeps for c in s["lines"]} | set(trial.get("channel", [])))
     if have and channel not in have:
         raise PlotError(f"{path}: no channel {channel!r} (there are: {', '.join(have)})")
-    out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     figures: list[tuple[str, Figure | None]] = []
     for s in sweeps:
@@ -389,16 +714,22 @@ def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -
         names = settings(summary, labels, [k for k in varying if k != "solver.integrator"])
         figures.append(("stability.png", stability(summary, names, study)))
     physics = [k for k in varying if k != "speed.hz" and not k.startswith("solver.")]
-    figures.append(("campbell.png", campbell(path, settings(summary, labels, physics), study)))
+    names = settings(summary, labels, physics)
+    figures.append(("campbell.png", campbell(_study_systems(path, names), study)))
+    figures += linear_figures(_linear_systems(path))
     return [_save(fig, out / name) for name, fig in figures if fig is not None]
 
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(
         description="PNG plots of a rotorsweep study results file (spectral maps, harmonics, "
-        "trial-mass response, work-precision, timing, stability)."
+        "trial-mass response, work-precision, timing, stability, Campbell) or of a "
+        "`rotorsweep linear -o` file (Campbell, mode shapes, Bode, polar, critical-speed map, "
+        "Floquet)."
     )
-    p.add_argument("results", type=Path, help="results file of `rotorsweep run` or `merge`")
+    p.add_argument(
+        "results", type=Path, help="results file of `rotorsweep run`, `merge` or `linear -o`"
+    )
     p.add_argument(
         "-o", "--outdir", type=Path, help="folder for the PNGs (default: OUT-plots beside OUT.h5)"
     )

@@ -15,16 +15,21 @@
 //! (sag per sensor [µm], journal positions [µm], support and contact forces [N]);
 //! `critical_map` (undamped critical speeds against the supports' stiffness, actual marked);
 //! `frame`, `phase_convention`, `warnings`, `times_s`. `-o OUT.h5` writes it as a study's
-//! `/linear/<scene>` group (module doc of `src/study/campaign.rs`, extended).
+//! `/linear/<scene>` group (module doc of `src/study/campaign.rs`), extended by what `rotorsweep
+//! report` and `scripts/plots.py` draw: per Campbell entry the damping ratio, log decrement,
+//! whirl (code) and branch; the critical speeds' whirl and log decrement; the unbalance
+//! response; Floquet growth and ranges; the static sag; the critical-speed map; with `--shapes`
+//! the mode shapes at the nodes [speeds × modes × nodes] (README, `rotorsweep linear`).
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use nalgebra::DVector;
+use ndarray::Array3;
 use rotorsweep::linear::campbell::{sweep, CampbellData};
 use rotorsweep::linear::floquet::{growth_per_rev, scene_multipliers, unstable_ranges};
-use rotorsweep::linear::map::critical_map;
-use rotorsweep::linear::modes::{node_shape, Kind};
+use rotorsweep::linear::map::{critical_map, CriticalMap};
+use rotorsweep::linear::modes::{node_shape, DampedMode, Kind, Whirl};
 use rotorsweep::linear::response::{plane_response, point_unbalance, SensorResponse};
 use rotorsweep::linear::statics::{self, Static};
 use rotorsweep::linear::{LinearSystem, FRAME_NOTE};
@@ -366,7 +371,7 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
         "times_s": r.times,
     });
     if let Some(path) = &a.output {
-        write_h5(path, &scene, &out, &r)?;
+        write_h5(path, &scene, &sys, &out, &r, &map, a.shapes)?;
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&out)?);
@@ -480,12 +485,44 @@ fn print_tables(sys: &LinearSystem, out: &Value, r: &Results) {
     }
 }
 
-/// Writes `/linear/<scene>` (module doc).
+/// How `campbell/whirl` codes a mode's whirl (its `codes` attribute).
+const WHIRL_CODES: &str = "1 forward, -1 backward, 0 mixed";
+
+fn whirl_code(w: Whirl) -> f64 {
+    match w {
+        Whirl::Forward => 1.0,
+        Whirl::Backward => -1.0,
+        Whirl::Mixed => 0.0,
+    }
+}
+
+/// A value of the mode at (speed index, index in that speed's set).
+type ModeValue<'a> = dyn Fn(usize, usize, &DampedMode) -> f64 + 'a;
+
+/// A 3-D float dataset `data` under `group` with a `units` attribute (deflated).
+fn dataset_3d(
+    group: &hdf5::Group,
+    name: &str,
+    data: &Array3<f64>,
+    units: &str,
+) -> hdf5::Result<()> {
+    let mut b = group.new_dataset_builder();
+    if !data.is_empty() {
+        b = b.chunk(data.dim()).shuffle().deflate(4);
+    }
+    let ds = b.with_data(data.view()).create(name)?;
+    store::attr_str(&ds, "units", units)
+}
+
+/// Writes `/linear/<scene>` (module doc; the `--shapes` group only with `shapes`).
 fn write_h5(
     path: &std::path::Path,
     scene: &Scene,
+    sys: &LinearSystem,
     out: &Value,
     r: &Results,
+    map: &CriticalMap,
+    shapes: bool,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let text = std::fs::read_to_string(&scene.source).unwrap_or_default();
     let command = std::env::args().collect::<Vec<_>>().join(" ");
@@ -499,31 +536,49 @@ fn write_h5(
     let c = &r.campbell;
     let ns = c.speeds_hz.len();
     store::dataset(&g, "campbell/speed_hz", &c.speeds_hz, "Hz")?;
-    let lateral: Vec<Vec<&rotorsweep::linear::modes::DampedMode>> = c
+    // Per speed, the lateral modes ascending with their index in that speed's set.
+    let lateral: Vec<Vec<(usize, &DampedMode)>> = c
         .sets
         .iter()
-        .map(|s| s.modes.iter().filter(|m| m.kind == Kind::Lateral).collect())
+        .map(|s| {
+            s.modes
+                .iter()
+                .enumerate()
+                .filter(|(_, m)| m.kind == Kind::Lateral)
+                .collect()
+        })
         .collect();
     let nb = lateral.iter().map(Vec::len).min().unwrap_or(0);
-    let flat = |f: &dyn Fn(&rotorsweep::linear::modes::DampedMode) -> f64| -> Vec<f64> {
+    let flat = |f: &ModeValue<'_>| -> Vec<f64> {
         lateral
             .iter()
-            .flat_map(|l| l[..nb].iter().map(|m| f(m)))
+            .enumerate()
+            .flat_map(|(s, l)| l[..nb].iter().map(move |(j, m)| f(s, *j, m)))
             .collect()
+    };
+    let per_mode: [(&str, &ModeValue<'_>, &str); 5] = [
+        ("whirl_hz", &|_, _, m| m.freq_hz, "Hz"),
+        ("log_dec", &|_, _, m| m.log_dec, "1"),
+        ("damping_ratio", &|_, _, m| m.damping_ratio, "1"),
+        ("whirl_index", &|_, _, m| m.whirl_index, "1"),
+        ("whirl", &|_, _, m| whirl_code(m.whirl), "1"),
+    ];
+    for (name, f, units) in per_mode {
+        store::dataset_2d(&g, &format!("campbell/{name}"), (ns, nb), &flat(f), units)?;
+    }
+    let whirl = g.dataset("campbell/whirl")?;
+    store::attr_str(&whirl, "codes", WHIRL_CODES)?;
+    let branch_of = |s: usize, j: usize| {
+        c.branches
+            .iter()
+            .position(|b| b.mode[s] == Some(j))
+            .map_or(-1.0, |b| b as f64)
     };
     store::dataset_2d(
         &g,
-        "campbell/whirl_hz",
+        "campbell/branch",
         (ns, nb),
-        &flat(&|m| m.freq_hz),
-        "Hz",
-    )?;
-    store::dataset_2d(&g, "campbell/log_dec", (ns, nb), &flat(&|m| m.log_dec), "1")?;
-    store::dataset_2d(
-        &g,
-        "campbell/whirl_index",
-        (ns, nb),
-        &flat(&|m| m.whirl_index),
+        &flat(&|s, j, _| branch_of(s, j)),
         "1",
     )?;
     store::dataset(
@@ -532,6 +587,10 @@ fn write_h5(
         &f64s(&out["critical_speeds_hz"]),
         "Hz",
     )?;
+    let crit_log_dec: Vec<f64> = c.critical.iter().map(|x| x.log_dec).collect();
+    store::dataset(&g, "critical_log_dec", &crit_log_dec, "1")?;
+    let crit_whirl: Vec<String> = c.critical.iter().map(|x| x.whirl.to_string()).collect();
+    store::string_dataset(&g, "critical_whirl", &crit_whirl)?;
     if let Some(t) = c.threshold_hz {
         store::attr_f64(&g, "stability_threshold_hz", t)?;
     }
@@ -569,6 +628,52 @@ fn write_h5(
         let h: Vec<f64> = s.sensors.iter().map(|x| 1e6 * x.1.x).collect();
         store::dataset(&g, "static/sag_vertical_um", &v, "um")?;
         store::dataset(&g, "static/sag_horizontal_um", &h, "um")?;
+    }
+    // The critical-speed map, NaN-padded to the most critical speeds of any stiffness.
+    let width = map.critical_hz.iter().map(Vec::len).max().unwrap_or(0);
+    let padded: Vec<f64> = map
+        .critical_hz
+        .iter()
+        .flat_map(|row| (0..width).map(|i| row.get(i).copied().unwrap_or(f64::NAN)))
+        .collect();
+    store::dataset(&g, "critical_map/stiffness_n_per_m", &map.stiffness, "N/m")?;
+    store::dataset_2d(
+        &g,
+        "critical_map/critical_speeds_hz",
+        (map.stiffness.len(), width),
+        &padded,
+        "Hz",
+    )?;
+    let kx: Vec<f64> = map.actual.iter().map(|k| k.0).collect();
+    let ky: Vec<f64> = map.actual.iter().map(|k| k.1).collect();
+    store::dataset(&g, "critical_map/actual_kx_n_per_m", &kx, "N/m")?;
+    store::dataset(&g, "critical_map/actual_ky_n_per_m", &ky, "N/m")?;
+    let nodes: Vec<String> = scene.supports.iter().map(|s| s.node.clone()).collect();
+    store::string_dataset(
+        &store::subgroup(&g, "critical_map")?,
+        "support_nodes",
+        &nodes,
+    )?;
+    if shapes {
+        let sg = store::subgroup(&g, "shapes")?;
+        let z: Vec<f64> = sys.node_z.iter().map(|z| 1e3 * z).collect();
+        store::dataset(&sg, "node_z_mm", &z, "mm")?;
+        let nn = z.len();
+        let mut parts: [Array3<f64>; 4] = std::array::from_fn(|_| Array3::zeros((ns, nb, nn)));
+        for (s, l) in lateral.iter().enumerate() {
+            for (k, (_, m)) in l[..nb].iter().enumerate() {
+                let (x, y) = node_shape(sys, m);
+                for n in 0..nn {
+                    let v = [x[n].re, x[n].im, y[n].re, y[n].im];
+                    for (p, value) in parts.iter_mut().zip(v) {
+                        p[(s, k, n)] = value;
+                    }
+                }
+            }
+        }
+        for (name, p) in ["x_re", "x_im", "y_re", "y_im"].iter().zip(&parts) {
+            dataset_3d(&sg, name, p, "1")?;
+        }
     }
     store::attr_str(&g, "json", &out.to_string())?;
     store::finish_file(path, file, jobs)?;

@@ -1,8 +1,9 @@
 //! Tables of a study results file, for `rotorsweep report`.
 //!
-//! In: an assembled results file of `rotorsweep run` or `merge` (only read): the `/jobs/<id>`
-//! attributes (status, cause, integrator, statistics, errors against the reference, the varying
-//! keys and axis labels), `/linear/<id>` (critical speeds, first bending frequencies),
+//! In: an assembled results file of `rotorsweep run` or `merge`, or of `rotorsweep linear -o`
+//! (only read): the `/jobs/<id>` attributes (status, cause, integrator, statistics, errors
+//! against the reference, the varying keys and axis labels), `/linear/<id>` (Campbell data,
+//! critical speeds, first bending frequencies; threshold and Floquet ranges where stored),
 //! `/analysis/sweeps/<n>` (line amplitudes over speed) and `/analysis/trial_mass`.
 //! Out: a [`Report`] of neutral [`Table`]s, rendered as markdown, CSV or JSON:
 //! - `solver`: per job, CPU time [s], CPU time relative to the cheapest ok job, Newton iterations
@@ -15,7 +16,13 @@
 //! - `trial_mass`: per trial-mass job, the vertical 1× amplitude change and vector change
 //!   against the baseline [µm] at each sensor;
 //! - `stability`: per integrator and other setting, the status, max error [µm] and CPU time [s]
-//!   (a matrix in markdown, long form in CSV and JSON).
+//!   (a matrix in markdown, long form in CSV and JSON);
+//! - `linear`: per linearised system (`/linear/<id>` of a study, `/linear/<scene>` of a
+//!   `rotorsweep linear -o` file, which the report also reads), long form: the lateral modes at
+//!   every stored speed (damped frequency [Hz]; damping ratio, log decrement and whirl where
+//!   stored, as `linear -o` does and a study's Campbell data does not), the critical speeds
+//!   [Hz] with their whirl and log decrement, the stability threshold [Hz] and the
+//!   Floquet-unstable ranges [Hz] (in markdown a grid of speeds × lowest modes).
 //!
 //! Each table appears only when the file holds what it needs.
 
@@ -641,6 +648,225 @@ fn trial_mass_table(f: &File, label_key: Option<&str>) -> hdf5::Result<Option<Ta
     }))
 }
 
+/// Most speeds the markdown form of the `linear` table shows per system (evenly picked, the
+/// first and last included; CSV and JSON hold every stored speed).
+const LINEAR_MD_SPEEDS: usize = 11;
+
+/// Most modes per speed the markdown form of the `linear` table shows (the lowest).
+const LINEAR_MD_MODES: usize = 6;
+
+/// A float dataset of `g` as (values, columns: 1 for 1-D), if there.
+fn read_matrix(g: &Group, name: &str) -> Option<(Vec<f64>, usize)> {
+    let ds = g.dataset(name).ok()?;
+    let cols = match ds.shape().as_slice() {
+        [_] => 1,
+        [_, c] => *c,
+        _ => return None,
+    };
+    Some((ds.read_raw::<f64>().ok()?, cols))
+}
+
+/// The whirl of a `campbell/whirl` code (its `codes` attribute: 1 forward, −1 backward, 0 mixed).
+fn whirl_name(code: f64) -> &'static str {
+    if code > 0.5 {
+        "forward"
+    } else if code < -0.5 {
+        "backward"
+    } else {
+        "mixed"
+    }
+}
+
+/// A mode as the markdown grid shows it: `44.378 δ 0.0137 forward`, or the frequency alone.
+fn md_mode(freq: f64, log_dec: f64, whirl: &str) -> String {
+    let mut t = significant(freq, 5);
+    if log_dec.is_finite() {
+        let _ = write!(t, " δ {}", significant(log_dec, 3));
+    }
+    if !whirl.is_empty() {
+        let _ = write!(t, " {whirl}");
+    }
+    t
+}
+
+/// The rows and markdown lines of one `/linear/<name>` group (a system without Campbell data
+/// gives none).
+fn linear_system(
+    name: &str,
+    g: &Group,
+    rows: &mut Vec<Vec<Cell>>,
+    md: &mut Vec<Vec<String>>,
+) -> hdf5::Result<()> {
+    let Some((speeds, _)) = read_matrix(g, "campbell/speed_hz") else {
+        return Ok(());
+    };
+    let (freq, nb) = read_matrix(g, "campbell/whirl_hz").unwrap_or_default();
+    let stored = |name: &str| read_matrix(g, name).map(|m| m.0);
+    let (log_dec, zeta, whirl) = (
+        stored("campbell/log_dec"),
+        stored("campbell/damping_ratio"),
+        stored("campbell/whirl"),
+    );
+    let at = |v: &Option<Vec<f64>>, i: usize| v.as_ref().and_then(|v| v.get(i).copied());
+    let text = |s: &str| Cell::Text(s.to_string());
+    let row =
+        |quantity: &str, speed: f64, end: f64, mode: Cell, f: f64, z: f64, d: f64, w: &str| {
+            vec![
+                text(name),
+                text(quantity),
+                Cell::Number(speed),
+                Cell::Number(end),
+                mode,
+                Cell::Number(f),
+                Cell::Number(z),
+                Cell::Number(d),
+                text(w),
+            ]
+        };
+    let nan = f64::NAN;
+    let step = speeds
+        .len()
+        .saturating_sub(1)
+        .div_ceil(LINEAR_MD_SPEEDS - 1)
+        .max(1);
+    for (s, speed) in speeds.iter().enumerate() {
+        let mut line = vec![name.to_string(), format!("{speed:.2}")];
+        for k in 0..nb {
+            let i = s * nb + k;
+            let w = at(&whirl, i).map_or("", whirl_name);
+            let d = at(&log_dec, i).unwrap_or(nan);
+            rows.push(row(
+                "mode",
+                *speed,
+                nan,
+                Cell::Count(k as u64 + 1),
+                freq[i],
+                at(&zeta, i).unwrap_or(nan),
+                d,
+                w,
+            ));
+            if k < LINEAR_MD_MODES {
+                line.push(md_mode(freq[i], d, w));
+            }
+        }
+        if s % step == 0 || s + 1 == speeds.len() {
+            md.push(line);
+        }
+    }
+    let crit = stored("critical_speeds_hz").unwrap_or_default();
+    let crit_dec = stored("critical_log_dec");
+    let crit_whirl: Vec<String> = g
+        .dataset("critical_whirl")
+        .and_then(|d| d.read_raw::<VarLenUnicode>())
+        .map(|v| v.iter().map(|w| w.to_string()).collect())
+        .unwrap_or_default();
+    let mut line = vec![name.to_string(), "critical speeds [Hz]".to_string()];
+    for (i, c) in crit.iter().enumerate() {
+        let w = crit_whirl.get(i).map_or("", String::as_str);
+        let d = at(&crit_dec, i).unwrap_or(nan);
+        rows.push(row("critical_speed", *c, nan, text(""), *c, nan, d, w));
+        line.push(md_mode(*c, d, w));
+    }
+    if crit.is_empty() {
+        line.push("none in the range".into());
+    }
+    md.push(line);
+    // The stability threshold is computed with the damped modes only (their log decrements).
+    if log_dec.is_some() {
+        let top = speeds.last().copied().unwrap_or(nan);
+        let threshold = store::read_num(g, "stability_threshold_hz").ok();
+        rows.push(row(
+            "stability_threshold",
+            threshold.unwrap_or(nan),
+            nan,
+            text(""),
+            nan,
+            nan,
+            nan,
+            "",
+        ));
+        md.push(vec![
+            name.to_string(),
+            "stability threshold [Hz]".into(),
+            threshold.map_or_else(
+                || match speeds.as_slice() {
+                    [one] => format!("none (stable at {one:.2} Hz)"),
+                    _ => format!("none (stable over {:.2}–{top:.2} Hz)", speeds[0]),
+                },
+                |t| significant(t, 6),
+            ),
+        ]);
+    }
+    if let Some((ranges, _)) = read_matrix(g, "floquet/unstable_ranges_hz") {
+        let pairs: Vec<[f64; 2]> = ranges.chunks_exact(2).map(|p| [p[0], p[1]]).collect();
+        for [a, b] in &pairs {
+            rows.push(row("floquet_unstable", *a, *b, text(""), nan, nan, nan, ""));
+        }
+        let shown: Vec<String> = pairs
+            .iter()
+            .map(|[a, b]| format!("{}–{}", significant(*a, 6), significant(*b, 6)))
+            .collect();
+        md.push(vec![
+            name.to_string(),
+            "Floquet unstable [Hz]".into(),
+            if shown.is_empty() {
+                "none in the range".into()
+            } else {
+                shown.join(", ")
+            },
+        ]);
+    }
+    Ok(())
+}
+
+/// The `linear` table of every `/linear/<name>` group with Campbell data.
+fn linear_table(f: &File) -> hdf5::Result<Option<Table>> {
+    let Ok(lg) = f.group("linear") else {
+        return Ok(None);
+    };
+    let mut rows = Vec::new();
+    let mut md = Vec::new();
+    for name in lg.member_names()? {
+        linear_system(&name, &lg.group(&name)?, &mut rows, &mut md)?;
+    }
+    if rows.is_empty() {
+        return Ok(None);
+    }
+    let width = md.iter().map(Vec::len).max().unwrap_or(2);
+    let columns = ["system", "speed [Hz]"]
+        .iter()
+        .map(|c| c.to_string())
+        .chain((1..width - 1).map(|k| format!("mode {k}")))
+        .collect();
+    Ok(Some(Table {
+        name: "linear".into(),
+        title: format!(
+            "Linear systems: damped lateral modes per spin speed (quantity `mode`: damped \
+             frequency [Hz], damping ratio, log decrement δ, whirl, where stored; rank from 1 \
+             upwards), critical speeds [Hz] with their whirl and δ, the stability threshold [Hz] \
+             (empty: stable over the range) and the Floquet-unstable speed ranges [Hz]; in \
+             markdown at most {LINEAR_MD_SPEEDS} evenly spaced speeds and the lowest \
+             {LINEAR_MD_MODES} modes per system (CSV and JSON: all)"
+        ),
+        columns: [
+            "system",
+            "quantity",
+            "speed_hz",
+            "speed_end_hz",
+            "mode",
+            "freq_hz",
+            "damping_ratio",
+            "log_dec",
+            "whirl",
+        ]
+        .iter()
+        .map(|c| c.to_string())
+        .collect(),
+        rows,
+        markdown: Some(Grid { columns, rows: md }),
+    }))
+}
+
 /// Reads the tables of the results file at `path`. Errors name the file.
 pub fn read(path: &Path) -> Result<Report, InputError> {
     std::fs::metadata(path).map_err(|e| InputError::new(path, e.to_string()))?;
@@ -650,10 +876,19 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
         InputError::new(
             path,
             "not a study results file of `rotorsweep run` (no `study_name` attribute or no \
-             `jobs` group)",
+             `jobs` group) nor a `rotorsweep linear -o` file (no `linear` group)",
         )
     };
-    let study = store::read_str(&f, "study_name").map_err(|_| not_results())?;
+    let linear_only = store::read_str(&f, "study_name").is_err() && f.group("linear").is_ok();
+    let study = if linear_only {
+        let names = f.group("linear").and_then(|g| g.member_names());
+        format!(
+            "{} (rotorsweep linear)",
+            names.unwrap_or_default().join(", ")
+        )
+    } else {
+        store::read_str(&f, "study_name").map_err(|_| not_results())?
+    };
     if f.group("jobs").is_err() {
         return Err(not_results());
     }
@@ -680,6 +915,7 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
     if varying.iter().any(|k| k == INTEGRATOR_KEY) && varying.len() >= 2 {
         tables.push(stability_table(&jobs));
     }
+    tables.extend(linear_table(&f).map_err(failed)?);
     let (mut names, mut counts): (Vec<&str>, Vec<usize>) = (Vec::new(), Vec::new());
     for j in &jobs {
         let i = position_or_push(&mut names, &j.status);
@@ -691,16 +927,20 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
         .zip(&counts)
         .map(|(s, n)| format!("{n} {s}"))
         .collect();
-    let overview = format!(
-        "{} jobs ({}); varying: {}",
-        jobs.len(),
-        statuses.join(", "),
-        if varying.is_empty() {
-            "nothing".to_string()
-        } else {
-            varying.join(", ")
-        }
-    );
+    let overview = if linear_only {
+        "linear analysis (`rotorsweep linear -o`), no jobs".to_string()
+    } else {
+        format!(
+            "{} jobs ({}); varying: {}",
+            jobs.len(),
+            statuses.join(", "),
+            if varying.is_empty() {
+                "nothing".to_string()
+            } else {
+                varying.join(", ")
+            }
+        )
+    };
     Ok(Report {
         file: path.to_path_buf(),
         study,

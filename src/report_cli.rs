@@ -1,4 +1,5 @@
-//! `rotorsweep report`: the tables of a study results file on standard output.
+//! `rotorsweep report`: the tables of a study results file (or a `rotorsweep linear -o` file) on
+//! standard output.
 
 use std::path::PathBuf;
 
@@ -7,12 +8,12 @@ use rotorsweep::report::{self, Format};
 /// Arguments of `rotorsweep report`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Results file (HDF5) of `rotorsweep run` or `rotorsweep merge`.
+    /// Results file (HDF5) of `rotorsweep run`, `rotorsweep merge` or `rotorsweep linear -o`.
     file: PathBuf,
     /// Output format: md (markdown), csv (each table after a `# title` line) or json.
     #[arg(long, default_value = "md", value_name = "md|csv|json")]
     format: Format,
-    /// Only this table: solver, resonances, trial_mass or stability (in CSV without the title
+    /// Only this table: solver, resonances, trial_mass, stability or linear (in CSV without the title
     /// line, so that pandas.read_csv reads it).
     #[arg(long, value_name = "NAME")]
     table: Option<String>,

@@ -60,7 +60,7 @@ fn report_tables_in_markdown_csv_and_json() {
     );
     assert_eq!(
         r.table_names(),
-        vec!["solver", "resonances", "stability"],
+        vec!["solver", "resonances", "stability", "linear"],
         "no trial_mass: the study has no [analysis] baseline"
     );
 
@@ -133,8 +133,8 @@ fn report_tables_in_markdown_csv_and_json() {
     );
     // All tables: each after a `# title` line, tables apart by one blank line.
     let all = r.render(Format::Csv, None).unwrap();
-    assert_eq!(all.lines().filter(|l| l.starts_with("# ")).count(), 3);
-    assert_eq!(all.lines().filter(|l| l.is_empty()).count(), 2);
+    assert_eq!(all.lines().filter(|l| l.starts_with("# ")).count(), 4);
+    assert_eq!(all.lines().filter(|l| l.is_empty()).count(), 3);
 
     // JSON: the study and its tables, numbers as numbers.
     let json: serde_json::Value =
@@ -198,6 +198,28 @@ fn report_tables_in_markdown_csv_and_json() {
     );
     // Long form of the stability table: one row per job.
     assert_eq!(tables[2]["rows"].as_array().unwrap().len(), JOBS);
+
+    // The linear table of the study's one linearised system (one model, one set of supports):
+    // its stored Campbell data, 201 speeds 0–100 Hz × the lateral modes, frequencies only (a
+    // study stores no damping), then its critical speeds; no threshold (not computed there).
+    let linear = &tables[3];
+    let lrows = linear["rows"].as_array().unwrap();
+    let quantity = |q: &'static str| lrows.iter().filter(move |row| row[1] == q);
+    let modes: Vec<&serde_json::Value> = quantity("mode").collect();
+    let per_speed = modes.iter().filter(|row| row[2] == 0.0).count();
+    assert!(per_speed >= 4, "{per_speed} lateral modes");
+    assert_eq!(modes.len(), 201 * per_speed);
+    assert!(modes
+        .iter()
+        .all(|row| row[5].as_f64().is_some_and(|f| f > 0.0) && row[7].is_null()));
+    // The first bending pair of the reference roll on its stands (README: 30.5 / 32.3 Hz).
+    let f1 = modes[0][5].as_f64().unwrap();
+    assert!((f1 - 30.5).abs() < 0.5, "{f1}");
+    let crit: Vec<f64> = quantity("critical_speed")
+        .map(|row| row[2].as_f64().unwrap())
+        .collect();
+    assert!(crit.iter().any(|c| (c - f1).abs() < 0.1), "{crit:?}");
+    assert_eq!(quantity("stability_threshold").count(), 0);
     std::fs::remove_dir_all(d).unwrap();
 }
 

@@ -7,7 +7,11 @@ test_results.py), each 0.6 s of simulated time (0.3 s recorded) at three speeds:
 * solvers: the reference roll with bdf and gen-alpha and a [reference] → two speed sweeps, errors
   against the reference, a varying solver.integrator, 6 jobs.
 
-Both run in about a second once built; rendering takes a few seconds.
+Both run in about a second once built; rendering takes a few seconds. And a
+``rotorsweep linear -o --shapes`` file of studies/scenes/jeffcott.toml (101 speeds 0–100 Hz,
+about 8 s): its Campbell diagram with log decrements, mode shapes, Bode and polar plots,
+critical-speed map and Floquet chart (the Jeffcott's rotating damping makes it unstable above
+about 71 Hz, so the chart has a range to shade).
 """
 
 from __future__ import annotations
@@ -94,6 +98,19 @@ def trial_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.fixture(scope="module")
 def solver_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return run_study(tmp_path_factory.mktemp("solvers"), SOLVER_STUDY)
+
+
+@pytest.fixture(scope="module")
+def linear_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    d = tmp_path_factory.mktemp("linear")
+    scene = ROOT / "studies" / "scenes" / "jeffcott.toml"
+    run_ok("linear", scene, "--shapes", "-o", "lin.h5", cwd=d)
+    return d / "lin.h5"
+
+
+LINEAR_PLOTS = [
+    "campbell.png", "mode_shapes.png", "bode.png", "polar.png", "critical_map.png", "floquet.png"
+]
 
 
 def check_png(path: Path) -> np.ndarray:
@@ -205,3 +222,84 @@ def test_settings_name_labels_and_the_other_keys() -> None:
     hmax = plots.settings(summary, labels, ["solver.hmax"])
     assert list(hmax) == ["solver.hmax=0.0001"] * 2 + ["solver.hmax=5e-05"] * 2
     assert list(plots.settings(summary, labels.iloc[:, :0], [])) == [""] * 4
+
+
+def colours(img: np.ndarray) -> int:
+    """The number of distinct RGB colours of an image."""
+    return len(np.unique(img[..., :3].reshape(-1, 3), axis=0))
+
+
+def test_linear_file(linear_results: Path, tmp_path: Path) -> None:
+    """Every linear figure from a `rotorsweep linear -o` file, and what each one draws."""
+    assert plots.main([str(linear_results), "-o", str(tmp_path)]) == 0
+    for name in LINEAR_PLOTS:
+        # Lines and markers in several colours, not a blank or one-colour canvas.
+        assert colours(check_png(tmp_path / name)) > 50, name
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(LINEAR_PLOTS)
+    systems = plots._linear_systems(linear_results)
+    assert list(systems) == ["jeffcott"]
+    jeff = systems["jeffcott"]
+    # Campbell: a colour bar of the log decrements beside the panel; the markers of the
+    # forward, backward and mixed modes, the 1×…4× lines and the critical speeds.
+    fig = plots.campbell([("", jeff)], "jeffcott")
+    ax, bar = fig.axes
+    assert "log decrement" in bar.get_ylabel()
+    labels = ax.get_legend_handles_labels()[1]
+    assert labels == ["forward whirl", "backward whirl", "mixed whirl", "critical speeds"]
+    lo, hi = bar.get_ylim()
+    assert lo < 0 < hi, "the Jeffcott's first forward mode goes unstable: δ < 0 in the scale"
+    # Mode shapes: 2 speeds × 4 modes; the first mode at standstill peaks at the disk (350 mm).
+    shapes = plots.mode_shapes(jeff, "jeffcott")
+    assert len(shapes.axes) == 8
+    x, y = shapes.axes[0].lines[0].get_data()
+    assert abs(x[np.argmax(np.abs(y))] - 350.0) < 1e-6
+    # Bode: amplitude and phase of the disk sensor, both directions; the peak at the first
+    # critical speed (within the 1 Hz speed step).
+    fig = plots.bode(jeff, "jeffcott")
+    amp = fig.axes[0]
+    assert amp.get_title() == "disk"
+    speed, vertical = amp.lines[0].get_data()
+    crit = jeff["critical_speeds_hz"]
+    assert abs(speed[np.argmax(vertical)] - crit[0]) <= 1.0, (speed[np.argmax(vertical)], crit)
+    # Polar: one polar axes per sensor.
+    assert [a.name for a in plots.polar(jeff, "jeffcott").axes] == ["polar"]
+    # Critical-speed map: the lowest six criticals, log–log, the actual stiffness marked.
+    fig = plots.critical_map(jeff, "jeffcott")
+    ax = fig.axes[0]
+    assert ax.get_xscale() == "log" and len(ax.get_legend_handles_labels()[1]) == 6
+    marks = [ln.get_xdata()[0] for ln in ax.lines if ln.get_linestyle() == "--"]
+    assert marks == [2e7]
+    # Floquet: the unstable range shaded where the file says, and the threshold marked.
+    fig = plots.floquet(jeff, "jeffcott")
+    ranges = jeff["floquet/unstable_ranges_hz"]
+    assert ranges.shape == (1, 2) and 60 < ranges[0, 0] < 80
+    spans = fig.axes[0].patches
+    assert len(spans) == 1
+    x0, x1 = spans[0].get_x(), spans[0].get_x() + spans[0].get_width()
+    assert (x0, x1) == pytest.approx(tuple(ranges[0]))
+    assert "unstable" in fig.axes[0].get_title()
+
+
+def test_study_campbell_without_damping(trial_results: Path) -> None:
+    """A study stores frequencies only: the Campbell diagram has no colour bar, and no other
+    linear figure is drawn. The trial mass changes the model: two linear systems, two panels."""
+    summary = rp.load_summary(trial_results)
+    names = pd.Series("", index=summary["job_id"])
+    systems = plots._study_systems(trial_results, names)
+    assert len(systems) == 2
+    fig = plots.campbell(systems, "t")
+    assert len(fig.axes) == 2 and not any("log decrement" in a.get_ylabel() for a in fig.axes)
+    assert plots.linear_figures(plots._linear_systems(trial_results)) == []
+
+
+def test_linear_file_of_one_speed(tmp_path: Path) -> None:
+    """`rotorsweep linear --speed-hz`: nothing to draw over speed, only the mode shapes (one
+    row) and the critical-speed map."""
+    scene = ROOT / "studies" / "scenes" / "jeffcott.toml"
+    run_ok("linear", scene, "--speed-hz", "20", "--shapes", "-o", "one.h5", cwd=tmp_path)
+    written = plots.render(tmp_path / "one.h5", tmp_path / "plots")
+    assert [p.name for p in written] == ["mode_shapes.png", "critical_map.png"]
+    for p in written:
+        check_png(p)
+    jeff = plots._linear_systems(tmp_path / "one.h5")["jeffcott"]
+    assert len(plots.mode_shapes(jeff, "jeffcott").axes) == 4
