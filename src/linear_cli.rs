@@ -81,6 +81,9 @@ pub struct Args {
     /// Write the results to this HDF5 file (a study's `/linear` layout).
     #[arg(short = 'o', long)]
     output: Option<PathBuf>,
+    /// Replace an existing output file (only a rotorsweep results file).
+    #[arg(long, requires = "output")]
+    overwrite: bool,
 }
 
 fn parse_speeds(a: &Args) -> Result<Vec<f64>, String> {
@@ -319,7 +322,16 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
         return Err("--floquet-cutoff-hz must be positive".into());
     }
     let (scene, model) = crate::modes::load_model(&a.scene, &a.set, a.modes.as_deref())?;
-    let sys = LinearSystem::of_scene(&scene, &model)?;
+    // The output is claimed before the work (store::output): one writer, nothing replaced
+    // that is not a rotorsweep results file.
+    let _lock = a
+        .output
+        .as_deref()
+        .map(|p| store::output::claim(p, a.overwrite))
+        .transpose()?;
+    let sys = LinearSystem::of_scene(&scene, &model).map_err(|e| {
+        rotorsweep::error::InputError::new(&a.scene, format!("linear analysis: {e}"))
+    })?;
     let r = compute(a, &scene, &model, &sys)?;
     let c = &r.campbell;
     let stiff: Vec<f64> = (0..=24)
@@ -371,7 +383,10 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
         "times_s": r.times,
     });
     if let Some(path) = &a.output {
-        write_h5(path, &scene, &sys, &out, &r, &map, a.shapes)?;
+        if let Err(e) = write_h5(path, &scene, &sys, &out, &r, &map, a.shapes) {
+            let _ = std::fs::remove_file(store::with_suffix(path, ".tmp"));
+            return Err(store::output::OutputError::Write(path.clone(), e.to_string()).into());
+        }
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&out)?);

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use rotorsweep::job;
 use rotorsweep::model::Model;
 use rotorsweep::scene::{parse_override, Scene};
-use rotorsweep::store::output::{self, OutputError, OutputLock};
+use rotorsweep::store::output::{self, OutputError};
 use rotorsweep::store::{self, Param};
 use serde::Serialize;
 
@@ -58,15 +58,11 @@ pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
     let scene = Scene::load(&a.scene, &a.set)?;
     let text = std::fs::read_to_string(&a.scene).map_err(output::io_at(&a.scene))?;
     // The output is claimed before the run: a refused or busy output costs nothing.
-    let _lock = match &a.output {
-        Some(p) => {
-            let lock = OutputLock::acquire(p)?;
-            output::check_replace(p, a.overwrite)?;
-            output::check_working_file(&store::with_suffix(p, ".tmp"))?;
-            Some(lock)
-        }
-        None => None,
-    };
+    let _lock = a
+        .output
+        .as_deref()
+        .map(|p| output::claim(p, a.overwrite))
+        .transpose()?;
     let model = Model::build(&scene, None)?;
     let r = job::run(&scene, &model);
     let s = &r.stats;

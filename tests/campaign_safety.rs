@@ -99,10 +99,19 @@ fn outputs_that_are_not_rotorsweep_results_are_never_replaced() {
         targets.push(("cdev", "is a character device"));
     }
     for (target, why) in targets {
-        let commands: [Vec<&str>; 3] = [
+        let commands: [Vec<&str>; 4] = [
             vec!["run", "s.toml", "-o", target, "--overwrite"],
             vec!["simulate", scene, "-o", target, "--overwrite"],
             vec!["merge", "mine.h5", "-o", target, "--overwrite"],
+            vec![
+                "linear",
+                scene,
+                "--speed-hz",
+                "10",
+                "-o",
+                target,
+                "--overwrite",
+            ],
         ];
         for args in commands {
             let o = rs(&d, &args);
@@ -129,6 +138,7 @@ fn outputs_that_are_not_rotorsweep_results_are_never_replaced() {
         vec!["run", "s.toml", "-o", "mine.h5"],
         vec!["simulate", scene, "-o", "mine.h5"],
         vec!["merge", "mine.h5", "-o", "other.h5"],
+        vec!["linear", scene, "--speed-hz", "10", "-o", "mine.h5"],
     ] {
         let o = rs(&d, &args);
         assert_eq!(code(&o), USAGE, "{args:?}: {}", stderr(&o));
@@ -145,6 +155,19 @@ fn outputs_that_are_not_rotorsweep_results_are_never_replaced() {
     run_ok(&d, &["simulate", scene, "-o", "sim.h5", "--overwrite"]);
     run_ok(&d, &["merge", "mine.h5", "-o", "m.h5"]);
     run_ok(&d, &["merge", "mine.h5", "-o", "m.h5", "--overwrite"]);
+    run_ok(&d, &["linear", scene, "--speed-hz", "10", "-o", "lin.h5"]);
+    run_ok(
+        &d,
+        &[
+            "linear",
+            scene,
+            "--speed-hz",
+            "10",
+            "-o",
+            "lin.h5",
+            "--overwrite",
+        ],
+    );
     // An output in a folder that does not exist names the folder.
     let o = rs(&d, &["run", "s.toml", "-o", "no/such/dir/x.h5"]);
     assert_ne!(code(&o), 0);
@@ -191,6 +214,14 @@ fn a_second_process_on_the_same_output_fails_at_once_naming_the_holder() {
         vec!["run", "s.toml", "-o", "out.h5", "--overwrite"],
         vec!["simulate", scene.to_str().unwrap(), "-o", "out.h5"],
         vec!["merge", "whatever.h5", "-o", "out.h5"],
+        vec![
+            "linear",
+            scene.to_str().unwrap(),
+            "--speed-hz",
+            "10",
+            "-o",
+            "out.h5",
+        ],
     ] {
         let o = rs(&d, &args);
         let e = stderr(&o);

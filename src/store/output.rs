@@ -158,6 +158,16 @@ pub fn check_working_file(path: &Path) -> Result<(), OutputError> {
     }
 }
 
+/// Claims a single-file output for a command that writes it whole (`simulate`, `linear`):
+/// takes its lock, then checks that it may be replaced and that its working file `OUT.h5.tmp`
+/// may be written. Called before any work, so a refused or busy output costs nothing.
+pub fn claim(path: &Path, overwrite: bool) -> Result<OutputLock, OutputError> {
+    let lock = OutputLock::acquire(path)?;
+    check_replace(path, overwrite)?;
+    check_working_file(&super::with_suffix(path, ".tmp"))?;
+    Ok(lock)
+}
+
 /// The lock file of an output.
 pub fn lock_path(output: &Path) -> PathBuf {
     super::with_suffix(output, ".lock")
