@@ -29,7 +29,7 @@ use ndarray::Array3;
 use rotorsweep::linear::campbell::{sweep, CampbellData};
 use rotorsweep::linear::floquet::{growth_per_rev, scene_multipliers, unstable_ranges};
 use rotorsweep::linear::map::{critical_map, CriticalMap};
-use rotorsweep::linear::modes::{node_shape, DampedMode, Kind, Whirl};
+use rotorsweep::linear::modes::{node_shape, Kind};
 use rotorsweep::linear::response::{plane_response, point_unbalance, SensorResponse};
 use rotorsweep::linear::statics::{self, Static};
 use rotorsweep::linear::{LinearSystem, FRAME_NOTE};
@@ -501,19 +501,6 @@ fn print_tables(sys: &LinearSystem, out: &Value, r: &Results) {
 }
 
 /// How `campbell/whirl` codes a mode's whirl (its `codes` attribute).
-const WHIRL_CODES: &str = "1 forward, -1 backward, 0 mixed";
-
-fn whirl_code(w: Whirl) -> f64 {
-    match w {
-        Whirl::Forward => 1.0,
-        Whirl::Backward => -1.0,
-        Whirl::Mixed => 0.0,
-    }
-}
-
-/// A value of the mode at (speed index, index in that speed's set).
-type ModeValue<'a> = dyn Fn(usize, usize, &DampedMode) -> f64 + 'a;
-
 /// A 3-D float dataset `data` under `group` with a `units` attribute (deflated).
 fn dataset_3d(
     group: &hdf5::Group,
@@ -548,67 +535,9 @@ fn write_h5(
     let first = |v: &[f64]| v.first().copied().unwrap_or(f64::NAN);
     store::attr_f64(&g, "vertical_hz", first(&r.supported.0))?;
     store::attr_f64(&g, "horizontal_hz", first(&r.supported.1))?;
-    let c = &r.campbell;
-    let ns = c.speeds_hz.len();
-    store::dataset(&g, "campbell/speed_hz", &c.speeds_hz, "Hz")?;
-    // Per speed, the lateral modes ascending with their index in that speed's set.
-    let lateral: Vec<Vec<(usize, &DampedMode)>> = c
-        .sets
-        .iter()
-        .map(|s| {
-            s.modes
-                .iter()
-                .enumerate()
-                .filter(|(_, m)| m.kind == Kind::Lateral)
-                .collect()
-        })
-        .collect();
-    let nb = lateral.iter().map(Vec::len).min().unwrap_or(0);
-    let flat = |f: &ModeValue<'_>| -> Vec<f64> {
-        lateral
-            .iter()
-            .enumerate()
-            .flat_map(|(s, l)| l[..nb].iter().map(move |(j, m)| f(s, *j, m)))
-            .collect()
-    };
-    let per_mode: [(&str, &ModeValue<'_>, &str); 5] = [
-        ("whirl_hz", &|_, _, m| m.freq_hz, "Hz"),
-        ("log_dec", &|_, _, m| m.log_dec, "1"),
-        ("damping_ratio", &|_, _, m| m.damping_ratio, "1"),
-        ("whirl_index", &|_, _, m| m.whirl_index, "1"),
-        ("whirl", &|_, _, m| whirl_code(m.whirl), "1"),
-    ];
-    for (name, f, units) in per_mode {
-        store::dataset_2d(&g, &format!("campbell/{name}"), (ns, nb), &flat(f), units)?;
-    }
-    let whirl = g.dataset("campbell/whirl")?;
-    store::attr_str(&whirl, "codes", WHIRL_CODES)?;
-    let branch_of = |s: usize, j: usize| {
-        c.branches
-            .iter()
-            .position(|b| b.mode[s] == Some(j))
-            .map_or(-1.0, |b| b as f64)
-    };
-    store::dataset_2d(
-        &g,
-        "campbell/branch",
-        (ns, nb),
-        &flat(&|s, j, _| branch_of(s, j)),
-        "1",
-    )?;
-    store::dataset(
-        &g,
-        "critical_speeds_hz",
-        &f64s(&out["critical_speeds_hz"]),
-        "Hz",
-    )?;
-    let crit_log_dec: Vec<f64> = c.critical.iter().map(|x| x.log_dec).collect();
-    store::dataset(&g, "critical_log_dec", &crit_log_dec, "1")?;
-    let crit_whirl: Vec<String> = c.critical.iter().map(|x| x.whirl.to_string()).collect();
-    store::string_dataset(&g, "critical_whirl", &crit_whirl)?;
-    if let Some(t) = c.threshold_hz {
-        store::attr_f64(&g, "stability_threshold_hz", t)?;
-    }
+    rotorsweep::linear::campbell::write(&g, &r.campbell)?;
+    let (lateral, nb) = rotorsweep::linear::campbell::lateral_modes(&r.campbell);
+    let ns = r.campbell.speeds_hz.len();
     for (sensor, v) in out["unbalance_response"].as_object().into_iter().flatten() {
         for dir in ["vertical", "horizontal"] {
             let p = format!("unbalance_response/{sensor}/{dir}");

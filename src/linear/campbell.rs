@@ -12,7 +12,7 @@
 
 use nalgebra::{Complex, DMatrix, DVector};
 
-use super::modes::{damped_modes, mac, Kind, ModeSet, Split, Whirl, UNSTABLE_ZETA};
+use super::modes::{damped_modes, mac, DampedMode, Kind, ModeSet, Split, Whirl, UNSTABLE_ZETA};
 use super::system::{LinearError, LinearSystem};
 
 const TAU: f64 = 2.0 * std::f64::consts::PI;
@@ -315,4 +315,92 @@ pub fn campbell(sys: &LinearSystem, max_hz: f64, n: usize) -> Result<Campbell, L
         critical_hz: data.critical.iter().map(|c| c.speed_hz).collect(),
         speeds_hz: speeds,
     })
+}
+
+/// What `campbell/whirl` codes mean.
+pub const WHIRL_CODES: &str = "1 forward, -1 backward, 0 mixed";
+
+/// A whirl direction as its `campbell/whirl` code.
+pub fn whirl_code(w: Whirl) -> f64 {
+    match w {
+        Whirl::Forward => 1.0,
+        Whirl::Backward => -1.0,
+        Whirl::Mixed => 0.0,
+    }
+}
+
+/// Per speed, the lateral modes ascending with their index in that speed's set, and the number
+/// of them every speed has (the branches the stored arrays hold).
+pub fn lateral_modes(c: &CampbellData) -> (Vec<Vec<(usize, &DampedMode)>>, usize) {
+    let lateral: Vec<Vec<(usize, &DampedMode)>> = c
+        .sets
+        .iter()
+        .map(|s| {
+            s.modes
+                .iter()
+                .enumerate()
+                .filter(|(_, m)| m.kind == Kind::Lateral)
+                .collect()
+        })
+        .collect();
+    let nb = lateral.iter().map(Vec::len).min().unwrap_or(0);
+    (lateral, nb)
+}
+
+/// A value of the mode at (speed index, index in that speed's set).
+type ModeValue<'a> = dyn Fn(usize, usize, &DampedMode) -> f64 + 'a;
+
+/// Writes Campbell data under `g` in the layout shared by `rotorsweep linear -o` and a study's
+/// `/linear/<id>`: `campbell/speed_hz` [Hz]; per speed × lateral branch (the lowest `nb`
+/// lateral modes every speed has, ascending) `campbell/whirl_hz` [Hz], `log_dec`,
+/// `damping_ratio`, `whirl_index`, `whirl` (codes in its `codes` attribute) and `branch` (the
+/// matched branch, −1 none); `critical_speeds_hz` [Hz] with `critical_log_dec` and
+/// `critical_whirl`; the attribute `stability_threshold_hz` when a speed is unstable.
+pub fn write(g: &hdf5::Group, c: &CampbellData) -> hdf5::Result<()> {
+    use crate::store;
+    let ns = c.speeds_hz.len();
+    store::dataset(g, "campbell/speed_hz", &c.speeds_hz, "Hz")?;
+    let (lateral, nb) = lateral_modes(c);
+    let flat = |f: &ModeValue<'_>| -> Vec<f64> {
+        lateral
+            .iter()
+            .enumerate()
+            .flat_map(|(s, l)| l[..nb].iter().map(move |(j, m)| f(s, *j, m)))
+            .collect()
+    };
+    let per_mode: [(&str, &ModeValue<'_>, &str); 5] = [
+        ("whirl_hz", &|_, _, m| m.freq_hz, "Hz"),
+        ("log_dec", &|_, _, m| m.log_dec, "1"),
+        ("damping_ratio", &|_, _, m| m.damping_ratio, "1"),
+        ("whirl_index", &|_, _, m| m.whirl_index, "1"),
+        ("whirl", &|_, _, m| whirl_code(m.whirl), "1"),
+    ];
+    for (name, f, units) in per_mode {
+        store::dataset_2d(g, &format!("campbell/{name}"), (ns, nb), &flat(f), units)?;
+    }
+    let whirl = g.dataset("campbell/whirl")?;
+    store::attr_str(&whirl, "codes", WHIRL_CODES)?;
+    let branch_of = |s: usize, j: usize| {
+        c.branches
+            .iter()
+            .position(|b| b.mode[s] == Some(j))
+            .map_or(-1.0, |b| b as f64)
+    };
+    store::dataset_2d(
+        g,
+        "campbell/branch",
+        (ns, nb),
+        &flat(&|s, j, _| branch_of(s, j)),
+        "1",
+    )?;
+    let crit: Vec<f64> = c.critical.iter().map(|x| x.speed_hz).collect();
+    store::dataset(g, "critical_speeds_hz", &crit, "Hz")?;
+    let crit_log_dec: Vec<f64> = c.critical.iter().map(|x| x.log_dec).collect();
+    store::dataset(g, "critical_log_dec", &crit_log_dec, "1")?;
+    let crit_whirl: Vec<String> = c.critical.iter().map(|x| x.whirl.to_string()).collect();
+    store::string_dataset(g, "critical_whirl", &crit_whirl)?;
+    if let Some(t) = c.threshold_hz {
+        store::attr_f64(g, "stability_threshold_hz", t)?;
+    }
+    Ok(())
 }

@@ -34,7 +34,7 @@ use rayon::prelude::*;
 
 use super::identity::{describe_mismatch, Identity};
 use super::{Job, Study};
-use crate::dynamics::linear::{campbell, LinearSystem};
+use crate::dynamics::linear::LinearSystem;
 use crate::error::InputError;
 use crate::integrators::{Stats, Status};
 use crate::job::{self, JobResult};
@@ -792,16 +792,19 @@ fn errors_against(
 const CAMPBELL_MAX_HZ: f64 = 100.0;
 const CAMPBELL_SPEEDS: usize = 201;
 
-/// A job's model on its linearised supports (`/linear/<linear_id>`): `campbell/speed_hz` [Hz],
-/// `campbell/whirl_hz` [speeds × branches, Hz], `critical_speeds_hz`, and as attributes the
-/// `model_id` and the first bending frequencies at standstill (`vertical_hz`, `horizontal_hz`);
-/// a failure is stored as the attribute `linear_error`.
+/// A job's model on its linearised supports (`/linear/<linear_id>`): the damped modes over
+/// 0 … 100 Hz in the layout of `rotorsweep linear -o` (`linear::campbell::write`: whirl
+/// frequencies, log decrements, damping ratios, whirl directions and branches per speed, the
+/// critical speeds, the stability threshold), the attribute `frame` (the linearisation), and
+/// as attributes the `model_id` and the first bending frequencies at standstill
+/// (`vertical_hz`, `horizontal_hz`); a failure is stored as the attribute `linear_error`.
 fn write_linear(g: &hdf5::Group, model_id: &str, scene: &Scene, m: &Model) -> hdf5::Result<()> {
     store::attr_str(g, "model_id", model_id)?;
     let sys = match LinearSystem::of_scene(scene, m) {
         Ok(s) => s,
         Err(e) => return store::attr_str(g, "linear_error", &e.to_string()),
     };
+    store::attr_str(g, "frame", crate::linear::FRAME_NOTE)?;
     let standstill = sys.standstill_modes().unwrap_or_default();
     let first = |k: ModeKind| -> f64 {
         standstill
@@ -811,24 +814,11 @@ fn write_linear(g: &hdf5::Group, model_id: &str, scene: &Scene, m: &Model) -> hd
     };
     store::attr_f64(g, "vertical_hz", first(ModeKind::BendingY))?;
     store::attr_f64(g, "horizontal_hz", first(ModeKind::BendingX))?;
-    match campbell(&sys, CAMPBELL_MAX_HZ, CAMPBELL_SPEEDS) {
-        Ok(c) => {
-            store::dataset(g, "campbell/speed_hz", &c.speeds_hz, "Hz")?;
-            let branches = c.whirl_hz.iter().map(Vec::len).min().unwrap_or(0);
-            let flat: Vec<f64> = c
-                .whirl_hz
-                .iter()
-                .flat_map(|w| w[..branches].iter().copied())
-                .collect();
-            store::dataset_2d(
-                g,
-                "campbell/whirl_hz",
-                (c.speeds_hz.len(), branches),
-                &flat,
-                "Hz",
-            )?;
-            store::dataset(g, "critical_speeds_hz", &c.critical_hz, "Hz")
-        }
+    let speeds: Vec<f64> = (0..CAMPBELL_SPEEDS)
+        .map(|i| CAMPBELL_MAX_HZ * i as f64 / (CAMPBELL_SPEEDS - 1) as f64)
+        .collect();
+    match crate::linear::campbell::sweep(&sys, &speeds, None) {
+        Ok(c) => crate::linear::campbell::write(g, &c),
         Err(e) => store::attr_str(g, "linear_error", &e.to_string()),
     }
 }
