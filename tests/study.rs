@@ -164,7 +164,7 @@ fn run_study(study: &Study, out: &Path, threads: usize, shard: Option<(usize, us
     campaign::run(study, &opts).unwrap();
 }
 
-/// Every float dataset under `group` as raw f64 bits, by path.
+/// Every dataset under `group` by path: floats as raw f64 bits, strings as their bytes.
 fn group_data(path: &Path, group: &str) -> Vec<(String, Vec<u64>)> {
     fn walk(g: &hdf5::Group, prefix: &str, out: &mut Vec<(String, Vec<u64>)>) {
         for name in g.member_names().unwrap() {
@@ -172,8 +172,17 @@ fn group_data(path: &Path, group: &str) -> Vec<(String, Vec<u64>)> {
             if let Ok(sub) = g.group(&name) {
                 walk(&sub, &p, out);
             } else {
-                let v: Vec<f64> = g.dataset(&name).unwrap().read_raw().unwrap();
-                out.push((p, v.iter().map(|x| x.to_bits()).collect()));
+                let ds = g.dataset(&name).unwrap();
+                let bits: Vec<u64> = match ds.read_raw::<f64>() {
+                    Ok(v) => v.iter().map(|x| x.to_bits()).collect(),
+                    Err(_) => ds
+                        .read_raw::<hdf5::types::VarLenUnicode>()
+                        .unwrap()
+                        .iter()
+                        .flat_map(|s| s.as_str().bytes().map(u64::from))
+                        .collect(),
+                };
+                out.push((p, bits));
             }
         }
     }
@@ -215,8 +224,9 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     let linear = group_data(&d.join("one.h5"), "linear");
     assert_eq!(
         linear.len(),
-        3,
-        "one system: Campbell speeds, whirl, critical speeds"
+        10,
+        "one system: Campbell speeds, whirl_hz, log_dec, damping_ratio, whirl_index, whirl, \
+         branch; critical speeds with their log dec and whirl"
     );
     assert_eq!(linear, group_data(&d.join("two.h5"), "linear"));
     assert_eq!(linear, group_data(&d.join("merged.h5"), "linear"));
