@@ -24,9 +24,9 @@ pub struct RunArgs {
     /// Results file (HDF5).
     #[arg(short, long)]
     output: PathBuf,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    threads: Option<usize>,
+    /// Worker threads (default: all cores; at most 1024).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=1024))]
+    threads: Option<u16>,
     /// Finish an interrupted run: keep its saved jobs, run the rest.
     #[arg(long)]
     resume: bool,
@@ -207,7 +207,7 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
 /// Runs `run`; Ok(true) when every job ended ok.
 pub fn run(a: &RunArgs) -> Result<bool, Box<dyn std::error::Error>> {
     let st = Study::load(&a.study)?;
-    let threads = a.threads.unwrap_or_else(|| {
+    let threads = a.threads.map(usize::from).unwrap_or_else(|| {
         std::thread::available_parallelism()
             .map(|n| n.get())
             .unwrap_or(1)

@@ -81,3 +81,29 @@ pub fn toml_kind(text: &str) -> Option<&'static str> {
         _ => None,
     }
 }
+
+/// The largest input file read (scenes, studies, maps): 64 MiB, far above any real one.
+pub const MAX_INPUT_BYTES: u64 = 64 << 20;
+
+/// Reads an input file as text, like `std::fs::read_to_string`, but only a regular file of at
+/// most [`MAX_INPUT_BYTES`]: a FIFO would block, and `/dev/zero` would fill the memory.
+pub fn read_text(path: &Path) -> std::io::Result<String> {
+    let m = std::fs::metadata(path)?;
+    if !m.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file (a directory, device or FIFO)",
+        ));
+    }
+    if m.len() > MAX_INPUT_BYTES {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!(
+                "{} bytes: larger than the {} MiB an input file may have",
+                m.len(),
+                MAX_INPUT_BYTES >> 20
+            ),
+        ));
+    }
+    std::fs::read_to_string(path)
+}

@@ -318,7 +318,7 @@ impl ThicknessMap {
                 ),
             ));
         }
-        let text = std::fs::read_to_string(path)
+        let text = crate::error::read_text(path)
             .map_err(|e| InputError::new(path, format!("cannot be read: {e}")))?;
         let points = parse_points(path, &text, length_m)?;
         let stations = group_stations(path, points, length_m)?;

@@ -329,6 +329,7 @@ fn resume_runs_again_saved_jobs_of_other_inputs() {
     for id in first.group("jobs").unwrap().member_names().unwrap() {
         let p = hdf5::File::create(parts.join(format!("{id}.h5"))).unwrap();
         rotorsweep::store::copy_object(&first.group("jobs").unwrap(), &id, &p, "job").unwrap();
+        rotorsweep::store::attr_str(&p, "tool", "rotorsweep").unwrap();
         rotorsweep::store::attr_str(&p, "study_digest", "0123").unwrap();
     }
     drop(first);
@@ -367,20 +368,24 @@ fn merge_refuses_incomplete_mixed_duplicate_and_foreign_shards() {
         &text.replace("name = \"t\"", "name = \"t\"\ndescription = \"edited\""),
     );
     run_ok(&d, &["run", "s.toml", "-o", "e1of2.h5", "--shard", "1/2"]);
-    let refuse = |args: &[&str], what: &[&str]| {
+    // Wrong input files are input errors (1); a wrong set of them on the command line, usage
+    // errors (64).
+    let refuse_as = |want: i32, args: &[&str], what: &[&str]| {
         let o = rs(&d, args);
         let e = stderr(&o);
-        assert_eq!(code(&o), USAGE, "{args:?}: {e}");
+        assert_eq!(code(&o), want, "{args:?}: {e}");
         for w in what {
             assert!(e.contains(w), "{args:?}: {e}");
         }
         assert!(!d.join("m.h5").exists());
     };
+    let refuse = |args: &[&str], what: &[&str]| refuse_as(USAGE, args, what);
     refuse(
         &["merge", "s0of2.h5", "-o", "m.h5"],
         &["shards missing: 1/2", "--partial"],
     );
-    refuse(
+    refuse_as(
+        1,
         &["merge", "s0of2.h5", "s1of3.h5", "-o", "m.h5"],
         &[
             "different splits",
@@ -396,9 +401,18 @@ fn merge_refuses_incomplete_mixed_duplicate_and_foreign_shards() {
         &["merge", "s0of2.h5", "./s0of2.h5", "-o", "m.h5"],
         &["given twice"],
     );
-    refuse(
+    refuse_as(
+        1,
         &["merge", "s0of2.h5", "e1of2.h5", "-o", "m.h5"],
-        &["e1of2.h5 comes from other inputs", "study s.toml changed"],
+        &["e1of2.h5: comes from other inputs", "study s.toml differs"],
+    );
+    // A file that is not a study's results (a simulate file) says so, as an input error.
+    let scene = common::repo().join("studies/scenes/jeffcott.toml");
+    run_ok(&d, &["simulate", scene.to_str().unwrap(), "-o", "sim.h5"]);
+    refuse_as(
+        1,
+        &["merge", "s0of2.h5", "sim.h5", "-o", "m.h5"],
+        &["sim.h5: has no study digest", "simulate"],
     );
     refuse(
         &["merge", "s0of2.h5", "-o", "s0of2.h5", "--overwrite"],
@@ -478,6 +492,20 @@ fn a_full_disk_stops_the_campaign_and_resume_completes_it_to_the_same_results() 
     assert_eq!(code(&limited), IO, "{e}");
     assert!(e.contains("File too large (errno 27)"), "{e}");
     assert!(!d.join("big.h5").exists() && !d.join("big.h5.tmp").exists());
+    // A limit just below the whole file's size: the write fails at the very end (the final
+    // flush; review finding: the broken file was renamed into place and the parts removed).
+    // Refused with the cause; the parts stay, and --resume completes.
+    let kib = std::fs::metadata(d.join("whole.h5")).unwrap().len() / 1024;
+    let limited = run_limited(&d, (kib - 2) as u32, "late.h5");
+    let e = stderr(&limited);
+    assert_eq!(code(&limited), IO, "{e}");
+    assert!(e.contains("late.h5.tmp"), "{e}");
+    assert!(!d.join("late.h5").exists() && d.join("late.h5.parts").exists());
+    run_ok(&d, &["run", "s.toml", "-o", "late.h5", "--resume"]);
+    assert_eq!(
+        common::results_content(&d.join("late.h5")),
+        common::results_content(&d.join("whole.h5"))
+    );
 }
 
 #[test]
@@ -523,4 +551,90 @@ fn usage_errors_have_their_own_exit_code() {
     assert!(stderr(&o).contains("missing.toml"));
     // --help is not an error.
     assert_eq!(code(&rs(&d, &["run", "--help"])), 0);
+}
+
+#[test]
+fn files_rotorsweep_did_not_write_are_never_removed_or_replaced() {
+    // Review findings: a user's files under rotorsweep's working names (a part-like name in the
+    // parts folder, OUT.h5.tmp, OUT.h5.lock) were deleted by --overwrite, --resume or a run.
+    let d = scratch_dir("safety-working-names");
+    tiny_study(&d, "s.toml");
+    let parts = d.join("w.h5.parts");
+    std::fs::create_dir(&parts).unwrap();
+    let notes = write_file(&parts, "j0123456789abcdef.h5", "my notes");
+    for args in [
+        vec!["run", "s.toml", "-o", "w.h5", "--overwrite"],
+        vec!["run", "s.toml", "-o", "w.h5", "--resume"],
+    ] {
+        let o = rs(&d, &args);
+        assert_ne!(code(&o), 0, "{args:?}");
+        assert!(
+            stderr(&o).contains("j0123456789abcdef.h5"),
+            "{}",
+            stderr(&o)
+        );
+        assert_eq!(std::fs::read_to_string(&notes).unwrap(), "my notes");
+    }
+    for name in ["b.h5.tmp", "b.h5.lock"] {
+        let f = write_file(&d, name, "precious");
+        let o = rs(&d, &["run", "s.toml", "-o", "b.h5"]);
+        assert_eq!(code(&o), USAGE, "{}", stderr(&o));
+        assert!(stderr(&o).contains(name), "{}", stderr(&o));
+        assert_eq!(std::fs::read_to_string(&f).unwrap(), "precious");
+        std::fs::remove_file(f).unwrap();
+    }
+    // Another shard's saved jobs on the same output are not discarded by a resume.
+    let text = study_text("[[axes]]\nkey = \"speed.hz\"\nvalues = [12.0, 13.0, 14.0, 15.0]\n");
+    write_file(&d, "four.toml", &text);
+    let sharded = d.join("sh.h5.parts");
+    std::fs::create_dir(&sharded).unwrap();
+    run_ok(&d, &["run", "four.toml", "-o", "s0.h5", "--shard", "0/2"]);
+    let s0 = hdf5::File::open(d.join("s0.h5")).unwrap();
+    let jobs = s0.group("jobs").unwrap();
+    let id = jobs.member_names().unwrap()[0].clone();
+    {
+        let p = hdf5::File::create(sharded.join(format!("{id}.h5"))).unwrap();
+        rotorsweep::store::copy_object(&jobs, &id, &p, "job").unwrap();
+        rotorsweep::store::attr_str(&p, "tool", "rotorsweep").unwrap();
+    }
+    drop((jobs, s0));
+    let o = rs(
+        &d,
+        &[
+            "run",
+            "four.toml",
+            "-o",
+            "sh.h5",
+            "--shard",
+            "1/2",
+            "--resume",
+        ],
+    );
+    assert_eq!(code(&o), USAGE, "{}", stderr(&o));
+    assert!(stderr(&o).contains("not in this run"), "{}", stderr(&o));
+    assert!(sharded.join(format!("{id}.h5")).exists());
+}
+
+#[test]
+fn inputs_that_would_block_or_exhaust_the_machine_are_refused() {
+    let d = scratch_dir("safety-blocking-inputs");
+    // A scene that is a FIFO (reading it would block) or a device (/dev/zero would fill the
+    // memory): input errors at once.
+    assert!(Command::new("mkfifo")
+        .arg(d.join("fifo.toml"))
+        .status()
+        .unwrap()
+        .success());
+    for scene in ["fifo.toml", "/dev/zero"] {
+        write_file(&d, "s.toml", &format!("name = \"x\"\nscene = {scene:?}\n"));
+        let t0 = Instant::now();
+        let o = rs(&d, &["plan", "s.toml"]);
+        assert_eq!(code(&o), 1, "{scene}: {}", stderr(&o));
+        assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
+        assert!(t0.elapsed() < Duration::from_secs(10));
+    }
+    // A thread count beyond 1024 is a usage error, not minutes of silent thread starts.
+    tiny_study(&d, "t.toml");
+    let o = rs(&d, &["run", "t.toml", "-o", "x.h5", "--threads", "100000"]);
+    assert_eq!(code(&o), USAGE, "{}", stderr(&o));
 }

@@ -416,7 +416,7 @@ fn override_error_key(table: &toml::Value) -> Option<String> {
 impl Scene {
     /// Reads, overrides (`key=value`) and validates a scene file.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, InputError> {
-        let text = std::fs::read_to_string(path)
+        let text = crate::error::read_text(path)
             .map_err(|e| InputError::new(path, format!("cannot read the scene file: {e}")))?;
         Self::from_text(path, &text, overrides)
     }

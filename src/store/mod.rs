@@ -224,11 +224,22 @@ pub fn create_file(path: &Path, command: &str, scene_text: &str) -> hdf5::Result
 }
 
 /// Closes the file and moves it to its final name.
+/// The file is flushed and read back (`output::verify_written`) first: a write that failed at
+/// the end (disk full) is an error, not a renamed broken file.
 pub fn finish_file(path: &Path, file: File, jobs: Group) -> std::io::Result<()> {
     drop(jobs);
+    file.flush()
+        .map_err(|e| std::io::Error::other(e.to_string()))?;
     file.close()
         .map_err(|e| std::io::Error::other(e.to_string()))?;
-    std::fs::rename(with_suffix(path, ".tmp"), path)
+    let tmp = with_suffix(path, ".tmp");
+    output::verify_written(&tmp).map_err(|why| {
+        std::io::Error::other(format!(
+            "{}: {why}: the write failed (disk full or a file-size limit?)",
+            tmp.display()
+        ))
+    })?;
+    std::fs::rename(tmp, path)
 }
 
 /// `path` with `suffix` appended to its file name (`out.h5` → `out.h5.part`).

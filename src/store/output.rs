@@ -145,17 +145,60 @@ pub fn check_replace(path: &Path, overwrite: bool) -> Result<(), OutputError> {
     }
 }
 
-/// Checks that a working file of ours (`OUT.h5.tmp`, a part's `.tmp`) may be written: absent
-/// or a regular file (a leftover of a killed run, replaced under the lock).
+/// Whether a regular file could be a leftover of rotorsweep's own writing: empty, or starting
+/// with the HDF5 signature (a killed write leaves at least that).
+pub fn is_own_leftover(path: &Path) -> bool {
+    let mut head = [0u8; 8];
+    match File::open(path).and_then(|mut f| f.read(&mut head)) {
+        Ok(0) => true,
+        Ok(n) => n == 8 && head == HDF5_SIGNATURE,
+        Err(_) => false,
+    }
+}
+
+/// Checks that a working file of ours (`OUT.h5.tmp`, a part's `.tmp`) may be written: absent,
+/// or a regular file that is empty or HDF5 (a leftover of a killed run, replaced under the
+/// lock). Anything else there is a user's file and is refused.
 pub fn check_working_file(path: &Path) -> Result<(), OutputError> {
     match describe(path)? {
         None => Ok(()),
-        Some((m, _)) if m.file_type().is_file() => Ok(()),
+        Some((m, _)) if m.file_type().is_file() && is_own_leftover(path) => Ok(()),
+        Some((m, _)) if m.file_type().is_file() => Err(OutputError::Refused(
+            path.to_path_buf(),
+            "is a file rotorsweep did not write, where it keeps a working file".into(),
+        )),
         Some((_, what)) => Err(OutputError::Refused(
             path.to_path_buf(),
             format!("is {what}, where rotorsweep keeps a working file"),
         )),
     }
+}
+
+/// Reads back a file just written before it is renamed into place: every group, attribute and
+/// float dataset must read (a write that failed late, at the final flush, leaves a file whose
+/// heaps do not). The error says what could not be read.
+pub fn verify_written(path: &Path) -> Result<(), String> {
+    fn walk(g: &hdf5::Group) -> hdf5::Result<()> {
+        for a in g.attr_names()? {
+            g.attr(&a)?;
+        }
+        for name in g.member_names()? {
+            if let Ok(sub) = g.group(&name) {
+                walk(&sub)?;
+            } else {
+                let ds = g.dataset(&name)?;
+                if ds.dtype()?.is::<f64>() {
+                    ds.read_raw::<f64>()?;
+                }
+            }
+        }
+        Ok(())
+    }
+    let f = hdf5::File::open(path).map_err(|e| format!("cannot be read back ({e})"))?;
+    if super::read_str(&f, "tool").ok().as_deref() != Some("rotorsweep") {
+        return Err("reads back without its `tool` attribute".into());
+    }
+    walk(&f).map_err(|e| format!("cannot be read back ({e})"))
 }
 
 /// Claims a single-file output for a command that writes it whole (`simulate`, `linear`):
@@ -190,6 +233,18 @@ impl OutputLock {
                     return Err(OutputError::Refused(
                         path.clone(),
                         format!("is {what}, where rotorsweep keeps the output's lock file"),
+                    ));
+                }
+                // A lock file holds a PID or nothing: anything else is a user's file.
+                let text = std::fs::read(&path).map_err(io_at(&path))?;
+                let ours = text.len() <= 24
+                    && std::str::from_utf8(&text)
+                        .is_ok_and(|t| t.trim().is_empty() || t.trim().parse::<u32>().is_ok());
+                if !ours {
+                    return Err(OutputError::Refused(
+                        path.clone(),
+                        "is a file rotorsweep did not write, where it keeps the output's lock file"
+                            .into(),
                     ));
                 }
             }

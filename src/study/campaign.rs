@@ -307,35 +307,73 @@ fn save_part(
 }
 
 /// The saved parts of a run: ids whose part file carries `digest`, and the number of parts
-/// made from other inputs (or unreadable), which are run again.
-fn saved_parts(dir: &Path, digest: &str) -> (BTreeSet<String>, usize) {
+/// made from other inputs (or unreadable), which are run again. A file there that rotorsweep
+/// did not write (not HDF5 with `tool = rotorsweep` and a `job` group), or a saved job that is
+/// not one of this run's (another shard's, on the same output), is refused: nothing in the
+/// folder is replaced or removed that is not this run's own.
+fn saved_parts(
+    dir: &Path,
+    digest: &str,
+    wanted: &BTreeSet<&str>,
+) -> Result<(BTreeSet<String>, usize), CampaignError> {
     let mut done = BTreeSet::new();
     let mut stale = 0;
     let Ok(rd) = std::fs::read_dir(dir) else {
-        return (done, 0);
+        return Ok((done, 0));
     };
     for e in rd.filter_map(|e| e.ok()) {
         let name = e.file_name().to_string_lossy().into_owned();
         let Some(id) = name.strip_suffix(".h5") else {
             continue;
         };
-        let matches = hdf5::File::open(e.path())
-            .ok()
-            .and_then(|f| store::read_str(&f, "study_digest").ok())
-            .is_some_and(|d| d == digest);
-        if matches {
+        let path = e.path();
+        let f = output::is_results_file(&path)
+            .and_then(|()| hdf5::File::open(&path).map_err(|e| e.to_string()))
+            .and_then(|f| match f.group("job") {
+                Ok(_) => Ok(f),
+                Err(_) => Err("has no `job` group".into()),
+            })
+            .map_err(|why| {
+                OutputError::Refused(
+                    path.clone(),
+                    format!("{why}: it is not a saved job of rotorsweep's; move it away"),
+                )
+            })?;
+        if !wanted.contains(id) {
+            return Err(CampaignError::Usage(format!(
+                "{}: a saved job that is not in this run (another shard's, or another study's, \
+                 on the same output?): finish that run into this output, or choose another -o",
+                path.display()
+            )));
+        }
+        if store::read_str(&f, "study_digest").is_ok_and(|d| d == digest) {
             done.insert(id.to_string());
         } else {
             stale += 1;
         }
     }
-    (done, stale)
+    Ok((done, stale))
 }
 
-/// Whether a name in a parts folder is one of rotorsweep's (part files, their temporary
-/// names, pilot shares).
-fn is_part_name(name: &str) -> bool {
-    name.ends_with(".h5") || name.ends_with(".h5.tmp") || name.ends_with(".shares")
+/// Whether a file in a parts folder is one of rotorsweep's: a part file (a rotorsweep HDF5 file
+/// with a `job` group), a part's temporary name (empty or HDF5), or pilot shares (one number a
+/// line), judged by content, not only by name.
+fn is_own_part(path: &Path) -> bool {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if name.ends_with(".h5.tmp") {
+        output::is_own_leftover(path)
+    } else if name.ends_with(".h5") {
+        output::is_results_file(path).is_ok()
+            && hdf5::File::open(path).is_ok_and(|f| f.group("job").is_ok())
+    } else if name.ends_with(".shares") {
+        std::fs::read_to_string(path)
+            .is_ok_and(|t| t.lines().all(|l| l.trim().parse::<f64>().is_ok()))
+    } else {
+        false
+    }
 }
 
 /// Removes a parts folder: only rotorsweep's own regular files, then the folder; anything
@@ -353,9 +391,10 @@ pub fn remove_parts(dir: &Path) -> Result<(), CampaignError> {
         .map_err(|e| CampaignError::io(dir, e))?
         .filter_map(|e| e.ok())
         .collect();
-    if let Some(bad) = entries.iter().find(|e| {
-        !e.file_type().is_ok_and(|t| t.is_file()) || !is_part_name(&e.file_name().to_string_lossy())
-    }) {
+    if let Some(bad) = entries
+        .iter()
+        .find(|e| !e.file_type().is_ok_and(|t| t.is_file()) || !is_own_part(&e.path()))
+    {
         return Err(OutputError::Refused(
             dir.to_path_buf(),
             format!(
@@ -392,7 +431,14 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         output::check_replace(&opts.output, true)?;
         if opts.output.exists() {
             let (digest, inputs, shard) = stored_identity(&opts.output)?;
-            if digest != identity.digest || shard != shard_text {
+            let whole = |t: &str| {
+                parse_shards(t).is_some_and(|l| {
+                    let n = l.first().map_or(0, |x| x.1);
+                    l.iter().all(|x| x.1 == n) && (0..n).all(|i| l.contains(&(i, n)))
+                })
+            };
+            let same_shard = shard == shard_text || (sn == 1 && whole(&shard));
+            if digest != identity.digest || !same_shard {
                 let what = if digest != identity.digest {
                     describe_mismatch(&identity, &digest, inputs.as_deref())
                 } else {
@@ -448,7 +494,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     } else {
         Vec::new()
     };
-    let (done, stale) = saved_parts(&dir, &identity.digest);
+    let wanted: BTreeSet<&str> = jobs
+        .iter()
+        .map(|j| j.id.as_str())
+        .chain(refs.iter().map(|r| r.id.as_str()))
+        .collect();
+    let (done, stale) = saved_parts(&dir, &identity.digest, &wanted)?;
     if stale > 0 {
         eprintln!(
             "{}: {stale} saved job(s) were made from other inputs or are unreadable; they run again",
@@ -640,7 +691,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     });
     progress.finish();
     if let Some(e) = write_error {
-        let saved = saved_parts(&dir, &identity.digest).0.len();
+        let saved = saved_parts(&dir, &identity.digest, &wanted).map_or(0, |p| p.0.len());
         return Err(CampaignError::Io {
             path: match &e {
                 CampaignError::Io { path, .. } => path.clone(),
@@ -945,6 +996,7 @@ fn assemble(
         }
         analyse_or_note(&f, &opts.output);
         write_summary(&f, &study.varying)?;
+        f.flush()?;
         f.close()
     };
     finish_output(&tmp, &opts.output, write())
@@ -958,6 +1010,20 @@ fn finish_output(tmp: &Path, out: &Path, written: hdf5::Result<()>) -> Result<()
         let reason = describe_hdf5(tmp, &e);
         let _ = std::fs::remove_file(tmp);
         return Err(CampaignError::io(tmp, reason));
+    }
+    if let Err(why) = output::verify_written(tmp) {
+        let _ = std::fs::remove_file(tmp);
+        let dir = tmp
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let free = free_bytes(dir).map_or(String::new(), |b| {
+            format!("; {b} bytes free in {}", dir.display())
+        });
+        return Err(CampaignError::io(
+            tmp,
+            format!("{why}: the write failed (disk full or a file-size limit?){free}"),
+        ));
     }
     if let Err(e) = output::check_replace(out, true) {
         let _ = std::fs::remove_file(tmp);
@@ -1228,12 +1294,10 @@ pub fn merge(
     let out_inode = std::fs::metadata(output).ok().map(|m| (m.dev(), m.ino()));
     let mut seen: BTreeMap<(u64, u64), &PathBuf> = BTreeMap::new();
     for p in inputs {
-        let m = std::fs::metadata(p).map_err(|e| CampaignError::io(p, e))?;
+        let m = std::fs::metadata(p)
+            .map_err(|e| InputError::new(p, format!("cannot read this input: {e}")))?;
         if !m.is_file() {
-            return Err(CampaignError::Usage(format!(
-                "{}: is not a regular file",
-                p.display()
-            )));
+            return Err(InputError::new(p, "is not a regular file").into());
         }
         let key = (m.dev(), m.ino());
         if let Some(first) = seen.insert(key, p) {
@@ -1249,8 +1313,7 @@ pub fn merge(
                 p.display()
             )));
         }
-        output::is_results_file(p)
-            .map_err(|why| CampaignError::Usage(format!("{}: {why}", p.display())))?;
+        output::is_results_file(p).map_err(|why| InputError::new(p, why))?;
     }
     output::check_replace(output, opts.overwrite)?;
     output::check_working_file(&store::with_suffix(output, ".tmp"))?;
@@ -1260,22 +1323,49 @@ pub fn merge(
     for p in inputs {
         let (digest, inputs_text, shard) = stored_identity(p)?;
         if digest.is_empty() {
-            return Err(CampaignError::Usage(format!(
-                "{}: has no study digest (written by an older rotorsweep): run its shard again",
-                p.display()
-            )));
+            return Err(InputError::new(
+                p,
+                "has no study digest: not a study's results file (a `simulate` or `linear` \
+                 file?), or written by an older rotorsweep (run its shard again)",
+            )
+            .into());
         }
         if digest != digest0 {
-            let first = Identity {
-                digest: digest0.clone(),
-                inputs: Identity::parse_inputs(inputs0.as_deref().unwrap_or_default()),
-            };
-            return Err(CampaignError::Usage(format!(
-                "{} comes from other inputs than {} ({})",
-                p.display(),
-                inputs[0].display(),
-                describe_mismatch(&first, &digest, inputs_text.as_deref())
-            )));
+            let mine = Identity::parse_inputs(inputs_text.as_deref().unwrap_or_default());
+            let theirs = Identity::parse_inputs(inputs0.as_deref().unwrap_or_default());
+            let mut what = Vec::new();
+            for f in &mine {
+                match theirs.iter().find(|o| o.role == f.role && o.path == f.path) {
+                    Some(o) if o.sha256 != f.sha256 => {
+                        what.push(format!("{} {} differs", f.role, f.path))
+                    }
+                    Some(_) => {}
+                    None => what.push(format!("it reads {} {}", f.role, f.path)),
+                }
+            }
+            for o in &theirs {
+                if !mine.iter().any(|f| f.role == o.role && f.path == o.path) {
+                    what.push(format!(
+                        "{} reads {} {}",
+                        inputs[0].display(),
+                        o.role,
+                        o.path
+                    ));
+                }
+            }
+            return Err(InputError::new(
+                p,
+                format!(
+                    "comes from other inputs than {} ({})",
+                    inputs[0].display(),
+                    if what.is_empty() {
+                        "its study digest differs".into()
+                    } else {
+                        what.join(", ")
+                    }
+                ),
+            )
+            .into());
         }
         let list = parse_shards(&shard).ok_or_else(|| {
             CampaignError::Usage(format!(
@@ -1301,10 +1391,11 @@ pub fn merge(
             .iter()
             .map(|(s, p)| format!("{} is shard {}/{}", p.display(), s.0, s.1))
             .collect();
-        return Err(CampaignError::Usage(format!(
-            "the inputs come from different splits: {}",
-            list.join(", ")
-        )));
+        return Err(InputError::new(
+            &inputs[0],
+            format!("the inputs come from different splits: {}", list.join(", ")),
+        )
+        .into());
     }
     let n = *splits.iter().next().expect("at least one input");
     let missing: Vec<String> = (0..n)
@@ -1362,6 +1453,7 @@ pub fn merge(
         }
         analyse_or_note(&f, output);
         write_summary(&f, &keys)?;
+        f.flush()?;
         f.close()
     };
     let written = write();

@@ -264,7 +264,7 @@ pub(crate) fn value_text(v: &toml::Value) -> String {
 
 /// The text of every file a scene reads (the scene and its thickness map), for hashing.
 fn scene_inputs(scene_path: &Path, merged: &toml::Value) -> String {
-    let mut text = std::fs::read_to_string(scene_path).unwrap_or_default();
+    let mut text = crate::error::read_text(scene_path).unwrap_or_default();
     if let Some(csv) = merged
         .get("roll")
         .and_then(|r| r.get("shell"))
@@ -272,7 +272,7 @@ fn scene_inputs(scene_path: &Path, merged: &toml::Value) -> String {
         .and_then(|m| m.as_str())
     {
         let p = scene_path.parent().unwrap_or(Path::new(".")).join(csv);
-        text.push_str(&std::fs::read_to_string(p).unwrap_or_default());
+        text.push_str(&crate::error::read_text(&p).unwrap_or_default());
     }
     text
 }
@@ -620,7 +620,7 @@ fn pilots_load(
 impl Study {
     /// Reads, expands and validates a study file.
     pub fn load(path: &Path) -> Result<Study, InputError> {
-        let text = std::fs::read_to_string(path)
+        let text = crate::error::read_text(path)
             .map_err(|e| InputError::new(path, format!("cannot read the study file: {e}")))?;
         let c = Ctx { path, text: &text };
         let raw: StudyFile = toml::from_str(&text).map_err(|e| {
@@ -635,7 +635,7 @@ impl Study {
             }
         })?;
         let scene_path = path.parent().unwrap_or(Path::new(".")).join(&raw.scene);
-        let scene_text = std::fs::read_to_string(&scene_path).map_err(|e| {
+        let scene_text = crate::error::read_text(&scene_path).map_err(|e| {
             c.err(
                 "scene",
                 format!("cannot read {}: {e}", scene_path.display()),
