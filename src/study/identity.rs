@@ -7,8 +7,9 @@
 //! run from another working directory, or on another cluster node) keeps its identity; any
 //! edit of any of its files changes it.
 //!
-//! Stored as the attributes `study_digest` (hex) and `study_inputs` (one line per file:
-//! `role<TAB>path<TAB>sha256`) in every part file and results file, beside `tool_version`.
+//! Stored as the attributes `study_digest` (hex) and `study_inputs` (a JSON array of
+//! `{role, path, sha256}`, so any character in a path survives) in every part file and results
+//! file, beside `tool_version`.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -19,7 +20,7 @@ use super::Study;
 use crate::error::InputError;
 
 /// One file a study reads.
-#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
 pub struct InputFile {
     /// `study`, `scene` or `map`.
     pub role: String,
@@ -114,26 +115,14 @@ impl Identity {
         }
     }
 
-    /// The `study_inputs` attribute text.
+    /// The `study_inputs` attribute text (JSON).
     pub fn inputs_text(&self) -> String {
-        self.inputs
-            .iter()
-            .map(|f| format!("{}\t{}\t{}\n", f.role, f.path, f.sha256))
-            .collect()
+        serde_json::to_string(&self.inputs).expect("plain strings serialise")
     }
 
-    /// Parses a `study_inputs` attribute (lines it cannot read are skipped).
+    /// Parses a `study_inputs` attribute; none when it is not this JSON.
     pub fn parse_inputs(text: &str) -> Vec<InputFile> {
-        text.lines()
-            .filter_map(|l| {
-                let mut it = l.split('\t');
-                Some(InputFile {
-                    role: it.next()?.to_string(),
-                    path: it.next()?.to_string(),
-                    sha256: it.next()?.to_string(),
-                })
-            })
-            .collect()
+        serde_json::from_str(text).unwrap_or_default()
     }
 
     /// What differs between these inputs and `other` (another file's `study_inputs`), in
@@ -206,6 +195,9 @@ mod tests {
         );
         assert!(a.differences(&a.inputs).is_empty());
         assert_eq!(Identity::parse_inputs(&a.inputs_text()), a.inputs);
+        // Tabs and newlines in a path survive the attribute (review finding).
+        let odd = Identity::from_inputs(vec![file("study", "a\tb\nc.toml", "1")]);
+        assert_eq!(Identity::parse_inputs(&odd.inputs_text()), odd.inputs);
     }
 
     #[test]
