@@ -90,6 +90,12 @@ const HDF5_SIGNATURE: [u8; 8] = [0x89, b'H', b'D', b'F', b'\r', b'\n', 0x1a, b'\
 
 /// Whether a regular file is a rotorsweep results file; the reason when it is not.
 pub fn is_results_file(path: &Path) -> Result<(), String> {
+    open_results_file(path).map(drop)
+}
+
+/// A rotorsweep results file, opened (HDF5 signature, then `tool = "rotorsweep"`); the reason
+/// when it is not one.
+pub fn open_results_file(path: &Path) -> Result<hdf5::File, String> {
     let mut head = [0u8; 8];
     let n = File::open(path)
         .and_then(|mut f| f.read(&mut head))
@@ -99,7 +105,7 @@ pub fn is_results_file(path: &Path) -> Result<(), String> {
     }
     let f = hdf5::File::open(path).map_err(|e| format!("is not a readable HDF5 file ({e})"))?;
     match super::read_str(&f, "tool") {
-        Ok(t) if t == "rotorsweep" => Ok(()),
+        Ok(t) if t == "rotorsweep" => Ok(f),
         _ => Err(
             "is an HDF5 file but not a rotorsweep results file (no `tool = rotorsweep` attribute)"
                 .into(),

@@ -32,7 +32,7 @@ use std::sync::{mpsc, Arc};
 
 use rayon::prelude::*;
 
-use super::identity::{describe_mismatch, Identity};
+use super::identity::{compare, describe_mismatch, Identity};
 use super::{Job, Study};
 use crate::dynamics::linear::LinearSystem;
 use crate::error::InputError;
@@ -327,18 +327,12 @@ fn saved_parts(
             continue;
         };
         let path = e.path();
-        let f = output::is_results_file(&path)
-            .and_then(|()| hdf5::File::open(&path).map_err(|e| e.to_string()))
-            .and_then(|f| match f.group("job") {
-                Ok(_) => Ok(f),
-                Err(_) => Err("has no `job` group".into()),
-            })
-            .map_err(|why| {
-                OutputError::Refused(
-                    path.clone(),
-                    format!("{why}: it is not a saved job of rotorsweep's; move it away"),
-                )
-            })?;
+        let f = open_part(&path).map_err(|why| {
+            OutputError::Refused(
+                path.clone(),
+                format!("{why}: it is not a saved job of rotorsweep's; move it away"),
+            )
+        })?;
         if !wanted.contains(id) {
             return Err(CampaignError::Usage(format!(
                 "{}: a saved job that is not in this run (another shard's, or another study's, \
@@ -355,19 +349,28 @@ fn saved_parts(
     Ok((done, stale))
 }
 
+/// A saved job's part file, opened: a rotorsweep results file with a `job` group.
+fn open_part(path: &Path) -> Result<hdf5::File, String> {
+    let f = output::open_results_file(path)?;
+    match f.group("job") {
+        Ok(_) => Ok(f),
+        Err(_) => Err("has no `job` group".into()),
+    }
+}
+
 /// Whether a file in a parts folder is one of rotorsweep's: a part file (a rotorsweep HDF5 file
 /// with a `job` group), a part's temporary name (empty or HDF5), or pilot shares (one number a
-/// line), judged by content, not only by name.
-fn is_own_part(path: &Path) -> bool {
+/// line), judged by content, not only by name. Parts of the `known` ids (saved or checked by
+/// this run) are not opened again.
+fn is_own_part(path: &Path, known: &BTreeSet<&str>) -> bool {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     if name.ends_with(".h5.tmp") {
         output::is_own_leftover(path)
-    } else if name.ends_with(".h5") {
-        output::is_results_file(path).is_ok()
-            && hdf5::File::open(path).is_ok_and(|f| f.group("job").is_ok())
+    } else if let Some(id) = name.strip_suffix(".h5") {
+        known.contains(id) || open_part(path).is_ok()
     } else if name.ends_with(".shares") {
         std::fs::read_to_string(path)
             .is_ok_and(|t| t.lines().all(|l| l.trim().parse::<f64>().is_ok()))
@@ -377,8 +380,9 @@ fn is_own_part(path: &Path) -> bool {
 }
 
 /// Removes a parts folder: only rotorsweep's own regular files, then the folder; anything
-/// else in it is refused (nothing a user put there is removed).
-pub fn remove_parts(dir: &Path) -> Result<(), CampaignError> {
+/// else in it is refused (nothing a user put there is removed). `known`: ids whose part files
+/// this run saved or checked itself.
+pub fn remove_parts(dir: &Path, known: &BTreeSet<&str>) -> Result<(), CampaignError> {
     let meta = std::fs::symlink_metadata(dir).map_err(|e| CampaignError::io(dir, e))?;
     if !meta.is_dir() {
         return Err(OutputError::Refused(
@@ -393,7 +397,7 @@ pub fn remove_parts(dir: &Path) -> Result<(), CampaignError> {
         .collect();
     if let Some(bad) = entries
         .iter()
-        .find(|e| !e.file_type().is_ok_and(|t| t.is_file()) || !is_own_part(&e.path()))
+        .find(|e| !e.file_type().is_ok_and(|t| t.is_file()) || !is_own_part(&e.path(), known))
     {
         return Err(OutputError::Refused(
             dir.to_path_buf(),
@@ -454,7 +458,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             // Already assembled from these inputs: nothing left to run (a parts folder left by
             // a run killed after assembling is cleared).
             if dir.exists() {
-                remove_parts(&dir)?;
+                remove_parts(&dir, &BTreeSet::new())?;
             }
             let n = study.shard(si, sn).len();
             let statuses = read_statuses(&opts.output)?;
@@ -478,7 +482,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
                     dir.display()
                 )));
             }
-            remove_parts(&dir)?;
+            remove_parts(&dir, &BTreeSet::new())?;
         }
     }
     output::check_working_file(&store::with_suffix(&opts.output, ".tmp"))?;
@@ -716,7 +720,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         .iter()
         .filter(|s| s.as_str() != "ok")
         .count();
-    remove_parts(&dir)?;
+    // Every part of this run's jobs was checked (saved_parts) or written by it.
+    remove_parts(&dir, &wanted)?;
     Ok(Outcome {
         jobs: jobs.len(),
         ok,
@@ -1333,26 +1338,8 @@ pub fn merge(
         if digest != digest0 {
             let mine = Identity::parse_inputs(inputs_text.as_deref().unwrap_or_default());
             let theirs = Identity::parse_inputs(inputs0.as_deref().unwrap_or_default());
-            let mut what = Vec::new();
-            for f in &mine {
-                match theirs.iter().find(|o| o.role == f.role && o.path == f.path) {
-                    Some(o) if o.sha256 != f.sha256 => {
-                        what.push(format!("{} {} differs", f.role, f.path))
-                    }
-                    Some(_) => {}
-                    None => what.push(format!("it reads {} {}", f.role, f.path)),
-                }
-            }
-            for o in &theirs {
-                if !mine.iter().any(|f| f.role == o.role && f.path == o.path) {
-                    what.push(format!(
-                        "{} reads {} {}",
-                        inputs[0].display(),
-                        o.role,
-                        o.path
-                    ));
-                }
-            }
+            let first_only = format!("read only by {}", inputs[0].display());
+            let what = compare(&mine, &theirs, ["differs", "read only by it", &first_only]);
             return Err(InputError::new(
                 p,
                 format!(

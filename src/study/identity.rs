@@ -129,25 +129,30 @@ impl Identity {
     /// words: "scene scenes/roll.toml changed", "map maps/b.csv added", …; empty when the
     /// same.
     pub fn differences(&self, other: &[InputFile]) -> Vec<String> {
-        let mut out = Vec::new();
-        for f in &self.inputs {
-            match other.iter().find(|o| o.role == f.role && o.path == f.path) {
-                Some(o) if o.sha256 == f.sha256 => {}
-                Some(_) => out.push(format!("{} {} changed", f.role, f.path)),
-                None => out.push(format!("{} {} is new", f.role, f.path)),
-            }
-        }
-        for o in other {
-            if !self
-                .inputs
-                .iter()
-                .any(|f| f.role == o.role && f.path == o.path)
-            {
-                out.push(format!("{} {} is no longer read", o.role, o.path));
-            }
-        }
-        out
+        compare(
+            &self.inputs,
+            other,
+            ["changed", "is new", "is no longer read"],
+        )
     }
+}
+
+/// How input list `a` differs from `b`: per file changed in content, read only by `a`, read
+/// only by `b`, "role path" followed by the word for that case.
+pub fn compare(a: &[InputFile], b: &[InputFile], words: [&str; 3]) -> Vec<String> {
+    let same = |x: &InputFile, y: &InputFile| x.role == y.role && x.path == y.path;
+    let mut out = Vec::new();
+    for f in a {
+        match b.iter().find(|o| same(o, f)) {
+            Some(o) if o.sha256 == f.sha256 => {}
+            Some(_) => out.push(format!("{} {} {}", f.role, f.path, words[0])),
+            None => out.push(format!("{} {} {}", f.role, f.path, words[1])),
+        }
+    }
+    for o in b.iter().filter(|o| !a.iter().any(|f| same(f, o))) {
+        out.push(format!("{} {} {}", o.role, o.path, words[2]));
+    }
+    out
 }
 
 /// Words for how a file's stored identity differs from `current`: the changed inputs, or "it
