@@ -181,8 +181,9 @@ pub fn check_working_file(path: &Path) -> Result<(), OutputError> {
 }
 
 /// Reads back a file just written before it is renamed into place: every group, attribute and
-/// float dataset must read (a write that failed late, at the final flush, leaves a file whose
-/// heaps do not). The error says what could not be read.
+/// dataset header must read (a write that failed late, at the final flush, leaves a file whose
+/// heaps do not). The data themselves are not read again: a failed data write already fails
+/// the flush. The error says what could not be read.
 pub fn verify_written(path: &Path) -> Result<(), String> {
     fn walk(g: &hdf5::Group) -> hdf5::Result<()> {
         for a in g.attr_names()? {
@@ -192,10 +193,7 @@ pub fn verify_written(path: &Path) -> Result<(), String> {
             if let Ok(sub) = g.group(&name) {
                 walk(&sub)?;
             } else {
-                let ds = g.dataset(&name)?;
-                if ds.dtype()?.is::<f64>() {
-                    ds.read_raw::<f64>()?;
-                }
+                g.dataset(&name)?.dtype()?;
             }
         }
         Ok(())
