@@ -843,38 +843,22 @@ fn errors_against(
     (all, per)
 }
 
-/// Campbell data of each linearised system: spin speeds 0 … this [Hz] (the `modes` command's
-/// default range), in this many steps.
-const CAMPBELL_MAX_HZ: f64 = 100.0;
-const CAMPBELL_SPEEDS: usize = 201;
-
-/// A job's model on its linearised supports (`/linear/<linear_id>`): the damped modes over
-/// 0 … 100 Hz in the layout of `rotorsweep linear -o` (`linear::campbell::write`: whirl
-/// frequencies, log decrements, damping ratios, whirl directions and branches per speed, the
-/// critical speeds, the stability threshold), the attribute `frame` (the linearisation), and
-/// as attributes the `model_id` and the first bending frequencies at standstill
-/// (`vertical_hz`, `horizontal_hz`); a failure is stored as the attribute `linear_error`.
-fn write_linear(g: &hdf5::Group, model_id: &str, scene: &Scene, m: &Model) -> hdf5::Result<()> {
+/// A job's model on its linearised supports (`/linear/<linear_id>`): the analyses the study's
+/// `[linear]` table asks for (damped modes over its speeds always) in the layout of `rotorsweep
+/// linear -o` ([`crate::linear::analysis::Results::write`], without wall times), and the
+/// attribute `model_id`; a failure is stored as the attribute `linear_error`.
+fn write_linear(
+    g: &hdf5::Group,
+    req: &crate::linear::analysis::Request,
+    model_id: &str,
+    scene: &Scene,
+    m: &Model,
+) -> hdf5::Result<()> {
     store::attr_str(g, "model_id", model_id)?;
-    let sys = match LinearSystem::of_scene(scene, m) {
-        Ok(s) => s,
-        Err(e) => return store::attr_str(g, "linear_error", &e.to_string()),
-    };
-    store::attr_str(g, "frame", crate::linear::FRAME_NOTE)?;
-    let standstill = sys.standstill_modes().unwrap_or_default();
-    let first = |k: ModeKind| -> f64 {
-        standstill
-            .iter()
-            .find(|x| x.kind == k && x.freq_hz > 1e-6)
-            .map_or(f64::NAN, |x| x.freq_hz)
-    };
-    store::attr_f64(g, "vertical_hz", first(ModeKind::BendingY))?;
-    store::attr_f64(g, "horizontal_hz", first(ModeKind::BendingX))?;
-    let speeds: Vec<f64> = (0..CAMPBELL_SPEEDS)
-        .map(|i| CAMPBELL_MAX_HZ * i as f64 / (CAMPBELL_SPEEDS - 1) as f64)
-        .collect();
-    match crate::linear::campbell::sweep(&sys, &speeds, None) {
-        Ok(c) => crate::linear::campbell::write(g, &c),
+    let results = LinearSystem::of_scene(scene, m)
+        .and_then(|sys| crate::linear::analysis::compute(req, scene, m, &sys));
+    match results {
+        Ok(r) => r.write(g, false),
         Err(e) => store::attr_str(g, "linear_error", &e.to_string()),
     }
 }
@@ -960,7 +944,13 @@ fn assemble(
         }
         for (lid, j) in linear {
             if let Some(Ok(m)) = models.get(j.model_id.as_str()) {
-                write_linear(&lg.create_group(lid)?, &j.model_id, &j.scene, m)?;
+                write_linear(
+                    &lg.create_group(lid)?,
+                    &study.linear,
+                    &j.model_id,
+                    &j.scene,
+                    m,
+                )?;
             }
         }
         let rg = f.create_group("references")?;
