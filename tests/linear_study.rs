@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{scratch_dir, write_file, JEFFCOTT_ROTOR};
+use common::{run_options, scratch_dir, write_file, JEFFCOTT_PEDESTALS, JEFFCOTT_ROTOR};
 use rotorsweep::study::{campaign, Study};
 
 /// The numeric columns of `/analysis/lines` (HDF5 converts by field name).
@@ -30,28 +30,7 @@ fn scene() -> String {
     format!(
         r#"name = "jeffcott-linear-study"
 {JEFFCOTT_ROTOR}
-[[supports]]
-node = "bearing_a"
-type = "linear"
-spring = {{ kx_n_per_m = 2.0e7, ky_n_per_m = 2.0e7, cx_ns_per_m = 2000.0, cy_ns_per_m = 2000.0 }}
-mass_kg = 5.0
-ground = {{ kx_n_per_m = 3.0e7, ky_n_per_m = 6.0e7, cx_ns_per_m = 3000.0, cy_ns_per_m = 3000.0 }}
-[[supports]]
-node = "bearing_b"
-type = "linear"
-spring = {{ kx_n_per_m = 2.0e7, ky_n_per_m = 2.0e7, cx_ns_per_m = 2000.0, cy_ns_per_m = 2000.0 }}
-mass_kg = 5.0
-ground = {{ kx_n_per_m = 3.0e7, ky_n_per_m = 6.0e7, cx_ns_per_m = 3000.0, cy_ns_per_m = 3000.0 }}
-[[supports]]
-node = "disk"
-type = "linear"
-spring = {{ kx_n_per_m = 0.0, ky_n_per_m = 0.0, cx_ns_per_m = 400.0, cy_ns_per_m = 400.0 }}
-[drive]
-node = "bearing_a"
-axial_stiffness_n_per_m = 1e7
-[reduction]
-boundary = ["bearing_a", "bearing_b"]
-modes = "8n+12st"
+{JEFFCOTT_PEDESTALS}
 [speed]
 hz = 30.0
 [simulation]
@@ -93,15 +72,7 @@ fn a_study_stores_the_linear_response_the_simulations_confirm() {
     write_file(&d, "jeffcott.toml", &scene());
     let st = Study::load(&write_file(&d, "study.toml", STUDY)).expect("study");
     let out = d.join("out.h5");
-    let opts = campaign::RunOptions {
-        output: out.clone(),
-        threads: 2,
-        resume: false,
-        overwrite: false,
-        shard: None,
-        command: "test".into(),
-    };
-    let outcome = campaign::run(&st, &opts).expect("campaign");
+    let outcome = campaign::run(&st, &run_options(&out)).expect("campaign");
     assert_eq!(outcome.ok, 2);
     let f = hdf5::File::open(&out).unwrap();
     let ids = f.group("linear").unwrap().member_names().unwrap();
