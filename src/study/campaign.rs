@@ -544,7 +544,15 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     };
     // The shared references, checked before anything runs.
     let shared = match &opts.references {
-        ReferenceSource::File(p) => Some(open_references(p, &identity, &refs)?),
+        ReferenceSource::File(p) => {
+            if same_file(p, &opts.output) {
+                return Err(CampaignError::Usage(format!(
+                    "{}: is the output too; the references file is an input of the run",
+                    p.display()
+                )));
+            }
+            Some(open_references(p, &identity, &refs)?)
+        }
         _ => None,
     };
     output::check_working_file(&store::with_suffix(&opts.output, ".tmp"))?;
@@ -835,6 +843,15 @@ fn failed_references(path: &Path) -> Result<usize, CampaignError> {
         .iter()
         .filter(|s| s.as_str() != "ok")
         .count())
+}
+
+/// Whether two paths name one existing file.
+fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => (x.dev(), x.ino()) == (y.dev(), y.ino()),
+        _ => false,
+    }
 }
 
 /// A references file for a shard ([`ReferenceSource::File`]): a rotorsweep results file
