@@ -27,6 +27,9 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 t_start=$(date +%s.%N)
+# Only the cluster started here: no site's settings (SLURM_CONF, SBATCH_PARTITION, a job's own
+# SLURM_* when run inside one) may reach its commands, and its cleanup cannot touch a site's jobs.
+while read -r v; do unset "$v"; done < <(compgen -e | grep -E '^(SLURM|SBATCH|SQUEUE|SINFO|SCONTROL)_' || true)
 say() { echo "real-slurm-test: $*"; }
 skip() {
   say "SKIP: $*"
@@ -215,7 +218,8 @@ wall_unsharded=$(elapsed "$t0")
 # The campaign.
 outdir="$base/out"
 t0=$(date +%s.%N)
-sub=$(ROTORSWEEP_BIN="$base/bin/rotorsweep" REFERENCE_CPUS=2 SBATCH_OPTS="--cpus-per-task=1 --time=10" \
+cpus=$(sed -n -E 's/.* CPUs=([0-9]+).*/\1/p' <<<"$node")
+sub=$(ROTORSWEEP_BIN="$base/bin/rotorsweep" REFERENCE_CPUS=$((cpus < 2 ? 1 : 2)) SBATCH_OPTS="--cpus-per-task=1 --time=10" \
   "$here/submit.sh" "$study" 2 "$outdir") || fail "submit.sh failed: $sub"
 echo "$sub"
 read -r refs array merge < <(sed -n -E 's/^submitted: references ([0-9]+) array ([0-9]+) merge ([0-9]+) .*/\1 \2 \3/p' <<<"$sub")
