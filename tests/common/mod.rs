@@ -263,7 +263,8 @@ boundary = ["bearing_a", "bearing_b"]
 modes = "8n+12st"
 "#;
 
-/// Campaign options for a test: `out`, two threads, no resume, overwrite or shard.
+/// Campaign options for a test: `out`, two threads, no resume, overwrite, shard or shared
+/// references.
 pub fn run_options(out: &std::path::Path) -> rotorsweep::study::campaign::RunOptions {
     rotorsweep::study::campaign::RunOptions {
         output: out.to_path_buf(),
@@ -272,6 +273,7 @@ pub fn run_options(out: &std::path::Path) -> rotorsweep::study::campaign::RunOpt
         overwrite: false,
         shard: None,
         command: "test".into(),
+        references: Default::default(),
     }
 }
 
