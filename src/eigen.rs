@@ -7,7 +7,7 @@
 //! The generalized problem K φ = λ M φ goes through the Cholesky factor M = L Lᵀ, the standard
 //! problem L⁻¹ K L⁻ᵀ y = λ y and φ = L⁻ᵀ y. faer's self-adjoint solver is forced onto its QR
 //! path: its divide-and-conquer path (taken by default from n = 128) returned wrong eigenpairs
-//! on beam-rotor matrices (`shared/dependencies.md`); [`max_residual`] lets every caller check.
+//! on beam-rotor matrices (`docs/dependencies.md`); [`max_residual`] lets every caller check.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::evd::{

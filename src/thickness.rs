@@ -976,12 +976,12 @@ mod tests {
     use super::*;
     use std::path::PathBuf;
 
-    /// Thesis Table 4.1 (`shared/thesis-data.md` §2): wall thickness of the measured roll, m.
+    /// Thesis Table 4.1 (`docs/thesis-data.md` §2): wall thickness of the measured roll, m.
     const TABLE_4_1_MEAN_M: f64 = 18.72e-3;
     const TABLE_4_1_STD_M: f64 = 0.30e-3;
     const TABLE_4_1_MIN_M: f64 = 17.86e-3;
     const TABLE_4_1_MAX_M: f64 = 19.59e-3;
-    /// Reference roll shell length between heads (`shared/physics.md` §10), m.
+    /// Reference roll shell length between heads (`docs/physics.md` §10), m.
     const REFERENCE_LENGTH_M: f64 = 4.5;
     /// The brief's tolerance on min and max of a synthetic map: 0.02 mm.
     const MIN_MAX_TOLERANCE_M: f64 = 0.02e-3;
