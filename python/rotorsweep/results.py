@@ -231,13 +231,15 @@ def _run_group(f: h5py.File, run_id: str) -> h5py.Group | None:
 
 def _known(f: h5py.File) -> str:
     known = [i for name in RUN_GROUPS if name in f for i in f[name]]
-    return ", ".join(known[:8]) + (", …" if len(known) > 8 else "")
+    return (", ".join(known[:8]) + (", …" if len(known) > 8 else "")) or "none"
 
 
 def _resolve(f: h5py.File, job: JobRef) -> h5py.Group:
     """The group of ``job`` (module doc: an id, a label or a dict of summary values)."""
     where = f.filename
     if isinstance(job, Mapping):
+        if not job:
+            raise ValueError(f"{where}: an empty dict selects no one job: give summary columns and values")
         df = _summary(f)
         mask = pd.Series(True, index=df.index)
         for key, want in job.items():
@@ -246,7 +248,7 @@ def _resolve(f: h5py.File, job: JobRef) -> h5py.Group:
             col = df[key]
             mask &= np.isclose(col.astype(float), float(want)) if _numeric(col, want) else col == want
         ids = list(df.loc[mask, "job_id"])
-        what = ", ".join(f"{k}={v!r}" for k, v in job.items())
+        what = "with " + ", ".join(f"{k}={v!r}" for k, v in job.items())
     else:
         if not isinstance(job, str):
             raise TypeError(f"job must be a job id, a label or a dict of summary values, not {type(job).__name__}")
@@ -259,14 +261,14 @@ def _resolve(f: h5py.File, job: JobRef) -> h5py.Group:
             if job == _value(run.attrs.get("label", None))
             or any(k.startswith("label:") and _value(v) == job for k, v in run.attrs.items())
         ]
-        what = repr(job)
+        what = f"with id or label {job!r}"
     if len(ids) == 1:
         return f["jobs"][ids[0]]
     if not ids:
-        raise KeyError(f"{where}: no job or reference with id or label {what} (there are: {_known(f)})")
+        raise KeyError(f"{where}: no job or reference {what} (there are: {_known(f)})")
     shown = ", ".join(ids[:8]) + (", …" if len(ids) > 8 else "")
     raise KeyError(
-        f"{where}: {what} names {len(ids)} jobs ({shown}): give the id, or a dict such as "
+        f"{where}: {len(ids)} jobs {what} ({shown}): give the id, or a dict such as "
         f"{{'label': …, 'speed.hz': …}}"
     )
 
@@ -708,6 +710,6 @@ def campbell(path: PathLike, system: str | None = None) -> xr.Dataset:
         return out
 
 
-# Older names, kept so that scripts written against scripts/rotorsweep_py still run.
+# Older names (of the former scripts/rotorsweep_py), kept so that scripts written against them run.
 load_summary = summary
 analysis_table = analysis

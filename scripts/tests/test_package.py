@@ -126,7 +126,9 @@ def test_axes_survive_shards_and_merge(smoke: Path) -> None:
     assert rs.spectral_map(merged, 0).vertical.dims == ("sensor", "speed_hz", "freq_hz")
 
 
-def test_every_dataset_and_table_column_has_units(smoke: Path) -> None:
+def without_units(path: Path) -> list[str]:
+    """The datasets of ``path`` without a str ``units`` attribute, and the table columns without
+    ``units:<column>``."""
     missing: list[str] = []
 
     def check(name: str, obj: h5py.HLObject) -> None:
@@ -137,9 +139,13 @@ def test_every_dataset_and_table_column_has_units(smoke: Path) -> None:
         elif not isinstance(obj.attrs.get("units"), str):
             missing.append(name)
 
-    with h5py.File(smoke, "r") as f:
+    with h5py.File(path, "r") as f:
         f.visititems(check)
-    assert not missing, f"no units: {missing[:10]}"
+    return missing
+
+
+def test_every_dataset_and_table_column_has_units(smoke: Path) -> None:
+    assert not without_units(smoke)
 
 
 def labels_study(speeds: str) -> str:
@@ -178,8 +184,12 @@ def test_job_lookup_by_label_and_by_values(tmp_path: Path) -> None:
     run_ok("run", "two.toml", "-o", "two.h5", cwd=tmp_path)
     path = tmp_path / "two.h5"
     df = rs.summary(path)
-    with pytest.raises(KeyError, match="names 2 jobs"):
+    with pytest.raises(KeyError, match="2 jobs with id or label '100 g'"):
         rs.runout(path, "100 g")
+    with pytest.raises(KeyError, match="no job or reference with speed.hz=16.0"):
+        rs.runout(path, {"speed.hz": 16.0})
+    with pytest.raises(ValueError, match="empty dict"):
+        rs.runout(path, {})
     want = df[(df.label == "100 g") & (df["speed.hz"] == 14.0)].job_id
     assert rs.job_id(path, {"label": "100 g", "speed.hz": 14.0}) == want.item()
     with pytest.raises(KeyError, match="no column 'speed'"):
@@ -194,6 +204,7 @@ def test_simulate_file(tmp_path: Path) -> None:
         cwd=tmp_path,
     )
     path = tmp_path / "run.h5"
+    assert not without_units(path)
     df = rs.summary(path)
     assert list(df.job_id) == ["reference-roll"] and df.status[0] == "ok"
     assert df.attrs["units"]["cpu_time_s"] == "s" and df.attrs["units"]["status"] == ""
@@ -216,6 +227,7 @@ def test_linear_file_campbell(tmp_path: Path) -> None:
     run_ok("linear", jeffcott, "--speeds", "0:100:21", "-o", "lin.h5", cwd=tmp_path)
     printed = json.loads(run_ok("linear", jeffcott, "--speeds", "0:100:21", "--json", cwd=tmp_path).stdout)
     path = tmp_path / "lin.h5"
+    assert not without_units(path)
     (system,) = rs.linear_systems(path)
     c = rs.campbell(path)
     assert c.attrs["system"] == system
