@@ -557,6 +557,7 @@ fn write_h5(
     }
     store::dataset(&g, "floquet/speed_hz", &r.floquet_speeds, "Hz")?;
     store::dataset(&g, "floquet/growth_per_rev", &r.floquet_growth, "1")?;
+    store::scales::attach_axis(&g.group("floquet")?, "speed_hz", &["growth_per_rev"], 0)?;
     let flat_ranges: Vec<f64> = r.floquet_ranges.iter().flatten().copied().collect();
     store::dataset_2d(
         &g,

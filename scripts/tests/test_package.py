@@ -90,6 +90,21 @@ def test_readme_session_runs_as_written(smoke: Path, monkeypatch: pytest.MonkeyP
     assert np.allclose(m.vertical.sel(sensor="centre").isel(speed_hz=1)[:k], own[:k])
 
 
+def test_readme_raw_h5py_decode(smoke: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The README's decode of the summary for users without the package (Results file layout)."""
+    text = README.read_text(encoding="utf-8")
+    layout = text[text.index("### Results file layout") : text.index("\n## Python\n")]
+    (code,) = [b for b in re.findall(r"```python\n(.*?)```", layout, re.S) if '["summary"]' in b]
+    monkeypatch.chdir(smoke.parent)
+    ns: dict[str, object] = {}
+    exec(compile(code, "README.md (raw decode)", "exec"), ns)
+    df = ns["df"]
+    assert isinstance(df, pd.DataFrame) and len(df) == 12
+    assert (df.status == "ok").all() and all(isinstance(x, str) for x in df.job_id)
+    assert df["steps"].dtype.kind == "u"  # counts stay integers
+    assert list(df.job_id) == list(rs.summary(smoke).job_id)
+
+
 def test_open_dataset_without_the_package_gives_time_in_seconds(smoke: Path) -> None:
     job = rs.summary(smoke).job_id[0]
     with h5py.File(smoke, "r") as f:
@@ -239,6 +254,12 @@ def test_linear_file_campbell(tmp_path: Path) -> None:
     for i in (0, 10, 20):
         lateral = sorted(m["freq_hz"] for m in printed["modes"][i] if m["kind"] == "lateral")
         assert np.allclose(c.whirl_hz[i].values, lateral[: c.sizes["mode"]])
+    raw = xr.open_dataset(path, group=f"linear/{system}/campbell", engine="h5netcdf")
+    assert raw.whirl_hz.dims == ("speed_hz", "mode") and raw.speed_hz.attrs["units"] == "Hz"
+    assert np.array_equal(raw.whirl_hz.values, c.whirl_hz.values)
+    assert list(raw["mode"].values) == list(range(c.sizes["mode"]))
+    fl = xr.open_dataset(path, group=f"linear/{system}/floquet", engine="h5netcdf")
+    assert fl.growth_per_rev.dims == ("speed_hz",)
     assert c.unbalance_amplitude.dims == ("sensor", "direction", "speed_hz")
     assert c.unbalance_amplitude.attrs["units"] == "um"
 
