@@ -103,6 +103,11 @@ def test_readme_raw_h5py_decode(smoke: Path, monkeypatch: pytest.MonkeyPatch) ->
     assert (df.status == "ok").all() and all(isinstance(x, str) for x in df.job_id)
     assert df["steps"].dtype.kind == "u"  # counts stay integers
     assert list(df.job_id) == list(rs.summary(smoke).job_id)
+    # As the README says: attributes are str, a string dataset's items bytes until asstr().
+    with h5py.File(smoke, "r") as f:
+        ids = f["analysis/sweeps/0/job_ids"]
+        assert isinstance(f.attrs["tool"], str) and isinstance(ids[0], bytes)
+        assert all(isinstance(i, str) for i in ids.asstr()[()])
 
 
 def test_open_dataset_without_the_package_gives_time_in_seconds(smoke: Path) -> None:

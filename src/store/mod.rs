@@ -12,8 +12,8 @@
 //! /jobs/<id>/journal/<node>/{x,y}  /stand/<node>/{x,y}  [um]
 //! /jobs/<id>/contact/<node>/<roller>  [N]     /modal/<i>  [kg^0.5 m]
 //! ```
-//! Strings are variable-length UTF-8 (h5py returns `str` for attributes and string datasets;
-//! inside a compound table it returns `bytes`, see [`table`]). Every dataset has a `units`
+//! Strings are variable-length UTF-8 (h5py returns `str` for attributes, `bytes` for the items
+//! of a string dataset, `.asstr()` makes them `str`, and of a compound table, see [`table`]). Every dataset has a `units`
 //! attribute (`""` for text). Datasets are chunked (≤ 8192 samples), shuffled and deflated
 //! (level 4). The axes are HDF5 dimension scales ([`scales`]): `time` is attached to every
 //! sampled channel and hard-linked into each channel group (`runout/<sensor>/time`).
