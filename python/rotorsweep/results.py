@@ -64,7 +64,8 @@ COUNT_COLUMNS = (
     "rhs_evals",
 )
 
-#: The channel families of a run, the names of their leaves and the sample axis of each.
+#: The channel families of a run and the axis each is sampled along (by name: files from
+#: before the dimension scales find it by layout, :func:`_layout_axis`).
 _FAMILIES = {
     "runout": "time",
     "journal": "time",
@@ -450,18 +451,24 @@ def channels(path: PathLike, job: JobRef) -> list[str]:
         return [k for k, d in have.items() if not _is_scale(d) and k not in ("time", "spectrum/freq_hz")]
 
 
+def _layout_axis(g: h5py.Group, family: str) -> h5py.Dataset | None:
+    """The axis of a channel family by the layout (``time``; ``spectrum/freq_hz``), if present."""
+    name = _FAMILIES.get(family, "time")
+    path = "time" if name == "time" else f"{family}/{name}"
+    return g[path] if path in g else None
+
+
 def _family(g: h5py.Group, family: str) -> xr.Dataset:
     """The channels ``family/<place>/<leaf>`` of a run as one Dataset: one variable per leaf
-    (vertical, horizontal; x, y; a roller) over (place, axis), the axis from the datasets' own
-    dimension scales."""
+    (vertical, horizontal; x, y; a roller) over (sensor or node, axis), the axis from the
+    datasets' own dimension scales."""
     where = f"{g.file.filename}:{g.name}"
     if family not in g:
         have = ", ".join(k for k in g if isinstance(g[k], h5py.Group)) or "none"
         extra = " (the study analysis writes spectra; this run was not analysed)" if family == "spectrum" else ""
         raise KeyError(f"{where}: no {family} channels{extra} (families there: {have})")
     axis_name = _FAMILIES[family]
-    fallback_path = "time" if axis_name == "time" else f"{family}/{axis_name}"
-    fallback = g[fallback_path] if fallback_path in g else None
+    fallback = _layout_axis(g, family)
     places = [p for p, obj in g[family].items() if isinstance(obj, h5py.Group)]
     leaves: list[str] = []
     for p in places:
@@ -544,10 +551,8 @@ def channel(path: PathLike, job: JobRef, name: str) -> xr.DataArray:
         if name not in have:
             raise KeyError(f"{g.name}: no channel {name!r} (there are: {', '.join(have)})")
         ds = have[name]
-        family = name.split("/")[0]
-        axis_name = _FAMILIES.get(family, "time")
-        fallback_path = "time" if axis_name == "time" else f"{family}/{axis_name}"
-        axis = _axis(ds, 0, g[fallback_path] if fallback_path in g and ds.ndim == 1 else None)
+        fallback = _layout_axis(g, name.split("/")[0]) if ds.ndim == 1 else None
+        axis = _axis(ds, 0, fallback)
         dim = axis.name.split("/")[-1]
         return xr.DataArray(
             _read(ds), dims=(dim,), coords={dim: _coord(axis, dim)}, name=name, attrs={"units": _units(ds)}
