@@ -66,8 +66,8 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 from matplotlib.ticker import ScalarFormatter
 
-import rotorsweep_py as rp
-from rotorsweep_py.loader import PathLike
+import rotorsweep as rp
+from rotorsweep import PathLike
 
 #: Resolution of the PNG files [dots per inch].
 DPI = 110
@@ -134,7 +134,7 @@ def _format(value: object) -> str:
 def settings(summary: pd.DataFrame, labels: pd.DataFrame, keys: list[str]) -> pd.Series:
     """A short text per job (index job_id, summary order) naming its values of the varying
     ``keys``: the label of each labelled axis among them (``labels`` as
-    :func:`rotorsweep_py.job_labels` returns it), then ``key=value`` for every key that no shown
+    :func:`rotorsweep.job_labels` returns it), then ``key=value`` for every key that no shown
     label determines (a key is determined by a label when all jobs with that label share its
     value, as the other keys of a zipped axis do). "" for every job when nothing is left."""
     df = summary.set_index("job_id")

@@ -216,8 +216,9 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     let one = job_data(&d.join("one.h5"));
     assert_eq!(
         one.len(),
-        4 * 14,
-        "4 jobs × (time + 6 runout channels + spectrum frequencies + 6 spectra)"
+        4 * 20,
+        "4 jobs × (time + 6 runout channels + spectrum frequencies + 6 spectra, and time and \
+         the frequencies linked into the 3 runout and 3 spectrum groups as their axes)"
     );
     assert_eq!(one, job_data(&d.join("two.h5")));
     assert_eq!(one, job_data(&d.join("merged.h5")));
@@ -225,9 +226,9 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     let linear = group_data(&d.join("one.h5"), "linear");
     assert_eq!(
         linear.len(),
-        10,
-        "one system: Campbell speeds, whirl_hz, log_dec, damping_ratio, whirl_index, whirl, \
-         branch; critical speeds with their log dec and whirl"
+        11,
+        "one system: Campbell speeds, modes, whirl_hz, log_dec, damping_ratio, whirl_index, \
+         whirl, branch; critical speeds with their log dec and whirl"
     );
     assert_eq!(linear, group_data(&d.join("two.h5"), "linear"));
     assert_eq!(linear, group_data(&d.join("merged.h5"), "linear"));

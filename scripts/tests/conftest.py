@@ -1,4 +1,5 @@
-"""Puts scripts/ on sys.path so the tests import rotorsweep_py without installing it."""
+"""Puts scripts/ on sys.path so the tests import plots.py; the results reader `rotorsweep` is the
+installed package (scripts/python-test installs python/ into the .venv)."""
 
 import sys
 from pathlib import Path

@@ -27,7 +27,7 @@ import pandas as pd
 import pytest
 
 import plots
-import rotorsweep_py as rp
+import rotorsweep as rp
 from test_results import ROOT, run_ok
 
 

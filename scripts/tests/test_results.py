@@ -1,5 +1,5 @@
 """The HDF5 results as a Python user sees them: the real binary on a tiny study, read back with
-h5py, pandas and rotorsweep_py.
+h5py, pandas and the package rotorsweep (python/).
 
 The binary is $ROTORSWEEP_BIN, else target/release/rotorsweep in the repository (scripts/python-test
 builds it). The tiny study is the reference roll for 0.2 s at two speeds × two hmax (4 jobs, two
@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import rotorsweep_py as rp
+import rotorsweep as rp
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENE = ROOT / "studies" / "scenes" / "reference-roll.toml"
@@ -161,8 +161,8 @@ def test_every_dataset_has_units(results: Path) -> None:
         for group in ("jobs", "references"):
 
             def check(name: str, obj: h5py.HLObject, group: str = group) -> None:
-                if not isinstance(obj, h5py.Dataset):
-                    return
+                if not isinstance(obj, h5py.Dataset) or h5py.h5ds.is_scale(obj.id):
+                    return  # the axes (time, spectrum/freq_hz) are checked below
                 assert "units" in obj.attrs, f"/{group}/{name} has no units attribute"
                 units = obj.attrs["units"]
                 assert isinstance(units, str), f"/{group}/{name}: units is {type(units)}, not str"
@@ -172,7 +172,9 @@ def test_every_dataset_has_units(results: Path) -> None:
                 seen[family] = units
 
             f[group].visititems(check)
-    assert seen.get("time") == "s" and seen.get("runout") == "um"
+            for run in f[group].values():
+                assert run["time"].attrs["units"] == "s"
+    assert seen.get("runout") == "um" and seen.get("spectrum") == "um"
 
 
 def test_job_groups(results: Path) -> None:
@@ -212,8 +214,9 @@ def test_job_groups(results: Path) -> None:
 def test_channel_and_models(results: Path) -> None:
     job = rp.job_ids(results)[0]
     assert "runout/centre/vertical" in rp.channels(results, job)
-    t, x, units = rp.channel(results, job, "runout/centre/vertical")
-    assert units == "um" and t.shape == x.shape
+    assert "time" not in rp.channels(results, job)
+    x = rp.channel(results, job, "runout/centre/vertical")
+    assert x.attrs["units"] == "um" and x.dims == ("time",) and x.time.attrs["units"] == "s"
     with pytest.raises(KeyError, match="no channel"):
         rp.channel(results, job, "runout/nowhere/vertical")
     with pytest.raises(KeyError, match="no job or reference"):
@@ -236,10 +239,10 @@ def test_plot_a_channel(results: Path, tmp_path: Path) -> None:
     df = rp.load_summary(results)
     fig, ax = plt.subplots()
     for job in df["job_id"]:
-        t, x, units = rp.channel(results, job, "runout/centre/vertical")
-        ax.plot(t, x, label=job)
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel(f"runout [{units}]")
+        x = rp.channel(results, job, "runout/centre/vertical")
+        ax.plot(x.time, x, label=job)
+    ax.set_xlabel(f"t [{x.time.attrs['units']}]")
+    ax.set_ylabel(f"runout [{x.attrs['units']}]")
     fig.savefig(tmp_path / "runout.png")
     plt.close(fig)
     assert (tmp_path / "runout.png").stat().st_size > 0
@@ -345,7 +348,7 @@ values = [
 
 def test_table_valued_axis_and_unicode_labels_read_back_distinct(tmp_path: Path) -> None:
     """Issue 9: a damping-bands axis (values differing after 32 characters) and non-ASCII labels
-    give one distinct value per job, through rotorsweep_py and through raw h5py."""
+    give one distinct value per job, through rotorsweep and through raw h5py."""
     (tmp_path / "bands.toml").write_text(BANDS_STUDY, encoding="utf-8")
     run_ok("run", "bands.toml", "-o", "bands.h5", "--threads", "2", cwd=tmp_path)
     labels = ["α", "β", "γ – 100 g ≥ 2 %"]
@@ -365,8 +368,13 @@ def test_table_valued_axis_and_unicode_labels_read_back_distinct(tmp_path: Path)
 
 def test_channel_pairs_a_spectrum_with_its_frequencies(results: Path) -> None:
     """Issue 12: a spectrum came back with the time axis (501 against 66 values, no error)."""
-    job = rp.load_summary(results)["job_id"][0]
-    f, a, units = rp.channel(results, job, "spectrum/centre/vertical")
-    t, x, _ = rp.channel(results, job, "runout/centre/vertical")
-    assert f.shape == a.shape and t.shape == x.shape and f.shape != t.shape
-    assert units == "um" and f[0] == 0.0 and np.all(np.diff(f) > 0)
+    job = rp.summary(results)["job_id"][0]
+    a = rp.channel(results, job, "spectrum/centre/vertical")
+    x = rp.channel(results, job, "runout/centre/vertical")
+    assert a.dims == ("freq_hz",) and x.dims == ("time",) and a.size != x.size
+    assert a.attrs["units"] == "um" and a.freq_hz.attrs["units"] == "Hz"
+    f = a.freq_hz.to_numpy()
+    assert f[0] == 0.0 and np.all(np.diff(f) > 0)
+    with h5py.File(results, "r") as h:
+        assert np.array_equal(f, h[f"jobs/{job}/spectrum/freq_hz"][()])
+        assert np.array_equal(x.time.to_numpy(), h[f"jobs/{job}/time"][()])

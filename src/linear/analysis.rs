@@ -580,6 +580,12 @@ impl Results {
                 .map(|g| f64::from(u8::from(g.converged)))
                 .collect();
             store::dataset(g, "floquet/converged", &conv, "1")?;
+            store::scales::attach_axis(
+                &store::subgroup(g, "floquet")?,
+                "speed_hz",
+                &["growth_per_rev", "steps_per_rev", "converged"],
+                0,
+            )?;
             let flat: Vec<f64> = f.ranges.iter().flatten().copied().collect();
             store::dataset_2d(
                 g,

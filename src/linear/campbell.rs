@@ -352,7 +352,8 @@ type ModeValue<'a> = dyn Fn(usize, usize, &DampedMode) -> f64 + 'a;
 
 /// Writes Campbell data under `g` in the layout shared by `rotorsweep linear -o` and a study's
 /// `/linear/<id>`: `campbell/speed_hz` [Hz]; per speed × lateral branch (the lowest `nb`
-/// lateral modes every speed has, ascending) `campbell/whirl_hz` [Hz], `log_dec`,
+/// lateral modes every speed has, ascending; `campbell/mode` = 0…nb−1; both axes dimension
+/// scales, `store::scales`) `campbell/whirl_hz` [Hz], `log_dec`,
 /// `damping_ratio`, `whirl_index`, `whirl` (codes in its `codes` attribute) and `branch` (the
 /// matched branch, −1 none); `critical_speeds_hz` [Hz] with `critical_log_dec` and
 /// `critical_whirl`; the attribute `stability_threshold_hz` when a speed is unstable.
@@ -393,6 +394,13 @@ pub fn write(g: &hdf5::Group, c: &CampbellData) -> hdf5::Result<()> {
         &flat(&|s, j, _| branch_of(s, j)),
         "1",
     )?;
+    // The axes: speed × the k-th lowest lateral mode (`mode` first, so that a `mode` as long
+    // as the speeds is an axis, not a value over speed).
+    let modes: Vec<f64> = (0..nb).map(|k| k as f64).collect();
+    store::dataset(g, "campbell/mode", &modes, "1")?;
+    let cg = g.group("campbell")?;
+    store::scales::attach_axis(&cg, "mode", &[""], 1)?;
+    store::scales::attach_axis(&cg, "speed_hz", &[""], 0)?;
     let crit: Vec<f64> = c.critical.iter().map(|x| x.speed_hz).collect();
     store::dataset(g, "critical_speeds_hz", &crit, "Hz")?;
     let crit_log_dec: Vec<f64> = c.critical.iter().map(|x| x.log_dec).collect();

@@ -12,10 +12,14 @@
 //! /jobs/<id>/journal/<node>/{x,y}  /stand/<node>/{x,y}  [um]
 //! /jobs/<id>/contact/<node>/<roller>  [N]     /modal/<i>  [kg^0.5 m]
 //! ```
-//! Strings are variable-length UTF-8 (h5py returns `str`). Datasets are chunked (≤ 8192
-//! samples), shuffled and deflated (level 4).
+//! Strings are variable-length UTF-8 (h5py returns `str` for attributes, `bytes` for the items
+//! of a string dataset, `.asstr()` makes them `str`, and of a compound table, see [`table`]). Every dataset has a `units`
+//! attribute (`""` for text). Datasets are chunked (≤ 8192 samples), shuffled and deflated
+//! (level 4). The axes are HDF5 dimension scales ([`scales`]): `time` is attached to every
+//! sampled channel and hard-linked into each channel group (`runout/<sensor>/time`).
 
 pub mod output;
+pub mod scales;
 pub mod table;
 
 use std::path::Path;
@@ -101,6 +105,9 @@ pub fn runout_channels(g: &Group) -> Vec<(String, Vec<f64>)> {
         let Ok(sg) = r.group(&sensor) else { continue };
         for dir in sg.member_names().unwrap_or_default() {
             if let Ok(ds) = sg.dataset(&dir) {
+                if scales::is_scale(&ds) {
+                    continue; // the `time` axis linked beside the channels
+                }
                 if let Ok(v) = ds.read_raw::<f64>() {
                     out.push((format!("{sensor}/{dir}"), v));
                 }
@@ -197,6 +204,7 @@ pub fn write_job(
     for c in &r.channels {
         dataset(&g, &c.name, &c.data, c.units)?;
     }
+    scales::attach_axis(&g, "time", &[""], 0)?;
     Ok(())
 }
 
@@ -323,18 +331,19 @@ pub fn read_param(loc: &Location, name: &str) -> hdf5::Result<Param> {
     })
 }
 
-/// Writes a 1-D dataset of strings (variable-length UTF-8).
+/// Writes a 1-D dataset of strings (variable-length UTF-8) with the `units` attribute `""`.
 pub fn string_dataset(group: &Group, name: &str, items: &[String]) -> hdf5::Result<()> {
     let v: Vec<VarLenUnicode> = items
         .iter()
         .map(|s| VarLenUnicode::from_str(s).unwrap_or_default())
         .collect();
-    group.new_dataset_builder().with_data(&v).create(name)?;
-    Ok(())
+    let ds = group.new_dataset_builder().with_data(&v).create(name)?;
+    attr_str(&ds, "units", "")
 }
 
 /// Deep-copies the object `src_name` under `src` to `dst_name` under `dst` (HDF5's H5Ocopy):
-/// datasets keep their chunking, filters and bytes.
+/// datasets keep their chunking, filters and bytes, and their dimension scales
+/// ([`scales::reattach_copy`]: H5Ocopy alone leaves them pointing into the source file).
 pub fn copy_object(
     src: &Location,
     src_name: &str,
@@ -359,6 +368,6 @@ pub fn copy_object(
                 hdf5_sys::h5p::H5P_DEFAULT,
             )
         })
-    })
-    .map(|_| ())
+    })?;
+    scales::reattach_copy(src, src_name, dst, dst_name)
 }

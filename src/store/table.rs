@@ -7,7 +7,8 @@
 //!
 //! Text is variable-length UTF-8: nothing is cut and no character is dropped. h5py returns
 //! variable-length strings inside a compound dataset as `bytes`; decode them with
-//! `df[c] = df[c].str.decode("utf-8")` (`scripts/rotorsweep_py` does it for every text column).
+//! `df[c] = df[c].str.decode("utf-8")` (the Python package `rotorsweep` in `python/` does it
+//! for every text column).
 //! A NUL character, which C strings cannot hold, is stored as U+2400 (␀).
 
 use std::ffi::CString;

@@ -17,6 +17,7 @@
 //!   match, `freq_hz` and `map/<sensor>/<dir>` [speeds × frequencies, µm]; attribute `fixed` (the
 //!   other keys' values); `skipped_speed_hz` and `skipped_job_ids` when some of its jobs could
 //!   not be analysed (failed, or no runout);
+//!   the axes `freq_hz`, `speed_hz` and `orders` are dimension scales (`store::scales`);
 //! - `/analysis/resonances`: table sweep, fixed, channel, order, rank, speed_hz, amplitude_um (the three
 //!   highest interior peaks of each order's amplitude over speed);
 //! - `/analysis/trial_mass`, with an `[analysis] baseline`: table job_id, baseline_id, label,
@@ -192,6 +193,7 @@ fn read_jobs(
             for (name, s) in names.iter().zip(&full) {
                 store::dataset(&g, &format!("spectrum/{name}"), &s.amplitude[..own], "um")?;
             }
+            store::scales::attach_axis(&g.group("spectrum")?, "freq_hz", &[""], 0)?;
         }
         let keep = bins_below(&full[0], study_cap);
         out.push(JobData {
@@ -366,6 +368,12 @@ fn write_sweep(
             }
             store::dataset_2d(&sg, &format!("map/{name}"), (set.len(), bins), &map, "um")?;
         }
+    }
+    // The axes of the lines (speed × order) and maps (speed × frequency), for netCDF readers.
+    store::scales::attach_axis(&sg, "speed_hz", &["lines", "map", "job_ids"], 0)?;
+    store::scales::attach_axis(&sg, "orders", &["lines"], 1)?;
+    if sg.link_exists("freq_hz") {
+        store::scales::attach_axis(&sg, "freq_hz", &["map"], 1)?;
     }
     Ok(())
 }
