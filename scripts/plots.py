@@ -112,7 +112,7 @@ CLASS_COLOURS = {
 }
 MARKERS = "osD^v<>"
 #: Most physics panels of the work-precision figure (more: one panel, a marker per physics).
-MAX_WORK_PANELS = 6
+MAX_WORK_PANELS = 9
 
 
 class PlotError(Exception):
@@ -321,7 +321,7 @@ def harmonics(sweep: rp.Sweep, sensor: str, study: str) -> Figure | None:
         ax.set_xlabel("speed [Hz]")
         ax.grid(alpha=0.3, which="both")
     axes[0].set_ylabel("line amplitude [µm]")
-    axes[-1].legend(title="order", fontsize="small")
+    axes[-1].legend(title="order", fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle(_sweep_title(study, "amplitude of the orders over speed", sweep))
     return fig
 
@@ -361,32 +361,50 @@ def work_precision(
     study: str,
     solver: pd.Series | None = None,
     physics: pd.Series | None = None,
+    physics_id: pd.Series | None = None,
 ) -> Figure:
     """Runout error against the reference (error_max_um) over CPU time, log–log: one panel per
-    physics (``physics``: text per job_id of the keys that change the physics; at most
-    :data:`MAX_WORK_PANELS`, else one panel), one colour and marker per integrator, every job a
-    marker labelled with its solver setting (``solver``: text per job_id); per integrator and
-    reference run (``reference``: reference_id per job_id) a line through its work-precision
-    front (the jobs more accurate than every cheaper one). The legend counts the jobs shown and
-    the failed."""
+    physics (``physics_id``: a value per job_id that is the same for the same physics, by
+    default ``physics``; at most :data:`MAX_WORK_PANELS`, else one panel), titled with its jobs'
+    ``physics`` (text per job_id of the keys that change the physics, several joined by " / "),
+    one colour and marker per integrator, every job a marker labelled with its solver setting
+    (``solver``: text per job_id); per integrator and reference run (``reference``:
+    reference_id per job_id) a line through its work-precision front (the jobs more accurate
+    than every cheaper one). The legend counts the jobs shown and the failed."""
     ids = summary["job_id"]
     empty = pd.Series("", index=ids.to_numpy())
     solver = empty if solver is None else solver
     physics = empty if physics is None else physics
+    physics_id = physics if physics_id is None else physics_id
     summary = summary.assign(
         reference=reference.loc[ids].to_numpy(),
         solver_setting=solver.loc[ids].to_numpy(),
         physics=physics.loc[ids].to_numpy(),
+        physics_id=physics_id.loc[ids].to_numpy(),
     )
-    groups = list(dict.fromkeys(summary["physics"]))
+    groups = list(dict.fromkeys(summary["physics_id"]))
     if len(groups) > MAX_WORK_PANELS:
         groups = [None]
-    fig = _figure(figsize=(8.5 * min(len(groups), 3) + 0.5,
-                           6.2 * ((len(groups) + 2) // 3) + 0.4))
+    # One panel wide, so that its labels have room; several at 6 inches each, 3 a row.
+    width, height = (8.5, 6.2) if len(groups) == 1 else (6.0, 5.0)
+    fig = _figure(figsize=(width * min(len(groups), 3) + 0.5,
+                           height * ((len(groups) + 2) // 3) + 0.4))
     axes = fig.subplots((len(groups) + 2) // 3, min(len(groups), 3), squeeze=False).ravel()
     integrators = list(dict.fromkeys(summary["integrator"]))
     for ax, group in zip(axes, groups):
-        jobs_here = summary if group is None else summary[summary["physics"] == group]
+        jobs_here = summary if group is None else summary[summary["physics_id"] == group]
+        title = " / ".join(p for p in dict.fromkeys(jobs_here["physics"]) if p)
+        if group is not None and title:
+            ax.set_title(title, fontsize="medium")
+        drawn = (jobs_here["status"] == "ok") & (jobs_here["error_max_um"] > 0)
+        if not drawn.any():
+            failed = ", ".join(f"{i}: {s}" for i, s in zip(jobs_here["integrator"],
+                                                           jobs_here["status"]))
+            ax.text(0.5, 0.5, f"no job with an error to draw\n({failed})", ha="center",
+                    va="center", transform=ax.transAxes, fontsize="small")
+            ax.set_xticks([])
+            ax.set_yticks([])
+            continue
         for integrator, jobs in jobs_here.groupby("integrator", sort=False):
             i = integrators.index(integrator)
             shown = jobs[(jobs["status"] == "ok") & (jobs["error_max_um"] > 0)]
@@ -414,8 +432,6 @@ def work_precision(
         ax.set_ylabel("runout error against the reference, max [µm]")
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize="small")
-        if group:
-            ax.set_title(group, fontsize="medium")
     for ax in axes[len(groups):]:
         ax.set_visible(False)
     what = "work-precision" + (" per physics" if len(groups) > 1 else "")
@@ -938,9 +954,16 @@ def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -
         reference = attrs["reference_id"]
         solver_keys = [k for k in varying if k.startswith(("solver.", "reduction."))]
         physics_keys = [k for k in varying if k not in solver_keys]
+        # The integrator has its colour; the points name the rest of the solver setting (by
+        # the axis's label where the integrator's axis has labels).
+        if "solver.integrator" not in labels.columns:
+            solver_keys = [k for k in solver_keys if k != "solver.integrator"] or solver_keys
+        # The same physics: the same values of the other keys (a labelled axis may zip solver
+        # keys with physics keys; its labels then tell settings, not physics, apart).
+        same = summary.set_index("job_id")[physics_keys].astype(str).agg("|".join, axis=1)
         figures.append(("work_precision.png", work_precision(
             summary, reference, study, settings(summary, labels, solver_keys),
-            settings(summary, labels, physics_keys))))
+            settings(summary, labels, physics_keys), same)))
     if len(summary) > 0:
         figures.append(("timing.png", timing(summary, settings(summary, labels, varying), study)))
     if "solver.integrator" in varying and len(varying) > 1:

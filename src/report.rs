@@ -388,6 +388,10 @@ fn solver_table(jobs: &[Job], varying: &[String]) -> Table {
         ("peak amplitude error [µm]", "error_peak_um"),
         ("status", "status"),
     ];
+    if !jobs.iter().any(|j| j.error_max_um.is_finite()) {
+        // No reference run: no errors to show.
+        shown.retain(|(_, name)| !name.starts_with("error_"));
+    }
     if jobs.iter().any(|j| j.status != "ok") {
         shown.push(("cause", "cause"));
     }
@@ -705,7 +709,7 @@ fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
                 let mut line: Vec<String> = row.iter().map(md_cell).collect();
                 if let Some((p, r)) = centre {
                     line[4] = to_step(p.speed_hz, r.step_hz);
-                    line[5] = significant(r.step_hz, 2);
+                    line[5] = number_text(significant(r.step_hz, 3).parse().unwrap_or(r.step_hz));
                 }
                 md.push(line);
                 rows.push(row);
@@ -759,7 +763,8 @@ fn to_step(x: f64, step: f64) -> String {
     if !(step > 0.0 && x.is_finite()) {
         return significant(x, 4);
     }
-    let decimals = (-(0.5 * step).log10()).ceil().max(0.0) as usize;
+    // A step of 16.2 − 16.0 is 0.19999…: its decimal is that of 0.2.
+    let decimals = (-(0.5 * step).log10() - 1e-6).ceil().max(0.0) as usize;
     format!("{x:.decimals$}")
 }
 
@@ -1292,6 +1297,21 @@ fn esc(text: &str) -> String {
     out
 }
 
+/// `text` escaped for HTML, with `code` spans (between backticks) as `<code>`.
+fn esc_code(text: &str) -> String {
+    esc(text)
+        .split('`')
+        .enumerate()
+        .map(|(i, part)| {
+            if i % 2 == 1 {
+                format!("<code>{part}</code>")
+            } else {
+                part.to_string()
+            }
+        })
+        .collect()
+}
+
 /// What each figure of `scripts/plots.py` shows, by the start of its file name.
 const FIGURE_CAPTIONS: [(&str, &str); 13] = [
     ("spectral_map", "Spectral map: amplitude of the runout's fluctuating part (mean removed) over frequency and speed, the roll's orders solid, the rollers' lines dashed"),
@@ -1323,7 +1343,7 @@ fn html_table(out: &mut String, t: &Table) {
         out,
         "<section id=\"{name}\"><h2>{} <code>{name}</code></h2>\n<p class=\"legend\">{}</p>",
         esc(&t.title),
-        esc(&t.legend),
+        esc_code(&t.legend),
         name = esc(&t.name)
     );
     let (columns, rows, classes): (&[String], Vec<Vec<String>>, &[Vec<String>]) = match &t.markdown
@@ -1513,5 +1533,45 @@ impl Report {
             }
         }
         Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_written_one_way() {
+        // Parameters: shortest form, scientific below 1e-3 and from 1e6; measured values to
+        // their significant digits by the same rule.
+        assert_eq!(number_text(1e-4), "1e-4");
+        assert_eq!(number_text(16.4), "16.4");
+        assert_eq!(number_text(10.0), "10");
+        assert_eq!(number_text(2.5e7), "2.5e7");
+        assert_eq!(significant(1.234e-4, 3), "1.23e-4");
+        assert_eq!(significant(16.2345, 4), "16.23");
+        assert_eq!(significant(f64::NAN, 4), "–");
+    }
+
+    #[test]
+    fn speeds_are_rounded_to_the_sweeps_step() {
+        // 0.2 Hz steps (16.2 − 16.0 is 0.19999… in floating point): one decimal; a 4 Hz step
+        // (a 4-speed sweep 10…22 Hz): none; 0.05 Hz: two.
+        assert_eq!(to_step(16.17835, 16.2 - 16.0), "16.2");
+        assert_eq!(to_step(15.59, 4.0), "16");
+        assert_eq!(to_step(16.17835, 0.05), "16.18");
+        assert_eq!(to_step(16.17835, f64::NAN), "16.18");
+    }
+
+    #[test]
+    fn error_classes_by_decade() {
+        // The case: an ok job 1.2e4 µm off is in the worst class, not "ok".
+        assert_eq!(error_class("ok", 1.2e4), "≥ 100 µm");
+        assert_eq!(error_class("ok", 0.5), "< 1 µm");
+        assert_eq!(error_class("ok", 5.0), "1–10 µm");
+        assert_eq!(error_class("ok", 50.0), "10–100 µm");
+        assert_eq!(error_class("ok", f64::NAN), "no reference");
+        assert_eq!(error_class("diverged", 0.1), "diverged");
+        assert_eq!(esc_code("a `b` <c>"), "a <code>b</code> &lt;c&gt;");
     }
 }
