@@ -210,23 +210,31 @@ def _sweep_title(study: str, what: str, sweep: rp.Sweep) -> str:
 
 
 def spectral_map(
-    sweep: rp.Sweep, sensor: str, study: str, ratios: list[float] | None = None
+    sweep: rp.Sweep,
+    sensor: str,
+    study: str,
+    ratios: list[float] | None = None,
+    mean_removed: bool = True,
 ) -> Figure | None:
     """The sweep's spectral map of ``sensor`` (amplitude [µm] of the fluctuating part over
     frequency [Hz] × speed [Hz], the stored range), one panel per direction on a shared log
     colour scale that spans :data:`MAP_DECADES` below the largest amplitude; white lines at the
     sweep's integer orders k·speed and, dashed, at r·k·speed for each roller ratio r in
-    ``ratios`` (:func:`roller_ratios`). None when the sweep has no map of that sensor or it is
-    zero."""
+    ``ratios`` (:func:`roller_ratios`; None: not known, no roller lines said). A file written before the mean was removed
+    (``mean_removed`` False) has it in the 0 Hz bin and the next one: those two are left out of
+    the colour scale (clipped to its top). None when the sweep has no map of that sensor or it
+    is zero."""
     dirs = _panels(sweep["maps"], sensor)
     if not dirs or sweep["freq_hz"] is None:
         return None
     maps = [sweep["maps"][f"{sensor}/{d}"] for d in dirs]
     freq, speed = sweep["freq_hz"], sweep["speed_hz"]
-    top = max(np.max(m, initial=0.0) for m in maps)
+    skip = 0 if mean_removed else 2
+    top = max(np.max(m[:, skip:], initial=0.0) for m in maps)
     if not top > 0:
         return None
     orders = [int(o) for o in sweep["orders"] if float(o).is_integer() and o > 0]
+    known = ratios is not None
     ratios = [r for r in (ratios or []) if abs(r - 1.0) > 1e-9]
     norm = LogNorm(vmin=top / 10**MAP_DECADES, vmax=top, clip=True)
     fig = _figure(figsize=(5.2 * len(dirs) + 1.2, 5.8))
@@ -252,18 +260,21 @@ def spectral_map(
     if ratios:
         rollers = ", ".join(number_text(round(r, 4)) for r in ratios)
         what = f"spectral map (solid k·speed; dashed rollers' lines {rollers}·k·speed)"
-    else:
+    elif known:
         what = "spectral map (lines k·speed; the rollers' lines lie on them)"
+    else:
+        what = "spectral map (lines k·speed)"
     fig.suptitle(_sweep_title(study, what, sweep))
     return fig
 
 
-def roller_ratios(attrs: pd.DataFrame, job_ids: list[str]) -> list[float]:
+def roller_ratios(attrs: pd.DataFrame, job_ids: list[str]) -> list[float] | None:
     """The distinct roller line ratios (``roller_ratio:<node>/<roller>`` attributes, ascending)
-    of the jobs ``job_ids`` (``attrs`` as :func:`rotorsweep_py.job_attrs` gives them)."""
+    of the jobs ``job_ids`` (``attrs`` as :func:`rotorsweep_py.job_attrs` gives them); None in a
+    file written before they were stored (unknown), [] for a scene without rollers."""
     cols = [c for c in attrs.columns if str(c).startswith(ROLLER_RATIO)]
     if not cols:
-        return []
+        return None
     values = attrs.loc[[j for j in job_ids if j in attrs.index], cols].to_numpy(dtype=float)
     values = values[np.isfinite(values)]
     return sorted({round(float(v), 9) for v in values})
@@ -942,9 +953,10 @@ def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -
     for s in sweeps:
         suffix = f"-{s['n']}" if len(sweeps) > 1 else ""
         ratios = roller_ratios(attrs, s["job_ids"])
-        figures.append((f"spectral_map{suffix}.png", spectral_map(s, sensor, study, ratios)))
-        figures.append((f"harmonics{suffix}.png", harmonics(s, sensor, study)))
         means = sweep_means(path, s["n"])
+        figures.append((f"spectral_map{suffix}.png",
+                        spectral_map(s, sensor, study, ratios, mean_removed=bool(means))))
+        figures.append((f"harmonics{suffix}.png", harmonics(s, sensor, study)))
         figures.append((f"mean{suffix}.png", mean_runout(s, means, study)))
     if not trial.empty:
         names = settings(summary, labels, [k for k in varying if k != "speed.hz"])
