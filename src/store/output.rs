@@ -29,7 +29,7 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// The output exists and `--overwrite` was not given.
-    #[error("{0}: exists; add --overwrite to replace it (only a rotorsweep results file is replaced), or choose another -o")]
+    #[error("{0}: exists; add --overwrite to replace it (only a file rotorsweep wrote is replaced), or choose another -o")]
     Exists(PathBuf),
     /// The output is something that is never replaced.
     #[error("{0}: {1}; refusing to replace it")]
