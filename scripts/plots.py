@@ -643,10 +643,10 @@ def _campbell_panel(ax: Axes, sys_: dict[str, object], title: str) -> object | N
 
 def _branch_names(sys_: dict[str, object]) -> list[tuple[float, str]]:
     """Per Campbell branch in the diagram's range: (its frequency at the top speed [Hz], its
-    label): the plane at the lowest speed (vertical / horizontal, when its frequency is within
-    1 % of the system's first bending frequency in that plane, attributes ``vertical_hz`` and
-    ``horizontal_hz``) and the whirl at the top speed (forward / backward / mixed). [] without
-    stored branches."""
+    label): the plane at the lowest speed (vertical / horizontal for the branch nearest, within
+    2 %, to the system's first bending frequency in that plane, attributes ``vertical_hz`` and
+    ``horizontal_hz``: each plane names one branch, so a near-degenerate pair gets one of each)
+    and the whirl at the top speed (forward / backward / mixed). [] without stored branches."""
     speed = np.asarray(sys_["campbell/speed_hz"])
     whirl = np.asarray(sys_["campbell/whirl_hz"])
     branch = sys_.get("campbell/branch")
@@ -655,22 +655,30 @@ def _branch_names(sys_: dict[str, object]) -> list[tuple[float, str]]:
         return []
     branch = np.asarray(branch)
     top = float(speed[-1])
-    planes = [(sys_.get(a), name) for a, name in (("vertical_hz", "vertical"),
-                                                   ("horizontal_hz", "horizontal"))]
-    out = []
+    ends: dict[int, tuple[float, float, int, int]] = {}
     for b in np.unique(branch[branch >= 0]):
         rows, cols = np.nonzero(branch == b)
         order = np.argsort(rows)
         rows, cols = rows[order], cols[order]
         f0, f1 = whirl[rows[0], cols[0]], whirl[rows[-1], cols[-1]]
-        if not (0 < f1 <= top) or rows[-1] != len(speed) - 1:
+        if 0 < f1 <= top and rows[-1] == len(speed) - 1:
+            ends[int(b)] = (float(f0), float(f1), int(rows[-1]), int(cols[-1]))
+    planes: dict[int, str] = {}
+    for attr, name in (("vertical_hz", "vertical"), ("horizontal_hz", "horizontal")):
+        f = sys_.get(attr)
+        free = [b for b in ends if b not in planes]
+        if f is None or not np.isfinite(f) or not free:
             continue
-        parts = [name for f, name in planes
-                 if f is not None and np.isfinite(f) and abs(f0 - f) <= 0.01 * f]
+        near = min(free, key=lambda b: abs(ends[b][0] - f))
+        if abs(ends[near][0] - f) <= 0.02 * f:
+            planes[near] = name
+    out = []
+    for b, (_, f1, r, c) in ends.items():
+        parts = [planes[b]] if b in planes else []
         if codes is not None:
-            parts.append(WHIRL_MARKERS[int(np.rint(np.asarray(codes)[rows[-1], cols[-1]]))][1])
+            parts.append(WHIRL_MARKERS[int(np.rint(np.asarray(codes)[r, c]))][1])
         if parts:
-            out.append((float(f1), ", ".join(parts)))
+            out.append((f1, ", ".join(parts)))
     return sorted(out)
 
 
