@@ -3,7 +3,7 @@
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-use rotorsweep::study::campaign::{self, CampaignError, RunOptions};
+use rotorsweep::study::campaign::{self, CampaignError, ReferenceSource, RunOptions};
 use rotorsweep::study::Study;
 
 /// Arguments of `rotorsweep plan`.
@@ -37,6 +37,14 @@ pub struct RunArgs {
     /// the new one is complete) and the saved jobs of an interrupted run.
     #[arg(long, conflicts_with = "resume")]
     overwrite: bool,
+    /// Run only the study's reference runs, all of them, into the output: a references file
+    /// that the shards of a campaign share with --references (each reference computed once).
+    #[arg(long, conflicts_with_all = ["shard", "references"])]
+    references_only: bool,
+    /// Copy the reference runs from this references file (written by --references-only from
+    /// the same study inputs, checked) instead of computing them.
+    #[arg(long, value_name = "FILE")]
+    references: Option<PathBuf>,
 }
 
 /// Arguments of `rotorsweep merge`.
@@ -224,9 +232,25 @@ pub fn run(a: &RunArgs) -> Result<bool, Box<dyn std::error::Error>> {
             .transpose()
             .map_err(CampaignError::Usage)?,
         command: std::env::args().collect::<Vec<_>>().join(" "),
+        references: match (&a.references, a.references_only) {
+            (Some(p), _) => ReferenceSource::File(p.clone()),
+            (None, true) => ReferenceSource::Only,
+            (None, false) => ReferenceSource::Run,
+        },
     };
     let t0 = std::time::Instant::now();
     let out = campaign::run(&st, &opts)?;
+    if a.references_only {
+        eprintln!(
+            "{}: {} reference runs, {} not ok, in {:.1} s -> {}",
+            st.name,
+            st.references.len(),
+            out.references_failed,
+            t0.elapsed().as_secs_f64(),
+            a.output.display()
+        );
+        return Ok(out.references_failed == 0);
+    }
     eprintln!(
         "{}: {} jobs, {} ok, {} failed{}{} in {:.1} s -> {}",
         st.name,

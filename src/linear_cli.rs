@@ -22,28 +22,12 @@
 //! the mode shapes at the nodes [speeds × modes × nodes] (README, `rotorsweep linear`).
 
 use std::path::PathBuf;
-use std::time::Instant;
 
-use nalgebra::DVector;
-use ndarray::Array3;
-use rotorsweep::linear::campbell::{sweep, CampbellData};
-use rotorsweep::linear::floquet::{growth_per_rev, scene_multipliers, unstable_ranges};
-use rotorsweep::linear::map::{critical_map, CriticalMap};
-use rotorsweep::linear::modes::{node_shape, Kind};
-use rotorsweep::linear::response::{plane_response, point_unbalance, SensorResponse};
-use rotorsweep::linear::statics::{self, Static};
+use rotorsweep::linear::analysis::{self, PointUnbalance, Request, Results, PHASE_NOTE};
+use rotorsweep::linear::modes::Kind;
 use rotorsweep::linear::{LinearSystem, FRAME_NOTE};
-use rotorsweep::model::Model;
 use rotorsweep::scene::Scene;
 use rotorsweep::store;
-use serde::Serialize;
-use serde_json::{json, Map, Value};
-
-const TAU: f64 = 2.0 * std::f64::consts::PI;
-
-/// The phase convention of `unbalance_response`.
-const PHASE_NOTE: &str = "x(t) = A cos(θ + φ), θ = Ω t the roll angle: φ against roll angle 0, \
-as the study analysis's lines (/analysis/lines)";
 
 /// Arguments of `rotorsweep linear`.
 #[derive(clap::Args)]
@@ -86,241 +70,39 @@ pub struct Args {
     overwrite: bool,
 }
 
-fn parse_speeds(a: &Args) -> Result<Vec<f64>, String> {
-    if let Some(f) = a.speed_hz {
-        if !(f.is_finite() && f >= 0.0) {
-            return Err("--speed-hz must be zero or positive".into());
-        }
-        return Ok(vec![f]);
-    }
-    let text = a.speeds.as_deref().unwrap_or("0:100:101");
-    let bad = || format!("--speeds `{text}`: expected START:STOP:COUNT, e.g. 0:100:101");
-    let parts: Vec<&str> = text.split(':').collect();
-    if parts.len() != 3 {
-        return Err(bad());
-    }
-    let start: f64 = parts[0].trim().parse().map_err(|_| bad())?;
-    let stop: f64 = parts[1].trim().parse().map_err(|_| bad())?;
-    let count: usize = parts[2].trim().parse().map_err(|_| bad())?;
-    if !(start.is_finite() && stop.is_finite() && start >= 0.0 && stop > start && count >= 2) {
-        return Err(format!("{}: need 0 ≤ START < STOP and COUNT ≥ 2", bad()));
-    }
-    Ok((0..count)
-        .map(|i| start + (stop - start) * i as f64 / (count - 1) as f64)
-        .collect())
-}
-
-fn parse_unbalance(model: &Model, text: &str) -> Result<DVector<f64>, String> {
-    let bad = || format!("--unbalance `{text}`: expected MASS_G,RADIUS_MM,ANGLE_DEG,Z_MM");
-    let v: Vec<f64> = text
-        .split(',')
-        .map(|s| s.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| bad())?;
-    if v.len() != 4 || v.iter().any(|x| !x.is_finite()) {
-        return Err(bad());
-    }
-    Ok(point_unbalance(
-        model,
-        1e-3 * v[0],
-        1e-3 * v[1],
-        v[2].to_radians(),
-        1e-3 * v[3],
-    ))
-}
-
-#[derive(Serialize)]
-struct ModeOut {
-    freq_hz: f64,
-    damping_ratio: f64,
-    log_dec: f64,
-    whirl: String,
-    kind: String,
-    whirl_index: f64,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    shape: Option<ShapeOut>,
-}
-
-/// A mode's shape at the nodes of `node_z_mm`, largest translation 1.
-#[derive(Serialize)]
-struct ShapeOut {
-    x_re: Vec<f64>,
-    x_im: Vec<f64>,
-    y_re: Vec<f64>,
-    y_im: Vec<f64>,
-}
-
-/// Every result, computed once.
-struct Results {
-    campbell: CampbellData,
-    responses: Vec<Vec<SensorResponse>>,
-    floquet_speeds: Vec<f64>,
-    floquet_growth: Vec<f64>,
-    floquet_ranges: Vec<[f64; 2]>,
-    statics: Result<Static, String>,
-    supported: (Vec<f64>, Vec<f64>),
-    times: Map<String, Value>,
-}
-
-fn compute(a: &Args, scene: &Scene, model: &Model, sys: &LinearSystem) -> Result<Results, String> {
-    let speeds = parse_speeds(a)?;
-    let fc = match &a.unbalance {
-        Some(t) => parse_unbalance(model, t)?,
-        None => sys.unbalance.clone(),
-    };
-    let mut times = Map::new();
-    let t0 = Instant::now();
-    let campbell = sweep(sys, &speeds, a.max_freq_hz).map_err(|e| e.to_string())?;
-    times.insert("campbell".into(), json!(t0.elapsed().as_secs_f64()));
-    let t0 = Instant::now();
-    let planes: Vec<_> = sys.sensors.iter().chain(&sys.named).cloned().collect();
-    let responses = speeds
-        .iter()
-        .map(|s| plane_response(sys, TAU * s, &fc, &planes))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| e.to_string())?;
-    times.insert("unbalance".into(), json!(t0.elapsed().as_secs_f64()));
-    let t0 = Instant::now();
-    let floquet_speeds: Vec<f64> = speeds.iter().copied().filter(|s| *s > 0.0).collect();
-    let eval = |s: f64| {
-        scene_multipliers(sys, TAU * s, a.floquet_cutoff_hz.unwrap_or(f64::INFINITY))
-            .map(|mu| growth_per_rev(&mu))
-    };
-    let floquet_growth = floquet_speeds
-        .iter()
-        .map(|s| eval(*s))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| e.to_string())?;
-    let floquet_ranges = if floquet_speeds.len() >= 2 {
-        unstable_ranges(&floquet_speeds, &floquet_growth, eval).map_err(|e| e.to_string())?
-    } else {
-        floquet_speeds
-            .iter()
-            .zip(&floquet_growth)
-            .filter(|(_, g)| **g > rotorsweep::linear::floquet::UNSTABLE_GROWTH)
-            .map(|(s, _)| [*s, *s])
-            .collect()
-    };
-    times.insert("floquet".into(), json!(t0.elapsed().as_secs_f64()));
-    let t0 = Instant::now();
-    let statics = statics::solve(scene, model);
-    times.insert("static".into(), json!(t0.elapsed().as_secs_f64()));
-    let supported = sys.supported_hz().map_err(|e| e.to_string())?;
-    Ok(Results {
-        campbell,
-        responses,
-        floquet_speeds,
-        floquet_growth,
-        floquet_ranges,
-        statics,
-        supported,
-        times,
-    })
-}
-
-fn modes_json(sys: &LinearSystem, r: &Results, shapes: bool) -> Vec<Vec<ModeOut>> {
-    r.campbell
-        .sets
-        .iter()
-        .map(|s| {
-            s.modes
-                .iter()
-                .map(|m| ModeOut {
-                    freq_hz: m.freq_hz,
-                    damping_ratio: m.damping_ratio,
-                    log_dec: m.log_dec,
-                    whirl: m.whirl.to_string(),
-                    kind: m.kind.to_string(),
-                    whirl_index: m.whirl_index,
-                    shape: shapes.then(|| {
-                        let (x, y) = node_shape(sys, m);
-                        ShapeOut {
-                            x_re: x.iter().map(|z| z.re).collect(),
-                            x_im: x.iter().map(|z| z.im).collect(),
-                            y_re: y.iter().map(|z| z.re).collect(),
-                            y_im: y.iter().map(|z| z.im).collect(),
-                        }
-                    }),
-                })
-                .collect()
-        })
-        .collect()
-}
-
-/// The responses at `names`, which sit from column `offset` on in each speed's responses.
-fn response_json(names: &[(String, nalgebra::DMatrix<f64>)], offset: usize, r: &Results) -> Value {
-    let mut out = Map::new();
-    for (j, (name, _)) in names.iter().enumerate() {
-        let i = offset + j;
-        let col = |f: &dyn Fn(&SensorResponse) -> f64| -> Vec<f64> {
-            r.responses.iter().map(|s| f(&s[i])).collect()
-        };
-        out.insert(
-            name.clone(),
-            json!({
-                "vertical": {
-                    "amplitude_um": col(&|s| 1e6 * s.vertical.norm()),
-                    "phase_deg": col(&|s| s.vertical.arg().to_degrees()),
-                },
-                "horizontal": {
-                    "amplitude_um": col(&|s| 1e6 * s.horizontal.norm()),
-                    "phase_deg": col(&|s| s.horizontal.arg().to_degrees()),
-                },
-                "major_um": col(&|s| 1e6 * s.major()),
-                "minor_um": col(&|s| 1e6 * s.minor()),
-            }),
-        );
-    }
-    Value::Object(out)
-}
-
-fn static_json(r: &Results) -> Value {
-    match &r.statics {
-        Err(e) => json!({ "error": e }),
-        Ok(s) => {
-            let mut sag = Map::new();
-            for (name, d) in &s.sensors {
-                sag.insert(
-                    name.clone(),
-                    json!({"vertical": 1e6 * d.y, "horizontal": 1e6 * d.x}),
-                );
-            }
-            let mut journal = Map::new();
-            let mut forces = Map::new();
-            let mut contact = Map::new();
-            for sp in &s.supports {
-                journal.insert(
-                    sp.node.clone(),
-                    json!({"x": 1e6 * sp.journal.x, "y": 1e6 * sp.journal.y}),
-                );
-                forces.insert(sp.node.clone(), json!({"x": sp.force.x, "y": sp.force.y}));
-                if !sp.contact.is_empty() {
-                    let m: Map<String, Value> = sp
-                        .contact
-                        .iter()
-                        .map(|(n, f)| (n.clone(), json!(f)))
-                        .collect();
-                    contact.insert(sp.node.clone(), Value::Object(m));
-                }
-            }
-            json!({
-                "sag_um": sag,
-                "journal_um": journal,
-                "support_forces_n": forces,
-                "contact_forces_n": contact,
-                "weight_n": s.weight,
-            })
-        }
-    }
-}
-
-/// Runs the command.
-pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
+fn request(a: &Args) -> Result<Request, String> {
     if a.floquet_cutoff_hz
         .is_some_and(|c| !(c.is_finite() && c > 0.0))
     {
         return Err("--floquet-cutoff-hz must be positive".into());
     }
+    let speeds_hz = match a.speed_hz {
+        Some(f) if f.is_finite() && f >= 0.0 => vec![f],
+        Some(_) => return Err("--speed-hz must be zero or positive".into()),
+        None => analysis::parse_speeds(a.speeds.as_deref().unwrap_or("0:100:101"))
+            .map_err(|e| format!("--{e}"))?,
+    };
+    Ok(Request {
+        speeds_hz,
+        max_freq_hz: a.max_freq_hz,
+        unbalance: a
+            .unbalance
+            .as_deref()
+            .map(PointUnbalance::parse)
+            .transpose()
+            .map_err(|e| format!("--{e}"))?,
+        response: true,
+        floquet: true,
+        floquet_cutoff_hz: a.floquet_cutoff_hz,
+        statics: true,
+        critical_map: true,
+        shapes: a.shapes,
+    })
+}
+
+/// Runs the command.
+pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
+    let req = request(a)?;
     let (scene, model) = crate::modes::load_model(&a.scene, &a.set, a.modes.as_deref())?;
     // The output is claimed before the work (store::output): one writer, nothing replaced
     // that is not a rotorsweep results file.
@@ -332,81 +114,23 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let sys = LinearSystem::of_scene(&scene, &model).map_err(|e| {
         rotorsweep::error::InputError::new(&a.scene, format!("linear analysis: {e}"))
     })?;
-    let r = compute(a, &scene, &model, &sys)?;
-    let c = &r.campbell;
-    let stiff: Vec<f64> = (0..=24)
-        .map(|i| 10f64.powf(5.0 + 0.25 * i as f64))
-        .collect();
-    let map = critical_map(&sys, &stiff)?;
-    let mut warnings = c.warnings.clone();
-    if let Err(e) = &r.statics {
-        warnings.push(format!("static analysis: {e}"));
-    }
-    let floquet_note = if r.floquet_speeds.is_empty() {
-        "not applicable at standstill (no revolution)"
-    } else {
-        "body frame, supports turning backwards: exact for the asymmetric rotor on anisotropic \
-         supports; modes below cutoff_hz (null: all)"
-    };
-    let out = json!({
-        "scene": scene.name,
-        "frame": FRAME_NOTE,
-        "speeds_hz": c.speeds_hz,
-        "modes": modes_json(&sys, &r, a.shapes),
-        "node_z_mm": sys.node_z.iter().map(|z| 1e3 * z).collect::<Vec<_>>(),
-        "supported_hz": {"vertical": r.supported.0, "horizontal": r.supported.1},
-        "critical_speeds_hz": c.critical.iter().map(|x| x.speed_hz).collect::<Vec<_>>(),
-        "critical_speeds": c.critical.iter().map(|x| json!({
-            "speed_hz": x.speed_hz, "whirl": x.whirl.to_string(), "log_dec": x.log_dec
-        })).collect::<Vec<_>>(),
-        "stability_threshold_hz": c.threshold_hz,
-        "unbalance": a.unbalance.clone().unwrap_or_else(|| "scene".into()),
-        "phase_convention": PHASE_NOTE,
-        "unbalance_response": response_json(&sys.sensors, 0, &r),
-        "unbalance_response_nodes": response_json(&sys.named, sys.sensors.len(), &r),
-        "floquet": {
-            "unstable_ranges_hz": r.floquet_ranges,
-            "speeds_hz": r.floquet_speeds,
-            "growth_per_rev": r.floquet_growth,
-            "cutoff_hz": a.floquet_cutoff_hz,
-            "frame": floquet_note,
-        },
-        "static": static_json(&r),
-        "critical_map": {
-            "stiffness_n_per_m": map.stiffness,
-            "critical_speeds_hz": map.critical_hz,
-            "actual_n_per_m": scene.supports.iter().zip(&map.actual).map(|(s, k)| json!({
-                "node": s.node, "kx": k.0, "ky": k.1
-            })).collect::<Vec<_>>(),
-        },
-        "warnings": warnings,
-        "times_s": r.times,
-    });
+    let r = analysis::compute(&req, &scene, &model, &sys)?;
     if let Some(path) = &a.output {
-        if let Err(e) = write_h5(path, &scene, &sys, &out, &r, &map, a.shapes) {
+        if let Err(e) = write_h5(path, &scene, &r) {
             let _ = std::fs::remove_file(store::with_suffix(path, ".tmp"));
             return Err(store::output::OutputError::Write(path.clone(), e.to_string()).into());
         }
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&out)?);
+        println!("{}", serde_json::to_string_pretty(&r.to_json(true))?);
     } else {
-        print_tables(&sys, &out, &r);
+        print_tables(&r);
     }
     Ok(())
 }
 
-fn f64s(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .map(|a| a.iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect())
-        .unwrap_or_default()
-}
-
-fn print_tables(sys: &LinearSystem, out: &Value, r: &Results) {
-    println!(
-        "scene {}: linear analysis",
-        out["scene"].as_str().unwrap_or("")
-    );
+fn print_tables(r: &Results) {
+    println!("scene {}: linear analysis", r.scene);
     println!("({})", FRAME_NOTE);
     println!("\nlowest lateral modes per speed: damped frequency [Hz] / log dec / whirl");
     for (s, set) in r.campbell.speeds_hz.iter().zip(&r.campbell.sets) {
@@ -437,35 +161,26 @@ fn print_tables(sys: &LinearSystem, out: &Value, r: &Results) {
         Some(t) => println!("stability threshold: {t:.4} Hz"),
         None => println!("stability threshold: none (stable over the range)"),
     }
-    println!("\nunbalance response ({PHASE_NOTE}): amplitude [µm] ∠ phase [°]");
-    for (i, (name, _)) in sys.sensors.iter().enumerate() {
-        println!("  {name}:");
-        for (s, resp) in r.campbell.speeds_hz.iter().zip(&r.responses) {
-            let x = resp[i];
-            println!(
-                "    {s:7.2} Hz: vertical {:9.3} ∠ {:7.2}, horizontal {:9.3} ∠ {:7.2}",
-                1e6 * x.vertical.norm(),
-                x.vertical.arg().to_degrees(),
-                1e6 * x.horizontal.norm(),
-                x.horizontal.arg().to_degrees()
-            );
-        }
+    if let Some(resp) = &r.response {
+        print_response(resp, &r.campbell.speeds_hz);
     }
-    let ranges: Vec<String> = r
-        .floquet_ranges
-        .iter()
-        .map(|[a, b]| format!("{a:.4}–{b:.4} Hz"))
-        .collect();
-    println!(
-        "\nFloquet (body frame): unstable {}",
-        if ranges.is_empty() {
-            "nowhere in the range".to_string()
-        } else {
-            ranges.join(", ")
-        }
-    );
+    if let Some(f) = &r.floquet {
+        let ranges: Vec<String> = f
+            .ranges
+            .iter()
+            .map(|[a, b]| format!("{a:.4}–{b:.4} Hz"))
+            .collect();
+        println!(
+            "\nFloquet (body frame): unstable {}",
+            if ranges.is_empty() {
+                "nowhere in the range".to_string()
+            } else {
+                ranges.join(", ")
+            }
+        );
+    }
     match &r.statics {
-        Ok(s) => {
+        Some(Ok(s)) => {
             println!("\nstatic sag under gravity [µm] (vertical / horizontal):");
             for (name, d) in &s.sensors {
                 println!("  {name}: {:.2} / {:.2}", 1e6 * d.y, 1e6 * d.x);
@@ -493,133 +208,42 @@ fn print_tables(sys: &LinearSystem, out: &Value, r: &Results) {
                 );
             }
         }
-        Err(e) => println!("\nstatic analysis: {e}"),
+        Some(Err(e)) => println!("\nstatic analysis: {e}"),
+        None => {}
     }
-    for w in out["warnings"].as_array().into_iter().flatten() {
-        println!("warning: {}", w.as_str().unwrap_or(""));
+    for w in &r.warnings {
+        println!("warning: {w}");
     }
 }
 
-/// How `campbell/whirl` codes a mode's whirl (its `codes` attribute).
-/// A 3-D float dataset `data` under `group` with a `units` attribute (deflated).
-fn dataset_3d(
-    group: &hdf5::Group,
-    name: &str,
-    data: &Array3<f64>,
-    units: &str,
-) -> hdf5::Result<()> {
-    let mut b = group.new_dataset_builder();
-    if !data.is_empty() {
-        b = b.chunk(data.dim()).shuffle().deflate(4);
+fn print_response(r: &analysis::Response, speeds_hz: &[f64]) {
+    println!("\nunbalance response ({PHASE_NOTE}): amplitude [µm] ∠ phase [°]");
+    for (i, name) in r.planes.iter().enumerate().take(r.sensors) {
+        println!("  {name}:");
+        for (s, resp) in speeds_hz.iter().zip(&r.values) {
+            let x = resp[i];
+            println!(
+                "    {s:7.2} Hz: vertical {:9.3} ∠ {:7.2}, horizontal {:9.3} ∠ {:7.2}",
+                1e6 * x.vertical.norm(),
+                x.vertical.arg().to_degrees(),
+                1e6 * x.horizontal.norm(),
+                x.horizontal.arg().to_degrees()
+            );
+        }
     }
-    let ds = b.with_data(data.view()).create(name)?;
-    store::attr_str(&ds, "units", units)
 }
 
-/// Writes `/linear/<scene>` (module doc; the `--shapes` group only with `shapes`).
+/// Writes `/linear/<scene>` (module doc).
 fn write_h5(
     path: &std::path::Path,
     scene: &Scene,
-    sys: &LinearSystem,
-    out: &Value,
     r: &Results,
-    map: &CriticalMap,
-    shapes: bool,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let text = std::fs::read_to_string(&scene.source).unwrap_or_default();
     let command = std::env::args().collect::<Vec<_>>().join(" ");
     let (file, jobs) = store::create_file(path, &command, &text)?;
     let g = store::subgroup(&file, &format!("linear/{}", scene.name))?;
-    store::attr_str(&g, "frame", FRAME_NOTE)?;
-    store::attr_str(&g, "phase_convention", PHASE_NOTE)?;
-    let first = |v: &[f64]| v.first().copied().unwrap_or(f64::NAN);
-    store::attr_f64(&g, "vertical_hz", first(&r.supported.0))?;
-    store::attr_f64(&g, "horizontal_hz", first(&r.supported.1))?;
-    rotorsweep::linear::campbell::write(&g, &r.campbell)?;
-    let (lateral, nb) = rotorsweep::linear::campbell::lateral_modes(&r.campbell);
-    let ns = r.campbell.speeds_hz.len();
-    for (sensor, v) in out["unbalance_response"].as_object().into_iter().flatten() {
-        for dir in ["vertical", "horizontal"] {
-            let p = format!("unbalance_response/{sensor}/{dir}");
-            store::dataset(
-                &g,
-                &format!("{p}/amplitude_um"),
-                &f64s(&v[dir]["amplitude_um"]),
-                "um",
-            )?;
-            store::dataset(
-                &g,
-                &format!("{p}/phase_deg"),
-                &f64s(&v[dir]["phase_deg"]),
-                "deg",
-            )?;
-        }
-    }
-    store::dataset(&g, "floquet/speed_hz", &r.floquet_speeds, "Hz")?;
-    store::dataset(&g, "floquet/growth_per_rev", &r.floquet_growth, "1")?;
-    let flat_ranges: Vec<f64> = r.floquet_ranges.iter().flatten().copied().collect();
-    store::dataset_2d(
-        &g,
-        "floquet/unstable_ranges_hz",
-        (r.floquet_ranges.len(), 2),
-        &flat_ranges,
-        "Hz",
-    )?;
-    if let Ok(s) = &r.statics {
-        let names: Vec<String> = s.sensors.iter().map(|x| x.0.clone()).collect();
-        store::string_dataset(&g, "static/sensors", &names)?;
-        let v: Vec<f64> = s.sensors.iter().map(|x| 1e6 * x.1.y).collect();
-        let h: Vec<f64> = s.sensors.iter().map(|x| 1e6 * x.1.x).collect();
-        store::dataset(&g, "static/sag_vertical_um", &v, "um")?;
-        store::dataset(&g, "static/sag_horizontal_um", &h, "um")?;
-    }
-    // The critical-speed map, NaN-padded to the most critical speeds of any stiffness.
-    let width = map.critical_hz.iter().map(Vec::len).max().unwrap_or(0);
-    let padded: Vec<f64> = map
-        .critical_hz
-        .iter()
-        .flat_map(|row| (0..width).map(|i| row.get(i).copied().unwrap_or(f64::NAN)))
-        .collect();
-    store::dataset(&g, "critical_map/stiffness_n_per_m", &map.stiffness, "N/m")?;
-    store::dataset_2d(
-        &g,
-        "critical_map/critical_speeds_hz",
-        (map.stiffness.len(), width),
-        &padded,
-        "Hz",
-    )?;
-    let kx: Vec<f64> = map.actual.iter().map(|k| k.0).collect();
-    let ky: Vec<f64> = map.actual.iter().map(|k| k.1).collect();
-    store::dataset(&g, "critical_map/actual_kx_n_per_m", &kx, "N/m")?;
-    store::dataset(&g, "critical_map/actual_ky_n_per_m", &ky, "N/m")?;
-    let nodes: Vec<String> = scene.supports.iter().map(|s| s.node.clone()).collect();
-    store::string_dataset(
-        &store::subgroup(&g, "critical_map")?,
-        "support_nodes",
-        &nodes,
-    )?;
-    if shapes {
-        let sg = store::subgroup(&g, "shapes")?;
-        let z: Vec<f64> = sys.node_z.iter().map(|z| 1e3 * z).collect();
-        store::dataset(&sg, "node_z_mm", &z, "mm")?;
-        let nn = z.len();
-        let mut parts: [Array3<f64>; 4] = std::array::from_fn(|_| Array3::zeros((ns, nb, nn)));
-        for (s, l) in lateral.iter().enumerate() {
-            for (k, (_, m)) in l[..nb].iter().enumerate() {
-                let (x, y) = node_shape(sys, m);
-                for n in 0..nn {
-                    let v = [x[n].re, x[n].im, y[n].re, y[n].im];
-                    for (p, value) in parts.iter_mut().zip(v) {
-                        p[(s, k, n)] = value;
-                    }
-                }
-            }
-        }
-        for (name, p) in ["x_re", "x_im", "y_re", "y_im"].iter().zip(&parts) {
-            dataset_3d(&sg, name, p, "1")?;
-        }
-    }
-    store::attr_str(&g, "json", &out.to_string())?;
+    r.write(&g, true)?;
     store::finish_file(path, file, jobs)?;
     Ok(())
 }

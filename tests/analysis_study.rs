@@ -80,6 +80,7 @@ fn run(st: &Study, out: &std::path::Path) -> campaign::Outcome {
         overwrite: false,
         shard: None,
         command: "test".into(),
+        references: Default::default(),
     };
     campaign::run(st, &opts).expect("campaign")
 }

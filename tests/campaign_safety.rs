@@ -533,6 +533,70 @@ fn failed_references_count_in_the_exit_code_and_the_summary_says_why() {
 }
 
 #[test]
+fn shared_references_keep_their_failures_and_a_finished_shard_reruns_as_a_no_op() {
+    let d = scratch_dir("safety-shared-references");
+    let body = "[[axes]]\nkey = \"speed.hz\"\nvalues = [12.0, 14.0]\n[reference]\n\"solver.max_steps\" = 5\n";
+    write_file(&d, "s.toml", &study_text(body));
+    // The references step: both reference runs (one per speed) over their 5-step budget; the
+    // file is complete and the exit code says 2, as a run computing them itself would.
+    let o = rs(&d, &["run", "s.toml", "--references-only", "-o", "refs.h5"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("2 reference runs, 2 not ok"),
+        "{}",
+        stderr(&o)
+    );
+    // A shard that copies them: its job says why it has no error columns, exit 2.
+    let shard = [
+        "run",
+        "s.toml",
+        "--shard",
+        "0/2",
+        "--references",
+        "refs.h5",
+        "-o",
+        "s0.h5",
+    ];
+    let o = rs(&d, &shard);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let f = hdf5::File::open(d.join("s0.h5")).unwrap();
+    let g = f.group("jobs").unwrap();
+    let id = &g.member_names().unwrap()[0];
+    let cause = rotorsweep::store::read_str(&g.group(id).unwrap(), "error_cause").unwrap();
+    assert!(cause.starts_with("reference budget"), "{cause}");
+    drop(f);
+    // Run again as a requeued or resubmitted Slurm task does: nothing runs, the file stays as it
+    // was, the exit code is the first run's.
+    let before = std::fs::read(d.join("s0.h5")).unwrap();
+    let o = rs(&d, &[&shard[..], &["--resume"]].concat());
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("(1 resumed)"), "{}", stderr(&o));
+    assert_eq!(before, std::fs::read(d.join("s0.h5")).unwrap());
+    // References of other inputs are an input error naming the file; nothing is started.
+    write_file(&d, "t.toml", &study_text(&body.replace("14.0", "16.0")));
+    let o = rs(
+        &d,
+        &[
+            "run",
+            "t.toml",
+            "--shard",
+            "0/2",
+            "--references",
+            "refs.h5",
+            "-o",
+            "t0.h5",
+        ],
+    );
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("refs.h5: holds the reference runs of other inputs"));
+    assert!(!d.join("t0.h5").exists() && !d.join("t0.h5.parts").exists());
+    // A study without [reference] has none to share: a usage error.
+    tiny_study(&d, "p.toml");
+    let o = rs(&d, &["run", "p.toml", "--references-only", "-o", "p.h5"]);
+    assert_eq!(code(&o), USAGE, "{}", stderr(&o));
+}
+
+#[test]
 fn usage_errors_have_their_own_exit_code() {
     let d = scratch_dir("safety-usage");
     tiny_study(&d, "s.toml");

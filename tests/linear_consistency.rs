@@ -24,28 +24,7 @@ fn scene(hz: f64) -> rotorsweep::scene::Scene {
     let text = format!(
         r#"name = "jeffcott-consistency"
 {rotor}
-[[supports]]
-node = "bearing_a"
-type = "linear"
-spring = {{ kx_n_per_m = 2.0e7, ky_n_per_m = 2.0e7, cx_ns_per_m = 2000.0, cy_ns_per_m = 2000.0 }}
-mass_kg = 5.0
-ground = {{ kx_n_per_m = 3.0e7, ky_n_per_m = 6.0e7, cx_ns_per_m = 3000.0, cy_ns_per_m = 3000.0 }}
-[[supports]]
-node = "bearing_b"
-type = "linear"
-spring = {{ kx_n_per_m = 2.0e7, ky_n_per_m = 2.0e7, cx_ns_per_m = 2000.0, cy_ns_per_m = 2000.0 }}
-mass_kg = 5.0
-ground = {{ kx_n_per_m = 3.0e7, ky_n_per_m = 6.0e7, cx_ns_per_m = 3000.0, cy_ns_per_m = 3000.0 }}
-[[supports]]
-node = "disk"
-type = "linear"
-spring = {{ kx_n_per_m = 0.0, ky_n_per_m = 0.0, cx_ns_per_m = 400.0, cy_ns_per_m = 400.0 }}
-[drive]
-node = "bearing_a"
-axial_stiffness_n_per_m = 1e7
-[reduction]
-boundary = ["bearing_a", "bearing_b"]
-modes = "8n+12st"
+{mounting}
 [speed]
 hz = {hz}
 [simulation]
@@ -58,6 +37,7 @@ tolerance = 1e-10
 hmax = 2e-4
 "#,
         rotor = common::JEFFCOTT_ROTOR,
+        mounting = common::JEFFCOTT_PEDESTALS,
         rate = PER_REV * hz,
     );
     common::scene_from_text("jeffcott-consistency.toml", &text)

@@ -26,6 +26,7 @@ fn run_study(name: &str, body: &str, ok: usize) -> (std::path::PathBuf, Report) 
         overwrite: false,
         shard: None,
         command: "test".into(),
+        references: Default::default(),
     };
     let outcome = campaign::run(&study, &opts).unwrap();
     assert_eq!(outcome.ok, ok);

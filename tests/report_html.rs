@@ -236,6 +236,7 @@ fn html_report_is_self_contained_and_follows_the_output_rules() {
         overwrite: false,
         shard: None,
         command: "test".into(),
+        references: Default::default(),
     };
     assert_eq!(campaign::run(&study, &opts).unwrap().ok, 6);
     let html_path = d.join("report.html");

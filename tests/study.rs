@@ -6,7 +6,7 @@ mod common;
 use std::path::Path;
 
 use common::{scratch_dir, study_text, write_file};
-use rotorsweep::study::campaign::{self, RunOptions};
+use rotorsweep::study::campaign::{self, ReferenceSource, RunOptions};
 use rotorsweep::study::Study;
 
 fn line_of(text: &str, needle: &str) -> usize {
@@ -160,6 +160,7 @@ fn run_study(study: &Study, out: &Path, threads: usize, shard: Option<(usize, us
         overwrite: false,
         shard,
         command: "test".into(),
+        references: Default::default(),
     };
     campaign::run(study, &opts).unwrap();
 }
@@ -234,4 +235,98 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     let f = hdf5::File::open(d.join("merged.h5")).unwrap();
     let n = f.dataset("summary").unwrap().shape()[0];
     assert_eq!(n, 4);
+}
+
+/// Runs `study` into `out` on 2 threads with its reference runs from `references`.
+fn run_with(
+    study: &Study,
+    out: &Path,
+    shard: Option<(usize, usize)>,
+    references: ReferenceSource,
+) -> Result<campaign::Outcome, campaign::CampaignError> {
+    let opts = RunOptions {
+        output: out.to_path_buf(),
+        threads: 2,
+        resume: false,
+        overwrite: false,
+        shard,
+        command: "test".into(),
+        references,
+    };
+    campaign::run(study, &opts)
+}
+
+#[test]
+fn shards_sharing_one_references_file_give_the_unsharded_results() {
+    let d = scratch_dir("shared-references");
+    let body = "[[axes]]\nkey = \"speed.hz\"\nvalues = [12.0, 16.0]\n[[axes]]\nkey = \"solver.hmax\"\nvalues = [1e-4, 3e-4]\n\
+                [reference]\n\"solver.hmax\" = 5e-5\n";
+    let st = Study::load(&write_file(&d, "s.toml", &study_text(body))).unwrap();
+    run_study(&st, &d.join("one.h5"), 2, None);
+    let refs = d.join("refs.h5");
+    let only = run_with(&st, &refs, None, ReferenceSource::Only).unwrap();
+    assert_eq!((only.jobs, only.references_failed), (0, 0));
+    let shared = ReferenceSource::File(refs.clone());
+    for i in 0..2 {
+        run_with(
+            &st,
+            &d.join(format!("s{i}.h5")),
+            Some((i, 2)),
+            shared.clone(),
+        )
+        .unwrap();
+    }
+    campaign::merge(
+        &[d.join("s0.h5"), d.join("s1.h5")],
+        &d.join("merged.h5"),
+        &campaign::MergeOptions::default(),
+    )
+    .unwrap();
+    // The references file: the study's reference runs (one per speed) and linearised system as
+    // an unsharded run computes them, no job.
+    for group in ["references", "linear"] {
+        assert_eq!(
+            group_data(&refs, group),
+            group_data(&d.join("one.h5"), group)
+        );
+    }
+    assert!(group_data(&refs, "jobs").is_empty());
+    // The merged shards hold what the unsharded run does, bit for bit.
+    for group in ["jobs", "references", "linear", "models"] {
+        let one = group_data(&d.join("one.h5"), group);
+        assert!(!one.is_empty(), "{group}");
+        assert_eq!(one, group_data(&d.join("merged.h5"), group), "{group}");
+    }
+
+    // A references file of other inputs is refused before anything runs, naming what changed.
+    let other_text = study_text(&body.replace("5e-5", "4e-5"));
+    let other = Study::load(&write_file(&d, "t.toml", &other_text)).unwrap();
+    let e = run_with(&other, &d.join("t0.h5"), Some((0, 2)), shared.clone()).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("refs.h5") && msg.contains("other inputs"),
+        "{msg}"
+    );
+    assert!(!d.join("t0.h5").exists() && !d.join("t0.h5.parts").exists());
+    // A shard file is not a references file; a references file is not a shard to merge.
+    let e = run_with(
+        &st,
+        &d.join("u.h5"),
+        None,
+        ReferenceSource::File(d.join("s0.h5")),
+    );
+    assert!(e
+        .unwrap_err()
+        .to_string()
+        .contains("is not a references file"));
+    let e = campaign::merge(
+        &[refs.clone(), d.join("s0.h5")],
+        &d.join("m2.h5"),
+        &campaign::MergeOptions::default(),
+    );
+    assert!(e.unwrap_err().to_string().contains("is a references file"));
+    // Without a [reference] section there is nothing to share.
+    let plain = Study::load(&write_file(&d, "p.toml", &study_text(""))).unwrap();
+    let e = run_with(&plain, &d.join("p.h5"), None, ReferenceSource::Only).unwrap_err();
+    assert!(e.to_string().contains("no [reference] section"), "{e}");
 }

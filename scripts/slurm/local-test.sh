@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Checks the Slurm scripts' logic on this machine, without Slurm: runs study-array.sbatch as the
-# N array tasks would (concurrently, each with its SLURM_ARRAY_TASK_ID), then merge.sbatch, then
-# checks with h5py that the merged file holds every job of the study, each once, and a summary
-# row per job.
+# Checks the Slurm scripts' logic on this machine, without Slurm: runs references.sbatch (when
+# the study has reference runs), study-array.sbatch as the N array tasks would (concurrently,
+# each with its SLURM_ARRAY_TASK_ID), then merge.sbatch, then checks with h5py that the merged
+# file holds every job of the study, each once, and a summary row per job. On a real Slurm:
+# scripts/slurm/real-slurm-test.sh.
 #
 #   scripts/slurm/local-test.sh [STUDY] [N] [OUTDIR]     defaults: studies/smoke.toml 2 <temp dir>
 #
@@ -22,9 +23,16 @@ fi
 SLURM_SUBMIT_DIR="$root"
 SLURM_CPUS_PER_TASK="${SLURM_CPUS_PER_TASK:-1}"
 export STUDY N OUTDIR ROTORSWEEP_BIN SLURM_SUBMIT_DIR SLURM_CPUS_PER_TASK
-expected=$("$ROTORSWEEP_BIN" plan "$STUDY" | sed -n -E '1s/^study .*: ([0-9]+) jobs$/\1/p')
+plan=$("$ROTORSWEEP_BIN" plan "$STUDY")
+expected=$(sed -n -E '1s/^study .*: ([0-9]+) jobs$/\1/p' <<<"$plan")
 [ -n "$expected" ] || { echo "local-test: could not read the job count from rotorsweep plan" >&2; exit 1; }
 echo "local-test: $STUDY, $expected jobs in $N shards -> $OUTDIR"
+mkdir -p "$OUTDIR"
+if grep -q -E '^reference runs: [0-9]+$' <<<"$plan"; then
+  export REFERENCES="$OUTDIR/references.h5"
+  bash "$here/references.sbatch" >"$OUTDIR.references.log" 2>&1 ||
+    { echo "local-test: the references step failed:" >&2; cat "$OUTDIR.references.log" >&2; exit 1; }
+fi
 
 pids=()
 for ((i = 0; i < N; i++)); do

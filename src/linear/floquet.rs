@@ -4,9 +4,9 @@
 //! T = 2π/Ω ([`monodromy`], any such system), or a [`LinearSystem`] at a spin speed
 //! ([`scene_multipliers`]).
 //! Out: the monodromy matrix Φ(T) of ẋ = A(t) x (x = (q, q̇)), its characteristic multipliers μ
-//! (eigenvalues), and per speed the largest |μ| as the growth per revolution ln|μ|max: the
+//! (eigenvalues), and per speed the largest |μ| as the growth per revolution ln|μ|max ([`Growth`]): the
 //! motion is stable when every |μ| ≤ 1. [`unstable_ranges`] gives the speed ranges with
-//! growth > 1e-7 per revolution, their ends refined by regula falsi.
+//! growth > 1e-7 per revolution, their ends refined by the Illinois method.
 //!
 //! Scene system (body frame, exact for the asymmetric rotor): the rotor's body-frame equations
 //! M p̈ + (D + 2Ω G_c) ṗ + (K − Ω² E) p, with the supports turning backwards: the journal's
@@ -18,7 +18,8 @@
 //! Method: the system may be projected on the undamped modes (below a cut-off frequency) of its
 //! revolution-averaged stiffness; then ẋ = A(t) x is integrated for the identity over one
 //! revolution by the fourth-order Magnus method (two Gauss points, one commutator, a matrix
-//! exponential per step: exact for the time-invariant part however stiff), [`SCENE_STEPS`] steps.
+//! exponential per step: exact for the time-invariant part however stiff), from [`SCENE_STEPS`]
+//! steps per revolution doubled until the growth converges ([`scene_growth`]).
 //! Truncation is an approximation to use with care: the modes of the modal damping's 100 %
 //! band carry rotating damping, and cutting them changes the stability above the first critical
 //! speed (on the reference roll a 1 kHz cut-off turned it unstable above 44.8 Hz, 5 kHz or none
@@ -32,8 +33,11 @@ use crate::eigen;
 
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 
-/// Magnus steps per revolution of the scene system.
-pub const SCENE_STEPS: usize = 96;
+/// Magnus steps per revolution of the scene system to start from (doubled until converged).
+pub const SCENE_STEPS: usize = 48;
+
+/// Relative width to which the ends of an unstable range are refined.
+pub const RANGE_TOLERANCE: f64 = 1e-6;
 
 /// Growth per revolution above which a speed counts as unstable.
 pub const UNSTABLE_GROWTH: f64 = 1e-7;
@@ -98,101 +102,206 @@ fn rot(theta: f64) -> Matrix2<f64> {
     Matrix2::new(c, -s, s, c)
 }
 
+/// Growth per revolution at one speed and how well the Magnus steps resolved it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Growth {
+    /// ln max |μ| per revolution (< 0: stable), from the finest step count tried.
+    pub growth: f64,
+    /// Magnus steps per revolution of that value.
+    pub steps: usize,
+    /// Whether halving the step changed the growth by at most [`STEP_TOLERANCE`] (relative,
+    /// or 1e-9 absolute); a speed that is not converged at [`MAX_STEPS`] is reported as such.
+    pub converged: bool,
+}
+
+/// Relative change of the growth between `N` and `2N` steps accepted as converged.
+pub const STEP_TOLERANCE: f64 = 1e-3;
+
+/// The most Magnus steps per revolution tried (from [`SCENE_STEPS`], doubling).
+pub const MAX_STEPS: usize = SCENE_STEPS * 64;
+
 /// The scene's body-frame periodic system at `omega` [rad/s], projected on its modes below
-/// `cutoff_hz` (module doc): its multipliers.
+/// `cutoff_hz` (module doc): its multipliers at the converged step count ([`scene_growth`]).
 pub fn scene_multipliers(
     sys: &LinearSystem,
     omega: f64,
     cutoff_hz: f64,
 ) -> Result<Vec<Complex<f64>>, LinearError> {
-    let n = sys.n();
-    let nm = sys.nm;
-    let (kr, cr) = sys.rotor_base();
-    let mut kb = DMatrix::zeros(n, n);
-    let mut cb = DMatrix::zeros(n, n);
-    kb.view_mut((0, 0), (nm, nm))
-        .copy_from(&(kr - omega * omega * &sys.e_body));
-    cb.view_mut((0, 0), (nm, nm))
-        .copy_from(&(cr + 2.0 * omega * &sys.gc_body));
-    for (i, k, c) in sys.ground_springs(omega) {
-        let mut v = kb.view_mut((i, i), (2, 2));
-        v += k;
-        let mut v = cb.view_mut((i, i), (2, 2));
-        v += c;
-    }
-    let supports = sys.rotating_supports(omega);
-    // T(θ) = [R(θ)Φ_j, −I_s] (2 × n) and its speed term [Ω S R(θ) Φ_j, 0].
-    let t_of = |rows: &DMatrix<f64>, stand: Option<usize>, theta: f64| {
-        let rp = rot(theta) * rows;
-        let mut t = DMatrix::zeros(2, n);
-        t.view_mut((0, 0), (2, nm)).copy_from(&rp);
-        if let Some(i) = stand {
-            t[(0, i)] = -1.0;
-            t[(1, i + 1)] = -1.0;
+    let p = Projected::new(sys, omega, cutoff_hz)?;
+    let (_, mu) = p.converged()?;
+    Ok(mu)
+}
+
+/// The growth per revolution of the scene's body-frame periodic system at `omega` [rad/s]
+/// (module doc): the monodromy at [`SCENE_STEPS`] and twice as many steps, doubled until two
+/// successive growths agree to [`STEP_TOLERANCE`] or [`MAX_STEPS`] is reached. A single step
+/// count is not enough at low speeds: one revolution is then long against the fast modes, and
+/// the Magnus commutator term (of order h³ times the stiff and the periodic parts) spoils the
+/// exponential (on the reference roll at 0.303 Hz, 96 steps gave a growth of 630 per revolution,
+/// 192 and more −3.295e-3).
+pub fn scene_growth(sys: &LinearSystem, omega: f64, cutoff_hz: f64) -> Result<Growth, LinearError> {
+    Ok(Projected::new(sys, omega, cutoff_hz)?.converged()?.0)
+}
+
+/// A growth per revolution and the multipliers it came from.
+type Resolved = (f64, Vec<Complex<f64>>);
+
+/// A support's rows of the projected system: journal rows R Φ_j V, stand rows, K_s, C_s.
+type ProjectedSupport = (DMatrix<f64>, DMatrix<f64>, Matrix2<f64>, Matrix2<f64>);
+
+/// The scene's periodic system at one speed, projected on its kept modes.
+struct Projected {
+    omega: f64,
+    mr: DMatrix<f64>,
+    kbr: DMatrix<f64>,
+    cbr: DMatrix<f64>,
+    proj: Vec<ProjectedSupport>,
+}
+
+impl Projected {
+    fn new(sys: &LinearSystem, omega: f64, cutoff_hz: f64) -> Result<Self, LinearError> {
+        let n = sys.n();
+        let nm = sys.nm;
+        let (kr, cr) = sys.rotor_base();
+        let mut kb = DMatrix::zeros(n, n);
+        let mut cb = DMatrix::zeros(n, n);
+        kb.view_mut((0, 0), (nm, nm))
+            .copy_from(&(kr - omega * omega * &sys.e_body));
+        cb.view_mut((0, 0), (nm, nm))
+            .copy_from(&(cr + 2.0 * omega * &sys.gc_body));
+        for (i, k, c) in sys.ground_springs(omega) {
+            let mut v = kb.view_mut((i, i), (2, 2));
+            v += k;
+            let mut v = cb.view_mut((i, i), (2, 2));
+            v += c;
         }
-        let s = Matrix2::new(0.0, -omega, omega, 0.0);
-        let mut tw = DMatrix::zeros(2, n);
-        tw.view_mut((0, 0), (2, nm)).copy_from(&(s * rp));
-        (t, tw)
-    };
-    let full = |theta: f64| {
-        let mut k = kb.clone();
-        let mut c = cb.clone();
-        for sp in &supports {
-            let (t, tw) = t_of(&sp.rows, sp.stand, theta);
-            k += t.transpose() * (sp.k * &t + sp.c * &tw);
-            c += t.transpose() * sp.c * &t;
+        let supports = sys.rotating_supports(omega);
+        // T(θ) = [R(θ)Φ_j, −I_s] (2 × n) and its speed term [Ω S R(θ) Φ_j, 0].
+        let t_of = |rows: &DMatrix<f64>, stand: Option<usize>, theta: f64| {
+            let rp = rot(theta) * rows;
+            let mut t = DMatrix::zeros(2, n);
+            t.view_mut((0, 0), (2, nm)).copy_from(&rp);
+            if let Some(i) = stand {
+                t[(0, i)] = -1.0;
+                t[(1, i + 1)] = -1.0;
+            }
+            let s = Matrix2::new(0.0, -omega, omega, 0.0);
+            let mut tw = DMatrix::zeros(2, n);
+            tw.view_mut((0, 0), (2, nm)).copy_from(&(s * rp));
+            (t, tw)
+        };
+        let full = |theta: f64| {
+            let mut k = kb.clone();
+            let mut c = cb.clone();
+            for sp in &supports {
+                let (t, tw) = t_of(&sp.rows, sp.stand, theta);
+                k += t.transpose() * (sp.k * &t + sp.c * &tw);
+                c += t.transpose() * sp.c * &t;
+            }
+            (k, c)
+        };
+        // Basis: undamped modes of the revolution-averaged symmetric stiffness.
+        let mut kbar = DMatrix::zeros(n, n);
+        for j in 0..8 {
+            let (k, _) = full(TAU * j as f64 / 8.0);
+            kbar += 0.125 * 0.5 * (&k + k.transpose());
         }
-        (k, c)
-    };
-    // Basis: undamped modes of the revolution-averaged symmetric stiffness.
-    let mut kbar = DMatrix::zeros(n, n);
-    for j in 0..8 {
-        let (k, _) = full(TAU * j as f64 / 8.0);
-        kbar += 0.125 * 0.5 * (&k + k.transpose());
-    }
-    let eig = eigen::generalized_symmetric(&kbar, &sys.m)?;
-    let cut = (TAU * cutoff_hz).powi(2);
-    let keep: Vec<usize> = (0..n).filter(|&i| eig.values[i] <= cut).collect();
-    if keep.is_empty() {
-        return Err(LinearError::Singular(format!(
-            "Floquet: no mode below the cut-off {cutoff_hz} Hz"
-        )));
-    }
-    let v = DMatrix::from_fn(n, keep.len(), |r, j| eig.vectors[(r, keep[j])]);
-    let vt = v.transpose();
-    let mr = &vt * &sys.m * &v;
-    let kbr = &vt * &kb * &v;
-    let cbr = &vt * &cb * &v;
-    let proj: Vec<_> = supports
-        .iter()
-        .map(|sp| {
-            let rv = &sp.rows * v.rows(0, nm);
-            let sv = match sp.stand {
-                Some(i) => v.rows(i, 2).into_owned(),
-                None => DMatrix::zeros(2, keep.len()),
-            };
-            (rv, sv, sp.k, sp.c)
+        let eig = eigen::generalized_symmetric(&kbar, &sys.m)?;
+        let cut = (TAU * cutoff_hz).powi(2);
+        let keep: Vec<usize> = (0..n).filter(|&i| eig.values[i] <= cut).collect();
+        if keep.is_empty() {
+            return Err(LinearError::Singular(format!(
+                "Floquet: no mode below the cut-off {cutoff_hz} Hz"
+            )));
+        }
+        let v = DMatrix::from_fn(n, keep.len(), |r, j| eig.vectors[(r, keep[j])]);
+        let vt = v.transpose();
+        let mr = &vt * &sys.m * &v;
+        let kbr = &vt * &kb * &v;
+        let cbr = &vt * &cb * &v;
+        let proj: Vec<_> = supports
+            .iter()
+            .map(|sp| {
+                let rv = &sp.rows * v.rows(0, nm);
+                let sv = match sp.stand {
+                    Some(i) => v.rows(i, 2).into_owned(),
+                    None => DMatrix::zeros(2, keep.len()),
+                };
+                (rv, sv, sp.k, sp.c)
+            })
+            .collect();
+        Ok(Self {
+            omega,
+            mr,
+            kbr,
+            cbr,
+            proj,
         })
-        .collect();
-    let phi = monodromy(&mr, omega, SCENE_STEPS, |theta| {
-        let mut k = kbr.clone();
-        let mut c = cbr.clone();
-        let s = Matrix2::new(0.0, -omega, omega, 0.0);
-        for (rv, sv, ks, cs) in &proj {
-            let rp = rot(theta) * rv;
-            let t = &rp - sv;
-            let tw = s * &rp;
-            k += t.transpose() * (ks * &t + cs * &tw);
-            c += t.transpose() * cs * &t;
+    }
+
+    /// The monodromy matrix with `steps` Magnus steps.
+    fn monodromy(&self, steps: usize) -> Result<DMatrix<f64>, LinearError> {
+        let omega = self.omega;
+        monodromy(&self.mr, omega, steps, |theta| {
+            let mut k = self.kbr.clone();
+            let mut c = self.cbr.clone();
+            let s = Matrix2::new(0.0, -omega, omega, 0.0);
+            for (rv, sv, ks, cs) in &self.proj {
+                let rp = rot(theta) * rv;
+                let t = &rp - sv;
+                let tw = s * &rp;
+                k += t.transpose() * (ks * &t + cs * &tw);
+                c += t.transpose() * cs * &t;
+            }
+            (k, c)
+        })
+    }
+
+    /// The growth from step doubling ([`scene_growth`]) and the multipliers of its last step
+    /// count. A step count whose monodromy has no finite multipliers (the eigen-solver fails on
+    /// a blown-up matrix) counts as unresolved and is refined like a disagreeing one.
+    fn converged(&self) -> Result<(Growth, Vec<Complex<f64>>), LinearError> {
+        let at = |steps: usize| -> Result<Option<Resolved>, LinearError> {
+            let phi = self.monodromy(steps)?;
+            Ok(multipliers(&phi).ok().and_then(|mu| {
+                let g = growth_per_rev(&mu);
+                g.is_finite().then_some((g, mu))
+            }))
+        };
+        let mut steps = SCENE_STEPS;
+        let mut prev = at(steps)?;
+        loop {
+            steps *= 2;
+            let next = at(steps)?;
+            let converged = match (&prev, &next) {
+                (Some((g1, _)), Some((g2, _))) => {
+                    (g2 - g1).abs() <= STEP_TOLERANCE * g2.abs() + 1e-9
+                }
+                _ => false,
+            };
+            if converged || steps >= MAX_STEPS {
+                let Some((growth, mu)) = next else {
+                    return Err(LinearError::Singular(format!(
+                        "Floquet at {:.6} Hz: no finite multipliers at {steps} Magnus steps per \
+                         revolution",
+                        self.omega / TAU
+                    )));
+                };
+                let g = Growth {
+                    growth,
+                    steps,
+                    converged,
+                };
+                return Ok((g, mu));
+            }
+            prev = next;
         }
-        (k, c)
-    })?;
-    multipliers(&phi)
+    }
 }
 
 /// Speed ranges [Hz] where `growth(speed)` exceeds [`UNSTABLE_GROWTH`], from the samples
-/// (speeds ascending, growth per speed), each end refined by regula falsi to 1e-6 Hz.
+/// (speeds ascending, growth per speed), each end refined by the Illinois method to
+/// [`RANGE_TOLERANCE`] of its speed (at least 1e-6 Hz).
 pub fn unstable_ranges(
     speeds_hz: &[f64],
     growth: &[f64],
@@ -201,25 +310,35 @@ pub fn unstable_ranges(
     let g = |x: f64| x - UNSTABLE_GROWTH;
     let mut out = Vec::new();
     let mut start: Option<f64> = None;
+    // Illinois (regula falsi that halves the kept end's value when one end is kept twice):
+    // superlinear, so a few growth evaluations per end.
     let mut refine = |a: f64, b: f64, ga: f64, gb: f64| -> Result<f64, LinearError> {
         let (mut lo, mut hi, mut glo, mut ghi) = (a, b, ga, gb);
-        for _ in 0..80 {
-            if hi - lo <= 1e-6 {
+        let tol = (RANGE_TOLERANCE * b.abs()).max(1e-6);
+        let mut kept = 0i8;
+        for _ in 0..100 {
+            if hi - lo <= tol {
                 break;
             }
             let mut x = (lo * ghi - hi * glo) / (ghi - glo);
             if !(x > lo && x < hi && x.is_finite()) {
                 x = 0.5 * (lo + hi);
             }
-            // Guard against slow one-sided convergence: mix in bisection.
-            x = 0.75 * x + 0.25 * (0.5 * (lo + hi));
             let gx = g(eval(x)?);
             if (gx > 0.0) == (glo > 0.0) {
                 lo = x;
                 glo = gx;
+                if kept == 1 {
+                    ghi *= 0.5;
+                }
+                kept = 1;
             } else {
                 hi = x;
                 ghi = gx;
+                if kept == -1 {
+                    glo *= 0.5;
+                }
+                kept = -1;
             }
         }
         Ok(0.5 * (lo + hi))

@@ -13,7 +13,9 @@
 //! - [`floquet`]: stability of the asymmetric rotor on anisotropic supports (monodromy over one
 //!   revolution, body frame, supports rotating);
 //! - [`statics`]: static equilibrium under gravity (sag, journal positions, support forces);
-//! - [`map`]: undamped critical speeds against a support stiffness.
+//! - [`map`]: undamped critical speeds against a support stiffness;
+//! - [`analysis`]: all of them on one request, as JSON and as an HDF5 group (the `linear`
+//!   command and a study's `/linear/<id>`).
 //!
 //! Frames and approximations: every analysis except Floquet works in the **stationary frame**
 //! with the rotor's stationary-frame gyroscopic matrix and its stiffness frozen at roll angle 0:
@@ -24,6 +26,7 @@
 //! D plus the circulatory stiffness −Ω·skew(D Ŝ) (Ŝ: the rotation generator on the modal
 //! coordinates), exact for an axisymmetric rotor.
 
+pub mod analysis;
 pub mod campbell;
 pub mod floquet;
 pub mod map;

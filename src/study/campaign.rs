@@ -19,6 +19,13 @@
 //!   running jobs finish and are saved if they can be; nothing unsaved is reported ok, and the
 //!   error names the path and the OS error. `resume` then completes the study.
 //!
+//! References shared by shards: [`ReferenceSource::Only`] runs just the study's reference runs
+//! into a references file (its `shard` attribute is `references`), with the linearised systems
+//! of every job; a shard run with [`ReferenceSource::File`] copies the references (and their
+//! models) and the linearised systems its jobs need from that file instead of computing them,
+//! after checking its study digest, so a campaign of n shards computes each once. The shard
+//! files are the same either way.
+//!
 //! Each job runs on one thread; results do not depend on the thread count. A job that panics,
 //! diverges, exhausts its budget, or whose model cannot be built is a result with its status
 //! and cause.
@@ -59,7 +66,24 @@ pub struct RunOptions {
     pub shard: Option<(usize, usize)>,
     /// The command line, stored in the file.
     pub command: String,
+    /// Where the reference runs come from.
+    pub references: ReferenceSource,
 }
+
+/// Where a run's reference runs come from (module doc).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub enum ReferenceSource {
+    /// Computed by the run itself, those its jobs need.
+    #[default]
+    Run,
+    /// Only the study's reference runs, all of them, into the output (a references file).
+    Only,
+    /// Copied from a references file of the same study (written with `Only`).
+    File(PathBuf),
+}
+
+/// The `shard` attribute of a references file.
+const REFERENCES_SHARD: &str = "references";
 
 /// What a campaign did.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -420,8 +444,29 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     let _lock = OutputLock::acquire(&opts.output)?;
     let identity = Identity::of(study)?;
     let dir = parts_dir(&opts.output);
+    let only = opts.references == ReferenceSource::Only;
+    if opts.references != ReferenceSource::Run && !study.has_reference {
+        return Err(CampaignError::Usage(format!(
+            "{}: has no [reference] section, so there are no reference runs to compute or share",
+            study.path.display()
+        )));
+    }
+    if only && opts.shard.is_some() {
+        return Err(CampaignError::Usage(
+            "the reference runs are computed for the whole study: no --shard with them".into(),
+        ));
+    }
     let (si, sn) = opts.shard.unwrap_or((0, 1));
-    let shard_text = format!("{si}/{sn}");
+    let shard_text = if only {
+        REFERENCES_SHARD.to_string()
+    } else {
+        format!("{si}/{sn}")
+    };
+    let jobs: Vec<&Job> = if only {
+        Vec::new()
+    } else {
+        study.shard(si, sn)
+    };
     if opts.resume {
         output::check_replace(&opts.output, true)?;
         if opts.output.exists() {
@@ -432,7 +477,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
                     l.iter().all(|x| x.1 == n) && (0..n).all(|i| l.contains(&(i, n)))
                 })
             };
-            let same_shard = shard == shard_text || (sn == 1 && whole(&shard));
+            let same_shard = shard == shard_text || (sn == 1 && !only && whole(&shard));
             if digest != identity.digest || !same_shard {
                 let what = if digest != identity.digest {
                     describe_mismatch(&identity, &digest, inputs.as_deref())
@@ -451,7 +496,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             if dir.exists() {
                 remove_parts(&dir, &BTreeSet::new())?;
             }
-            let n = study.shard(si, sn).len();
+            let n = jobs.len();
             let statuses = read_statuses(&opts.output)?;
             let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
             return Ok(Outcome {
@@ -460,7 +505,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
                 failed: n - ok,
                 resumed: n,
                 stale: 0,
-                references_failed: 0,
+                references_failed: failed_references(&opts.output)?,
             });
         }
     } else {
@@ -476,10 +521,9 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             remove_parts(&dir, &BTreeSet::new())?;
         }
     }
-    output::check_working_file(&store::with_suffix(&opts.output, ".tmp"))?;
-    std::fs::create_dir_all(&dir).map_err(|e| CampaignError::io(&dir, e))?;
-    let jobs: Vec<&Job> = study.shard(si, sn);
-    let refs: Vec<&super::Reference> = if study.has_reference {
+    let refs: Vec<&super::Reference> = if only {
+        study.references.iter().collect()
+    } else if study.has_reference {
         let needed: BTreeSet<&str> = jobs.iter().map(|j| j.reference_id.as_str()).collect();
         study
             .references
@@ -489,6 +533,21 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     } else {
         Vec::new()
     };
+    // The shared references, checked before anything runs.
+    let shared = match &opts.references {
+        ReferenceSource::File(p) => {
+            if same_file(p, &opts.output) {
+                return Err(CampaignError::Usage(format!(
+                    "{}: is the output too; the references file is an input of the run",
+                    p.display()
+                )));
+            }
+            Some(open_references(p, &identity, &refs)?)
+        }
+        _ => None,
+    };
+    output::check_working_file(&store::with_suffix(&opts.output, ".tmp"))?;
+    std::fs::create_dir_all(&dir).map_err(|e| CampaignError::io(&dir, e))?;
     let wanted: BTreeSet<&str> = jobs
         .iter()
         .map(|j| j.id.as_str())
@@ -505,12 +564,19 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         .num_threads(opts.threads.max(1))
         .build()
         .map_err(|e| CampaignError::Usage(e.to_string()))?;
+    // The jobs whose linearised systems this run stores: a references file holds the whole
+    // study's, for the shards to copy.
+    let linear_jobs: Vec<&Job> = if only {
+        study.jobs.iter().collect()
+    } else {
+        jobs.clone()
+    };
     // 1. Distinct models, built once each.
     let mut model_scenes: BTreeMap<&str, &Scene> = BTreeMap::new();
-    for j in &jobs {
+    for j in &linear_jobs {
         model_scenes.entry(j.model_id.as_str()).or_insert(&j.scene);
     }
-    for r in &refs {
+    for r in refs.iter().filter(|_| shared.is_none()) {
         model_scenes.entry(r.model_id.as_str()).or_insert(&r.scene);
     }
     let built: Vec<(&str, Result<Arc<Model>, String>)> = pool.install(|| {
@@ -573,9 +639,9 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             }
         }
     }
-    // 3. The work list: references, then jobs; saved ones skipped.
+    // 3. The work list: references (unless shared), then jobs; saved ones skipped.
     let mut work: Vec<Work> = Vec::new();
-    for r in &refs {
+    for r in refs.iter().filter(|_| shared.is_none()) {
         work.push(Work {
             id: r.id.clone(),
             kind: Kind::Reference,
@@ -704,13 +770,18 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             ),
         });
     }
-    assemble(study, opts, &identity, &dir, &jobs, &refs, &models, &shares)?;
+    let sources = Sources {
+        dir: &dir,
+        linear: &linear_jobs,
+        shared: shared.as_ref(),
+        models: &models,
+        shares: &shares,
+    };
+    assemble(study, opts, &identity, &jobs, &refs, &sources)?;
+    drop(shared);
     let statuses = read_statuses(&opts.output)?;
     let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
-    let references_failed = read_statuses_in(&opts.output, "references")?
-        .iter()
-        .filter(|s| s.as_str() != "ok")
-        .count();
+    let references_failed = failed_references(&opts.output)?;
     // Every part of this run's jobs was checked (saved_parts) or written by it.
     remove_parts(&dir, &wanted)?;
     Ok(Outcome {
@@ -755,6 +826,62 @@ fn pilot_run(
 
 fn read_statuses(path: &Path) -> Result<Vec<String>, CampaignError> {
     read_statuses_in(path, "jobs")
+}
+
+/// How many reference runs of a results file did not end ok.
+fn failed_references(path: &Path) -> Result<usize, CampaignError> {
+    Ok(read_statuses_in(path, "references")?
+        .iter()
+        .filter(|s| s.as_str() != "ok")
+        .count())
+}
+
+/// Whether two paths name one existing file.
+fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => (x.dev(), x.ino()) == (y.dev(), y.ino()),
+        _ => false,
+    }
+}
+
+/// A references file for a shard ([`ReferenceSource::File`]): a rotorsweep results file
+/// written by a references-only run of the same study digest, holding every run of `refs`.
+fn open_references(
+    path: &Path,
+    identity: &Identity,
+    refs: &[&super::Reference],
+) -> Result<hdf5::File, CampaignError> {
+    let f = output::open_results_file(path).map_err(|why| InputError::new(path, why))?;
+    let shard = store::read_str(&f, "shard").unwrap_or_default();
+    if shard != REFERENCES_SHARD {
+        return Err(InputError::new(
+            path,
+            format!(
+                "is not a references file (its shard is `{shard}`): write one with \
+                 `rotorsweep run STUDY --references-only -o FILE`"
+            ),
+        )
+        .into());
+    }
+    let digest = store::read_str(&f, "study_digest").unwrap_or_default();
+    if digest != identity.digest {
+        let inputs = store::read_str(&f, "study_inputs").ok();
+        return Err(InputError::new(
+            path,
+            format!(
+                "holds the reference runs of other inputs ({}): compute them again with \
+                 --references-only",
+                describe_mismatch(identity, &digest, inputs.as_deref())
+            ),
+        )
+        .into());
+    }
+    let g = f.group("references").map_err(hdf5_at(path))?;
+    if let Some(r) = refs.iter().find(|r| !g.link_exists(&r.id)) {
+        return Err(InputError::new(path, format!("has no reference run {}", r.id)).into());
+    }
+    Ok(f)
 }
 
 /// The `status` of every run in a group (`jobs`, `references`) of a results file.
@@ -834,38 +961,22 @@ fn errors_against(
     (all, per)
 }
 
-/// Campbell data of each linearised system: spin speeds 0 … this [Hz] (the `modes` command's
-/// default range), in this many steps.
-const CAMPBELL_MAX_HZ: f64 = 100.0;
-const CAMPBELL_SPEEDS: usize = 201;
-
-/// A job's model on its linearised supports (`/linear/<linear_id>`): the damped modes over
-/// 0 … 100 Hz in the layout of `rotorsweep linear -o` (`linear::campbell::write`: whirl
-/// frequencies, log decrements, damping ratios, whirl directions and branches per speed, the
-/// critical speeds, the stability threshold), the attribute `frame` (the linearisation), and
-/// as attributes the `model_id` and the first bending frequencies at standstill
-/// (`vertical_hz`, `horizontal_hz`); a failure is stored as the attribute `linear_error`.
-fn write_linear(g: &hdf5::Group, model_id: &str, scene: &Scene, m: &Model) -> hdf5::Result<()> {
+/// A job's model on its linearised supports (`/linear/<linear_id>`): the analyses the study's
+/// `[linear]` table asks for (damped modes over its speeds always) in the layout of `rotorsweep
+/// linear -o` ([`crate::linear::analysis::Results::write`], without wall times), and the
+/// attribute `model_id`; a failure is stored as the attribute `linear_error`.
+fn write_linear(
+    g: &hdf5::Group,
+    req: &crate::linear::analysis::Request,
+    model_id: &str,
+    scene: &Scene,
+    m: &Model,
+) -> hdf5::Result<()> {
     store::attr_str(g, "model_id", model_id)?;
-    let sys = match LinearSystem::of_scene(scene, m) {
-        Ok(s) => s,
-        Err(e) => return store::attr_str(g, "linear_error", &e.to_string()),
-    };
-    store::attr_str(g, "frame", crate::linear::FRAME_NOTE)?;
-    let standstill = sys.standstill_modes().unwrap_or_default();
-    let first = |k: ModeKind| -> f64 {
-        standstill
-            .iter()
-            .find(|x| x.kind == k && x.freq_hz > 1e-6)
-            .map_or(f64::NAN, |x| x.freq_hz)
-    };
-    store::attr_f64(g, "vertical_hz", first(ModeKind::BendingY))?;
-    store::attr_f64(g, "horizontal_hz", first(ModeKind::BendingX))?;
-    let speeds: Vec<f64> = (0..CAMPBELL_SPEEDS)
-        .map(|i| CAMPBELL_MAX_HZ * i as f64 / (CAMPBELL_SPEEDS - 1) as f64)
-        .collect();
-    match crate::linear::campbell::sweep(&sys, &speeds, None) {
-        Ok(c) => crate::linear::campbell::write(g, &c),
+    let results = LinearSystem::of_scene(scene, m)
+        .and_then(|sys| crate::linear::analysis::compute(req, scene, m, &sys));
+    match results {
+        Ok(r) => r.write(g, false),
         Err(e) => store::attr_str(g, "linear_error", &e.to_string()),
     }
 }
@@ -907,18 +1018,29 @@ fn write_model(
     Ok(())
 }
 
-/// Builds the final file from the part files (module doc), written under a temporary name.
-#[allow(clippy::too_many_arguments)]
+/// What a run assembles its file from: the saved parts, the jobs whose linearised systems it
+/// stores, the shared references file (if any), the models it built and the pruning pilots'
+/// shares.
+struct Sources<'a> {
+    dir: &'a Path,
+    linear: &'a [&'a Job],
+    shared: Option<&'a hdf5::File>,
+    models: &'a BTreeMap<&'a str, Result<Arc<Model>, String>>,
+    shares: &'a BTreeMap<String, Vec<f64>>,
+}
+
+/// Builds the final file from the part files (module doc), written under a temporary name;
+/// shared references, their models and the linearised systems are copied from the references
+/// file.
 fn assemble(
     study: &Study,
     opts: &RunOptions,
     identity: &Identity,
-    dir: &Path,
     jobs: &[&Job],
     refs: &[&super::Reference],
-    models: &BTreeMap<&str, Result<Arc<Model>, String>>,
-    shares: &BTreeMap<String, Vec<f64>>,
+    src: &Sources,
 ) -> Result<(), CampaignError> {
+    let (dir, models, shares) = (src.dir, src.models, src.shares);
     let tmp = store::with_suffix(&opts.output, ".tmp");
     let open_part = |id: &str| {
         let p = dir.join(format!("{id}.h5"));
@@ -936,28 +1058,61 @@ fn assemble(
         store::attr_str(&f, "study_text", &study.text)?;
         store::attr_str(&f, "varying_keys", &study.varying.join("\n"))?;
         let (si, sn) = opts.shard.unwrap_or((0, 1));
-        store::attr_str(&f, "shard", &format!("{si}/{sn}"))?;
+        let shard = match opts.references {
+            ReferenceSource::Only => REFERENCES_SHARD.to_string(),
+            _ => format!("{si}/{sn}"),
+        };
+        store::attr_str(&f, "shard", &shard)?;
         let mg = f.create_group("models")?;
         for (id, m) in models {
             if let Ok(m) = m {
                 write_model(&mg, id, m, shares.get(*id))?;
             }
         }
-        // One linearised system per distinct model, supports, drive and gravity.
+        if let Some(shared) = src.shared {
+            // The shared references' models this run did not build (a model that failed to
+            // build is absent there too).
+            let sm = shared.group("models")?;
+            let wanted: BTreeSet<&str> = refs.iter().map(|r| r.model_id.as_str()).collect();
+            for id in wanted {
+                if !models.contains_key(id) && sm.link_exists(id) {
+                    store::copy_object(&sm, id, &mg, id)?;
+                }
+            }
+        }
+        // One linearised system per distinct model, supports, drive and gravity; copied when
+        // the references file holds it.
         let lg = f.create_group("linear")?;
         let mut linear: BTreeMap<&str, &Job> = BTreeMap::new();
-        for j in jobs {
+        for j in src.linear {
             linear.entry(j.linear_id.as_str()).or_insert(j);
         }
+        let shared_linear = src.shared.map(|s| s.group("linear")).transpose()?;
         for (lid, j) in linear {
-            if let Some(Ok(m)) = models.get(j.model_id.as_str()) {
-                write_linear(&lg.create_group(lid)?, &j.model_id, &j.scene, m)?;
+            if let Some(sl) = shared_linear.as_ref().filter(|g| g.link_exists(lid)) {
+                store::copy_object(sl, lid, &lg, lid)?;
+            } else if let Some(Ok(m)) = models.get(j.model_id.as_str()) {
+                write_linear(
+                    &lg.create_group(lid)?,
+                    &study.linear,
+                    &j.model_id,
+                    &j.scene,
+                    m,
+                )?;
             }
         }
         let rg = f.create_group("references")?;
         for r in refs {
-            let part = open_part(&r.id)?;
-            store::copy_object(&part, "job", &rg, &r.id)?;
+            match src.shared {
+                Some(shared) => {
+                    let g = shared.group("references")?;
+                    store::copy_object(&g, &r.id, &rg, &r.id)?
+                }
+                None => {
+                    let part = open_part(&r.id)?;
+                    store::copy_object(&part, "job", &rg, &r.id)?
+                }
+            }
         }
         let jg = f.create_group("jobs")?;
         for j in jobs {
@@ -1342,6 +1497,13 @@ pub fn merge(
                         what.join(", ")
                     }
                 ),
+            )
+            .into());
+        }
+        if shard == REFERENCES_SHARD {
+            return Err(InputError::new(
+                p,
+                "is a references file (run --references-only), not a shard: merge the shard files",
             )
             .into());
         }

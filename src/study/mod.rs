@@ -51,7 +51,43 @@ struct StudyFile {
     pruning: toml::Table,
     #[serde(default)]
     analysis: AnalysisSpec,
+    #[serde(default)]
+    linear: LinearFile,
 }
+
+/// The study's `[linear]` table: the linear analyses stored per distinct linear system under
+/// `/linear/<id>` (module doc of [`crate::linear::analysis`]). The damped modes over `speeds`
+/// always; the rest when set to `true`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LinearFile {
+    /// Spin speeds `START:STOP:COUNT` [Hz] (default [`LINEAR_SPEEDS`]).
+    speeds: Option<String>,
+    /// List modes up to this damped frequency [Hz] (default: all).
+    max_freq_hz: Option<f64>,
+    /// Unbalance response at the sensors and named nodes.
+    #[serde(default)]
+    unbalance_response: bool,
+    /// The response's unbalance `MASS_G,RADIUS_MM,ANGLE_DEG,Z_MM` (default: the scene's own).
+    unbalance: Option<String>,
+    /// Floquet stability at every positive speed.
+    #[serde(default)]
+    floquet: bool,
+    /// Floquet: keep only the modes below this frequency [Hz].
+    floquet_cutoff_hz: Option<f64>,
+    /// Static sag and support forces.
+    #[serde(default, rename = "static")]
+    statics: bool,
+    /// Undamped critical speeds against the support stiffness.
+    #[serde(default)]
+    critical_map: bool,
+    /// Mode shapes at the nodes.
+    #[serde(default)]
+    shapes: bool,
+}
+
+/// The default speeds of a study's linear analyses [Hz] (the `modes` command's default range).
+pub const LINEAR_SPEEDS: &str = "0:100:201";
 
 /// The study's `[analysis]` table: what the post-processing of the results computes.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -221,6 +257,8 @@ pub struct Study {
     pub pilot_overrides: Vec<(String, toml::Value)>,
     /// Whether the study names a reference setting (otherwise no errors are computed).
     pub has_reference: bool,
+    /// The linear analyses of every distinct linear system (`[linear]`).
+    pub linear: crate::linear::analysis::Request,
 }
 
 /// The pilot overrides as one canonical text (for ids).
@@ -306,6 +344,32 @@ impl Ctx<'_> {
             None => e,
         }
     }
+}
+
+/// The `[linear]` table as a request, its values checked.
+fn linear_request(c: &Ctx, l: &LinearFile) -> Result<crate::linear::analysis::Request, InputError> {
+    use crate::linear::analysis::{parse_speeds, PointUnbalance, Request};
+    let positive = |key: &str, v: Option<f64>| match v {
+        Some(f) if !(f.is_finite() && f > 0.0) => Err(c.err(key, "must be a positive frequency")),
+        _ => Ok(v),
+    };
+    Ok(Request {
+        speeds_hz: parse_speeds(l.speeds.as_deref().unwrap_or(LINEAR_SPEEDS))
+            .map_err(|e| c.err("linear.speeds", e))?,
+        max_freq_hz: positive("linear.max_freq_hz", l.max_freq_hz)?,
+        unbalance: l
+            .unbalance
+            .as_deref()
+            .map(PointUnbalance::parse)
+            .transpose()
+            .map_err(|e| c.err("linear.unbalance", e))?,
+        response: l.unbalance_response,
+        floquet: l.floquet,
+        floquet_cutoff_hz: positive("linear.floquet_cutoff_hz", l.floquet_cutoff_hz)?,
+        statics: l.statics,
+        critical_map: l.critical_map,
+        shapes: l.shapes,
+    })
 }
 
 fn axis_values(
@@ -783,6 +847,7 @@ impl Study {
                 ));
             }
         }
+        let linear = linear_request(&c, &raw.linear)?;
         replaced_keys(&c, &base, &raw, &reference, &pilot)?;
         let mut physics_of = BTreeMap::new();
         for (index, (combo, labels)) in combos.into_iter().enumerate() {
@@ -988,6 +1053,7 @@ impl Study {
             references: references.into_values().collect(),
             pilot_overrides: pilot,
             has_reference: !reference.is_empty(),
+            linear,
         })
     }
 

@@ -235,6 +235,48 @@ above_ratio = 1.0
     )
 }
 
+/// The Jeffcott rotor's damped mounting of tests/linear_consistency.rs and linear_study.rs as
+/// scene text: bearings 2e7 N/m and 2000 N·s/m on 5 kg pedestals with anisotropic ground springs
+/// (3e7 / 6e7 N/m, 3000 N·s/m: elliptic orbits with a backward part), a stationary 400 N·s/m
+/// damper at the disk, the drive's axial spring, 8n+12st modes.
+pub const JEFFCOTT_PEDESTALS: &str = r#"[[supports]]
+node = "bearing_a"
+type = "linear"
+spring = { kx_n_per_m = 2.0e7, ky_n_per_m = 2.0e7, cx_ns_per_m = 2000.0, cy_ns_per_m = 2000.0 }
+mass_kg = 5.0
+ground = { kx_n_per_m = 3.0e7, ky_n_per_m = 6.0e7, cx_ns_per_m = 3000.0, cy_ns_per_m = 3000.0 }
+[[supports]]
+node = "bearing_b"
+type = "linear"
+spring = { kx_n_per_m = 2.0e7, ky_n_per_m = 2.0e7, cx_ns_per_m = 2000.0, cy_ns_per_m = 2000.0 }
+mass_kg = 5.0
+ground = { kx_n_per_m = 3.0e7, ky_n_per_m = 6.0e7, cx_ns_per_m = 3000.0, cy_ns_per_m = 3000.0 }
+[[supports]]
+node = "disk"
+type = "linear"
+spring = { kx_n_per_m = 0.0, ky_n_per_m = 0.0, cx_ns_per_m = 400.0, cy_ns_per_m = 400.0 }
+[drive]
+node = "bearing_a"
+axial_stiffness_n_per_m = 1e7
+[reduction]
+boundary = ["bearing_a", "bearing_b"]
+modes = "8n+12st"
+"#;
+
+/// Campaign options for a test: `out`, two threads, no resume, overwrite, shard or shared
+/// references.
+pub fn run_options(out: &std::path::Path) -> rotorsweep::study::campaign::RunOptions {
+    rotorsweep::study::campaign::RunOptions {
+        output: out.to_path_buf(),
+        threads: 2,
+        resume: false,
+        overwrite: false,
+        shard: None,
+        command: "test".into(),
+        references: Default::default(),
+    }
+}
+
 /// The deterministic content of a results file: every dataset of every run (bit patterns) and
 /// the runs' attributes other than timings, by path.
 pub fn results_content(path: &std::path::Path) -> Vec<(String, Vec<u64>)> {
