@@ -41,7 +41,8 @@ data, and prints the paths written:
   (▲ forward, ▼ backward, ● mixed) coloured by its log decrement, with a colour bar.
 
 Per linear system, each when its group holds the data (``rotorsweep linear -o`` writes them, a
-study's ``/linear`` groups do not), suffixed ``-<system>`` when several systems have one:
+study's ``/linear`` groups where its ``[linear]`` table asks), suffixed ``-<system>`` when
+several systems have one:
 
 * ``mode_shapes.png``: the lowest four lateral modes at the lowest and the highest speed,
   horizontal and vertical translation along the rotor (``linear -o --shapes``);
