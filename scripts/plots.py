@@ -7,29 +7,42 @@ analysis (``rotorsweep linear SCENE -o OUT.h5``).
 Writes into DIR (default: ``OUT-plots`` beside the file), each plot only when the file holds its
 data, and prints the paths written:
 
-* ``spectral_map[-<n>].png``: per speed sweep with a map (``/analysis/sweeps/<n>``), the runout
-  amplitude [µm, log colour scale] over frequency [Hz] × speed [Hz], one panel per direction of
-  the chosen sensor, with the roll's lines f = k·speed (k = 1…4) and the rollers' lines
-  f = 0.92·k·speed;
+* ``spectral_map[-<n>].png``: per speed sweep with a map (``/analysis/sweeps/<n>``), the
+  amplitude of the runout's fluctuating part (the mean, static sag, removed before the FFT)
+  [µm, log colour scale] over frequency [Hz] × speed [Hz] up to the study's range (from its
+  orders), one panel per direction of the chosen sensor, with the roll's lines f = k·speed
+  (the study's integer orders k) and, dashed, the rollers' lines f = r·k·speed with r the
+  scene's journal/roller diameter ratio (the jobs' ``roller_ratio:…`` attributes; none where
+  the roller roundness follows the roll angle, r = 1);
+* ``mean[-<n>].png``: per speed sweep, the mean runout (static sag and offset) [µm] over speed
+  at each sensor, one panel per direction;
 * ``harmonics[-<n>].png``: per speed sweep, the amplitude of each of the study's orders over
   speed (log), one panel per direction of the chosen sensor;
 * ``trial_mass.png``: the 1× amplitude change |A| − |A₀| and vector change |A − A₀| against the
   baseline jobs over speed (``/analysis/trial_mass``), one panel per sensor in the chosen
   direction, one pair of curves per trial setting;
 * ``work_precision.png``: runout error against the reference [µm] over CPU time [s], log–log,
-  one series per integrator (jobs that ended ok; the legend counts the failed ones);
-* ``timing.png``: CPU time [s] per job, annotated with Newton iterations per step (≤ 12 jobs);
+  one panel per physics (the varying keys that are not ``solver.*`` nor ``reduction.*``, i.e.
+  per reference run), one colour and marker per integrator, every point labelled with its
+  solver setting, each integrator's work-precision front a line (jobs that ended ok; the
+  legend counts the failed ones);
+* ``timing.png``: CPU time [s] per job coloured by status, annotated with Newton iterations
+  per step; vertical bars up to 12 jobs, one horizontal bar a job above (every job shown);
 * ``stability.png``: when ``solver.integrator`` and other keys vary, a matrix integrator ×
-  setting coloured by status, with the error [µm] and CPU time [s] in the cells;
+  setting coloured by error class (:func:`error_class`: the decade of the max error, or the
+  status of a job that did not end ok), with the status, error [µm] and CPU time [s] in the
+  cells;
 * ``campbell.png``: the Campbell diagram of each linearised system (``/linear/<id>``, at most
   four panels): damped whirl frequencies [Hz] of the model on its linearised supports over spin
-  speed [Hz], one line per branch, with the lines f = k·speed (k = 1…4, 1× solid) and the
-  critical speeds; where the file has the log decrements (``rotorsweep linear -o``) every mode
-  a marker by whirl (▲ forward, ▼ backward, ● mixed) coloured by its log decrement, with a
-  colour bar.
+  speed [Hz], one line per branch, each branch in range labelled at its right end with its
+  plane at standstill (vertical / horizontal, from the first bending frequencies) and its whirl
+  at the top speed (forward / backward), with the lines f = k·speed (k = 1…4, 1× solid) and the
+  critical speeds; where the file has the log decrements every mode a marker by whirl
+  (▲ forward, ▼ backward, ● mixed) coloured by its log decrement, with a colour bar.
 
 Per linear system, each when its group holds the data (``rotorsweep linear -o`` writes them, a
-study's ``/linear`` groups do not), suffixed ``-<system>`` when several systems have one:
+study's ``/linear`` groups where its ``[linear]`` table asks), suffixed ``-<system>`` when
+several systems have one:
 
 * ``mode_shapes.png``: the lowest four lateral modes at the lowest and the highest speed,
   horizontal and vertical translation along the rotor (``linear -o --shapes``);
@@ -41,7 +54,10 @@ study's ``/linear`` groups do not), suffixed ``-<system>`` when several systems 
   ranges shaded, the damped modes' stability threshold dashed.
 
 Besides study results files, a ``rotorsweep linear -o`` file is accepted: it gets the Campbell
-diagram and the per-system figures.
+diagram and the per-system figures; and a ``rotorsweep simulate -o`` file, laid out as a study
+of one job (no sweeps: its timing bar, and its work-precision point when it has an error).
+
+Numbers in labels are written as ``rotorsweep report`` writes them (:func:`number_text`).
 
 The ``-<n>`` suffix (the sweep's number in the file) is added only when the file has several
 sweeps. ``--channel SENSOR/DIR`` picks the sensor of the maps and harmonics and the direction of
@@ -73,20 +89,31 @@ from rotorsweep import PathLike
 DPI = 110
 #: Directions of the runout channels, in panel order.
 DIRECTIONS = ("vertical", "horizontal")
-#: Roll harmonics drawn on the spectral maps (f = k · speed).
+#: Roll harmonics drawn on the Campbell diagrams (f = k · speed).
 HARMONICS = (1, 2, 3, 4)
-#: The rollers turn at 115/125 of the roll's speed (reference roll's scene): their lines lie at
-#: f = 0.92 · k · speed.
-ROLLER_RATIO = 0.92
+#: Prefix of the job attributes that give each roller's line ratio (src/study/post.rs).
+ROLLER_RATIO = "roller_ratio:"
 #: Decades of amplitude below the map's maximum that the colour scale spans.
 MAP_DECADES = 4
 #: Most linearised systems drawn in the Campbell diagram (one panel each).
 MAX_CAMPBELL_PANELS = 4
-#: Largest study that gets a per-job timing bar chart.
+#: Up to this many jobs the timing chart has vertical bars; above, one horizontal bar a job.
 MAX_TIMING_JOBS = 12
 #: Fill colour of each job status.
 STATUS_COLOURS = {"ok": "#9ccc65", "diverged": "#ef5350", "budget": "#ffb74d"}
+#: Fill colour of each error class of :func:`error_class` (src/report.rs: CLASS_COLOURS).
+CLASS_COLOURS = {
+    "< 1 µm": "#a5d6a7",
+    "1–10 µm": "#fff59d",
+    "10–100 µm": "#ffcc80",
+    "≥ 100 µm": "#ef9a9a",
+    "no reference": "#b3e5fc",
+    "diverged": "#ce93d8",
+    "budget": "#bdbdbd",
+}
 MARKERS = "osD^v<>"
+#: Most physics panels of the work-precision figure (more: one panel, a marker per physics).
+MAX_WORK_PANELS = 9
 
 
 class PlotError(Exception):
@@ -127,8 +154,33 @@ def check_results_file(path: PathLike) -> bool:
     return has_summary
 
 
+def number_text(x: float) -> str:
+    """A number as ``rotorsweep report`` writes it (src/report.rs ``number_text``): shortest
+    round-trip digits, scientific below 1e-3 and from 1e6 (``1e-4``, not ``0.0001``), no
+    trailing ``.0``."""
+    if not np.isfinite(x):
+        return "–"
+    if x != 0 and (abs(x) < 1e-3 or abs(x) >= 1e6):
+        return np.format_float_scientific(x, unique=True, trim="-", exp_digits=1).replace("+", "")
+    text = repr(float(x))
+    return text[:-2] if text.endswith(".0") else text
+
+
+def error_class(status: str, error_max_um: float) -> str:
+    """The class of a job's outcome (src/report.rs ``error_class``): its status when it did not
+    end ok, "no reference" without an error, else the decade of its max runout error."""
+    if status != "ok":
+        return status
+    if not np.isfinite(error_max_um):
+        return "no reference"
+    for bound, name in ((1.0, "< 1 µm"), (10.0, "1–10 µm"), (100.0, "10–100 µm")):
+        if error_max_um < bound:
+            return name
+    return "≥ 100 µm"
+
+
 def _format(value: object) -> str:
-    return f"{value:g}" if isinstance(value, float) else str(value)
+    return number_text(value) if isinstance(value, float) else str(value)
 
 
 def settings(summary: pd.DataFrame, labels: pd.DataFrame, keys: list[str]) -> pd.Series:
@@ -158,22 +210,35 @@ def _sweep_title(study: str, what: str, sweep: rp.Sweep) -> str:
     return f"{study}: {what}" + (f"\n{sweep['fixed']}" if sweep["fixed"] else "")
 
 
-def spectral_map(sweep: rp.Sweep, sensor: str, study: str) -> Figure | None:
-    """The sweep's spectral map of ``sensor`` (amplitude [µm] over frequency [Hz] × speed [Hz]),
-    one panel per direction on a shared log colour scale that spans :data:`MAP_DECADES` below the
-    largest amplitude above the static offset (the 0 Hz bin and the next one, where the Hanning
-    window spreads half of it, are left out of the scale and clipped to its top colour); None
-    when the sweep has no map of that sensor or it is zero above those bins."""
+def spectral_map(
+    sweep: rp.Sweep,
+    sensor: str,
+    study: str,
+    ratios: list[float] | None = None,
+    mean_removed: bool = True,
+) -> Figure | None:
+    """The sweep's spectral map of ``sensor`` (amplitude [µm] of the fluctuating part over
+    frequency [Hz] × speed [Hz], the stored range), one panel per direction on a shared log
+    colour scale that spans :data:`MAP_DECADES` below the largest amplitude; white lines at the
+    sweep's integer orders k·speed and, dashed, at r·k·speed for each roller ratio r in
+    ``ratios`` (:func:`roller_ratios`; None: not known, no roller lines said). A file written before the mean was removed
+    (``mean_removed`` False) has it in the 0 Hz bin and the next one: those two are left out of
+    the colour scale (clipped to its top). None when the sweep has no map of that sensor or it
+    is zero."""
     dirs = _panels(sweep["maps"], sensor)
     if not dirs or sweep["freq_hz"] is None:
         return None
     maps = [sweep["maps"][f"{sensor}/{d}"] for d in dirs]
     freq, speed = sweep["freq_hz"], sweep["speed_hz"]
-    top = max(np.max(m[:, 2:], initial=0.0) for m in maps)
+    skip = 0 if mean_removed else 2
+    top = max(np.max(m[:, skip:], initial=0.0) for m in maps)
     if not top > 0:
         return None
+    orders = [int(o) for o in sweep["orders"] if float(o).is_integer() and o > 0]
+    known = ratios is not None
+    ratios = [r for r in (ratios or []) if abs(r - 1.0) > 1e-9]
     norm = LogNorm(vmin=top / 10**MAP_DECADES, vmax=top, clip=True)
-    fig = _figure(figsize=(5.2 * len(dirs) + 1.2, 5.5))
+    fig = _figure(figsize=(5.2 * len(dirs) + 1.2, 5.8))
     axes = fig.subplots(1, len(dirs), sharey=True, squeeze=False)[0]
     for ax, d, m in zip(axes, dirs, maps):
         mesh = ax.pcolormesh(
@@ -181,19 +246,71 @@ def spectral_map(sweep: rp.Sweep, sensor: str, study: str) -> Figure | None:
         )
         (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
         y = np.array([y0, y1])
-        for k in HARMONICS:
-            ax.plot(k * y, y, color="white", lw=0.8, alpha=0.4)
-            ax.plot(ROLLER_RATIO * k * y, y, color="white", lw=0.8, alpha=0.3, ls="--")
+        for k in orders:
+            ax.plot(k * y, y, color="white", lw=0.8, alpha=0.45)
             if k * y1 <= x1:
                 ax.text(k * y1, y1, f"{k}×", fontsize="small", ha="center", va="bottom")
+            for r in ratios:
+                ax.plot(r * k * y, y, color="white", lw=0.8, alpha=0.35, ls="--")
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
         ax.set_title(f"{sensor} {d}", pad=14)
         ax.set_xlabel("frequency [Hz]")
     axes[0].set_ylabel("speed [Hz]")
-    fig.colorbar(mesh, ax=list(axes), label="runout amplitude [µm]")
-    what = f"spectral map (lines k·speed, dashed {ROLLER_RATIO:g}·k·speed)"
+    fig.colorbar(mesh, ax=list(axes), label="runout amplitude, mean removed [µm]")
+    if ratios:
+        rollers = ", ".join(number_text(round(r, 4)) for r in ratios)
+        what = f"spectral map (solid k·speed; dashed rollers' lines {rollers}·k·speed)"
+    elif known:
+        what = "spectral map (lines k·speed; the rollers' lines lie on them)"
+    else:
+        what = "spectral map (lines k·speed)"
     fig.suptitle(_sweep_title(study, what, sweep))
+    return fig
+
+
+def roller_ratios(attrs: pd.DataFrame, job_ids: list[str]) -> list[float] | None:
+    """The distinct roller line ratios (``roller_ratio:<node>/<roller>`` attributes, ascending)
+    of the jobs ``job_ids`` (``attrs`` as :func:`rotorsweep.job_attrs` gives them); None in a
+    file written before they were stored (unknown), [] for a scene without rollers."""
+    cols = [c for c in attrs.columns if str(c).startswith(ROLLER_RATIO)]
+    if not cols:
+        return None
+    values = attrs.loc[[j for j in job_ids if j in attrs.index], cols].to_numpy(dtype=float)
+    values = values[np.isfinite(values)]
+    return sorted({round(float(v), 9) for v in values})
+
+
+def sweep_means(path: PathLike, n: int) -> dict[str, np.ndarray]:
+    """The mean runout [µm] over speed of sweep ``n`` by channel (``/analysis/sweeps/<n>/mean``);
+    {} in a file written before the mean was stored apart."""
+    with h5py.File(path, "r") as f:
+        g = f.get(f"analysis/sweeps/{n}/mean")
+        if g is None:
+            return {}
+        out: dict[str, np.ndarray] = {}
+        g.visititems(lambda name, obj: out.__setitem__(name, obj[()])
+                     if isinstance(obj, h5py.Dataset) else None)
+        return out
+
+
+def mean_runout(sweep: rp.Sweep, means: dict[str, np.ndarray], study: str) -> Figure | None:
+    """The mean runout (static sag and offset) [µm] over speed [Hz], one panel per direction,
+    one line per sensor; None without stored means."""
+    dirs = [d for d in DIRECTIONS if any(c.endswith("/" + d) for c in means)]
+    if not dirs:
+        return None
+    fig = _figure(figsize=(5.0 * len(dirs) + 0.8, 4.2))
+    axes = fig.subplots(1, len(dirs), sharey=True, squeeze=False)[0]
+    for ax, d in zip(axes, dirs):
+        for c in sorted(c for c in means if c.endswith("/" + d)):
+            ax.plot(sweep["speed_hz"], means[c], marker=".", label=c.split("/")[0])
+        ax.set_title(d)
+        ax.set_xlabel("speed [Hz]")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("mean runout [µm]")
+    axes[-1].legend(title="sensor", fontsize="small")
+    fig.suptitle(_sweep_title(study, "mean runout over speed (removed before the spectra)", sweep))
     return fig
 
 
@@ -216,7 +333,7 @@ def harmonics(sweep: rp.Sweep, sensor: str, study: str) -> Figure | None:
         ax.set_xlabel("speed [Hz]")
         ax.grid(alpha=0.3, which="both")
     axes[0].set_ylabel("line amplitude [µm]")
-    axes[-1].legend(title="order", fontsize="small")
+    axes[-1].legend(title="order", fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle(_sweep_title(study, "amplitude of the orders over speed", sweep))
     return fig
 
@@ -250,35 +367,87 @@ def trial_mass(
     return fig
 
 
-def work_precision(summary: pd.DataFrame, reference: pd.Series, study: str) -> Figure:
-    """Runout error against the reference (error_max_um) over CPU time, log–log: one colour and
-    marker per integrator, every job a marker; per integrator and reference run (``reference``:
-    reference_id per job_id, one per distinct physics) a line through its work-precision front
-    (the jobs more accurate than every cheaper one). The legend counts the jobs shown and the
-    failed."""
-    summary = summary.assign(reference=reference.loc[summary["job_id"]].to_numpy())
-    fig = _figure(figsize=(7, 5))
-    ax = fig.subplots()
-    for i, (integrator, jobs) in enumerate(summary.groupby("integrator", sort=False)):
-        shown = jobs[(jobs["status"] == "ok") & (jobs["error_max_um"] > 0)]
-        failed = int((jobs["status"] != "ok").sum())
-        note = f"{len(shown)} of {len(jobs)} jobs" + (f", {failed} failed" if failed else "")
-        style = {"color": f"C{i}", "marker": MARKERS[i % len(MARKERS)]}
-        ax.plot([], [], label=f"{integrator} ({note})", **style)
-        for _, run in shown.groupby("reference", sort=False):
-            run = run.sort_values(["cpu_time_s", "error_max_um"])
-            ax.plot(run["cpu_time_s"], run["error_max_um"], ls="none", **style)
-            front = run[run["error_max_um"] < run["error_max_um"].cummin().shift(fill_value=np.inf)]
-            ax.plot(front["cpu_time_s"], front["error_max_um"], lw=0.8, color=style["color"])
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    # Over less than a decade the minor ticks are labelled too; tilted, they do not overlap.
-    ax.tick_params(axis="x", which="minor", labelrotation=40, labelsize="x-small")
-    ax.set_xlabel("CPU time [s]")
-    ax.set_ylabel("runout error against the reference, max [µm]")
-    ax.grid(alpha=0.3, which="both")
-    ax.legend()
-    ax.set_title(f"{study}: work-precision")
+def work_precision(
+    summary: pd.DataFrame,
+    reference: pd.Series,
+    study: str,
+    solver: pd.Series | None = None,
+    physics: pd.Series | None = None,
+    physics_id: pd.Series | None = None,
+) -> Figure:
+    """Runout error against the reference (error_max_um) over CPU time, log–log: one panel per
+    physics (``physics_id``: a value per job_id that is the same for the same physics, by
+    default ``physics``; at most :data:`MAX_WORK_PANELS`, else one panel), titled with its jobs'
+    ``physics`` (text per job_id of the keys that change the physics, several joined by " / "),
+    one colour and marker per integrator, every job a marker labelled with its solver setting
+    (``solver``: text per job_id); per integrator and reference run (``reference``:
+    reference_id per job_id) a line through its work-precision front (the jobs more accurate
+    than every cheaper one). The legend counts the jobs shown and the failed."""
+    ids = summary["job_id"]
+    empty = pd.Series("", index=ids.to_numpy())
+    solver = empty if solver is None else solver
+    physics = empty if physics is None else physics
+    physics_id = physics if physics_id is None else physics_id
+    summary = summary.assign(
+        reference=reference.loc[ids].to_numpy(),
+        solver_setting=solver.loc[ids].to_numpy(),
+        physics=physics.loc[ids].to_numpy(),
+        physics_id=physics_id.loc[ids].to_numpy(),
+    )
+    groups = list(dict.fromkeys(summary["physics_id"]))
+    if len(groups) > MAX_WORK_PANELS:
+        groups = [None]
+    # One panel wide, so that its labels have room; several at 6 inches each, 3 a row.
+    width, height = (8.5, 6.2) if len(groups) == 1 else (6.0, 5.0)
+    fig = _figure(figsize=(width * min(len(groups), 3) + 0.5,
+                           height * ((len(groups) + 2) // 3) + 0.4))
+    axes = fig.subplots((len(groups) + 2) // 3, min(len(groups), 3), squeeze=False).ravel()
+    integrators = list(dict.fromkeys(summary["integrator"]))
+    for ax, group in zip(axes, groups):
+        jobs_here = summary if group is None else summary[summary["physics_id"] == group]
+        title = " / ".join(p for p in dict.fromkeys(jobs_here["physics"]) if p)
+        if group is not None and title:
+            ax.set_title(title, fontsize="medium")
+        drawn = (jobs_here["status"] == "ok") & (jobs_here["error_max_um"] > 0)
+        if not drawn.any():
+            failed = ", ".join(f"{i}: {s}" for i, s in zip(jobs_here["integrator"],
+                                                           jobs_here["status"]))
+            ax.text(0.5, 0.5, f"no job with an error to draw\n({failed})", ha="center",
+                    va="center", transform=ax.transAxes, fontsize="small")
+            ax.set_xticks([])
+            ax.set_yticks([])
+            continue
+        for integrator, jobs in jobs_here.groupby("integrator", sort=False):
+            i = integrators.index(integrator)
+            shown = jobs[(jobs["status"] == "ok") & (jobs["error_max_um"] > 0)]
+            failed = int((jobs["status"] != "ok").sum())
+            note = f"{len(shown)} of {len(jobs)} jobs" + (f", {failed} failed" if failed else "")
+            style = {"color": f"C{i}", "marker": MARKERS[i % len(MARKERS)]}
+            ax.plot([], [], label=f"{integrator} ({note})", **style)
+            for _, run in shown.groupby("reference", sort=False):
+                run = run.sort_values(["cpu_time_s", "error_max_um"])
+                ax.plot(run["cpu_time_s"], run["error_max_um"], ls="none", **style)
+                best = run["error_max_um"].cummin().shift(fill_value=np.inf)
+                front = run[run["error_max_um"] < best]
+                ax.plot(front["cpu_time_s"], front["error_max_um"], lw=0.8, color=style["color"])
+            for _, job in shown.iterrows():
+                if job["solver_setting"]:
+                    ax.annotate(job["solver_setting"], (job["cpu_time_s"], job["error_max_um"]),
+                                xytext=(4, 3), textcoords="offset points", fontsize="xx-small",
+                                color=style["color"])
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.margins(x=0.25, y=0.15)
+        # Over less than a decade the minor ticks are labelled too; tilted, they do not overlap.
+        ax.tick_params(axis="x", which="minor", labelrotation=40, labelsize="x-small")
+        ax.set_xlabel("CPU time [s]")
+        ax.set_ylabel("runout error against the reference, max [µm]")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize="small")
+    for ax in axes[len(groups):]:
+        ax.set_visible(False)
+    what = "work-precision" + (" per physics" if len(groups) > 1 else "")
+    fig.suptitle(f"{study}: {what} (labels: solver setting)")
     return fig
 
 
@@ -291,45 +460,75 @@ def _status_legend(ax: Axes, statuses: pd.Series) -> None:
 
 
 def timing(summary: pd.DataFrame, names: pd.Series, study: str) -> Figure:
-    """CPU time [s] per job as bars coloured by status, tick labels ``names`` (text per job; the
-    job id where empty), each bar annotated with Newton iterations per step ("–" for none)."""
+    """CPU time [s] per job as bars coloured by status, labelled ``names`` (text per job; the
+    job id where empty), each bar annotated with Newton iterations per step ("–" for none):
+    vertical bars up to :data:`MAX_TIMING_JOBS` jobs, horizontal ones (one row a job, in job
+    order from the top) above, so that every job is shown whatever the study's size."""
     ticks = [n or j for n, j in zip(names.loc[summary["job_id"]], summary["job_id"])]
-    fig = _figure(figsize=(max(6.5, 0.9 * len(summary) + 2), 5.5))
-    ax = fig.subplots()
-    x = np.arange(len(summary))
     cpu = summary["cpu_time_s"].to_numpy(dtype=float)
-    bars = ax.bar(x, cpu, color=[STATUS_COLOURS.get(s, "lightgrey") for s in summary["status"]])
     per_step = summary["iterations_per_step"].to_numpy(dtype=float)
     notes = [f"{v:.2f}" if np.isfinite(v) else "–" for v in per_step]
-    ax.bar_label(bars, notes, fontsize="small")
-    ax.set_xticks(x, ticks, rotation=30, ha="right", fontsize="small")
-    ax.set_ylabel("CPU time [s]")
-    ax.margins(y=0.12)
+    colours = [STATUS_COLOURS.get(s, "lightgrey") for s in summary["status"]]
+    x = np.arange(len(summary))
+    if len(summary) <= MAX_TIMING_JOBS:
+        fig = _figure(figsize=(max(6.5, 0.9 * len(summary) + 2), 5.5))
+        ax = fig.subplots()
+        bars = ax.bar(x, cpu, color=colours)
+        ax.set_xticks(x, ticks, rotation=30, ha="right", fontsize="small")
+        ax.set_ylabel("CPU time [s]")
+        ax.margins(y=0.12)
+    else:
+        longest = max((len(t) for t in ticks), default=10)
+        fig = _figure(figsize=(7.5 + 0.06 * longest, 0.19 * len(summary) + 1.6))
+        ax = fig.subplots()
+        bars = ax.barh(x, cpu, color=colours, height=0.75)
+        ax.set_yticks(x, ticks, fontsize=6)
+        ax.set_ylim(len(summary) - 0.5, -0.5)
+        ax.set_xlabel("CPU time [s]")
+        ax.margins(x=0.12)
+        ax.grid(alpha=0.3, axis="x")
+    ax.bar_label(bars, notes, fontsize="x-small" if len(summary) > MAX_TIMING_JOBS else "small",
+                 padding=2)
     _status_legend(ax, summary["status"])
-    ax.set_title(f"{study}: CPU time per job\n(on the bars: Newton iterations per step)")
+    ax.set_title(f"{study}: CPU time per job, {len(summary)} jobs\n"
+                 "(on the bars: Newton iterations per step)")
     return fig
 
 
 def stability(summary: pd.DataFrame, names: pd.Series, study: str) -> Figure:
     """A matrix integrator (rows) × setting (columns, ``names``: text per job of the other
-    varying keys) coloured by status, each cell with error_max_um [µm] and cpu_time_s [s]."""
+    varying keys) coloured by :func:`error_class` (green below 1 µm to red from 100 µm; failed
+    jobs by status), each cell with the status when not ok, error_max_um [µm] and cpu_time_s
+    [s]; several jobs in one cell take the worst class."""
     df = summary.assign(setting=names.loc[summary["job_id"]].to_numpy())
     rows = list(dict.fromkeys(df["integrator"]))
     cols = list(dict.fromkeys(df["setting"]))
-    rgb = np.ones((len(rows), len(cols), 3))
-    fig = _figure(figsize=(max(5.0, 1.5 * len(cols) + 2.5), 1.1 * len(rows) + 2.8))
-    ax = fig.subplots()
+    order = list(CLASS_COLOURS)
+    worst: dict[tuple[int, int], str] = {}
+    text: dict[tuple[int, int], list[str]] = {}
     for _, job in df.iterrows():
         r, c = rows.index(job["integrator"]), cols.index(job["setting"])
-        rgb[r, c] = to_rgb(STATUS_COLOURS.get(job["status"], "lightgrey"))
+        cls = error_class(job["status"], float(job["error_max_um"]))
+        if (r, c) not in worst or order.index(cls) > order.index(worst[(r, c)]):
+            worst[(r, c)] = cls
         error = f"{job['error_max_um']:.3g} µm" if np.isfinite(job["error_max_um"]) else "–"
-        cell = f"{error}\n{job['cpu_time_s']:.3g} s"
-        ax.text(c, r, cell, ha="center", va="center", fontsize="small")
+        head = "" if job["status"] == "ok" else f"{job['status']}\n"
+        text.setdefault((r, c), []).append(f"{head}{error}\n{job['cpu_time_s']:.3g} s")
+    rgb = np.ones((len(rows), len(cols), 3))
+    for (r, c), cls in worst.items():
+        rgb[r, c] = to_rgb(CLASS_COLOURS.get(cls, "lightgrey"))
+    fig = _figure(figsize=(max(5.5, 1.5 * len(cols) + 3.5), 1.1 * len(rows) + 2.8))
+    ax = fig.subplots()
     ax.imshow(rgb, aspect="auto")
+    for (r, c), lines in text.items():
+        ax.text(c, r, "\n".join(lines), ha="center", va="center", fontsize="small")
     ax.set_xticks(range(len(cols)), cols, rotation=30, ha="right", fontsize="small")
     ax.set_yticks(range(len(rows)), rows)
-    _status_legend(ax, df["status"])
-    ax.set_title(f"{study}: status, error max and CPU time")
+    used = [c for c in order if c in set(worst.values())]
+    handles = [Patch(color=CLASS_COLOURS[c], label=c) for c in used]
+    ax.legend(handles=handles, title="max error / status", fontsize="small",
+              loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.set_title(f"{study}: error class, max error and CPU time per integrator and setting")
     return fig
 
 
@@ -348,8 +547,8 @@ MAX_MAP_CRITICALS = 6
 
 def linear_system(g: h5py.Group) -> dict[str, object]:
     """The datasets of one ``/linear/<name>`` group as arrays (text decoded), under their path in
-    the group (``campbell/speed_hz``, ``critical_speeds_hz``, …), and its ``stability_threshold_hz``
-    attribute (None when absent)."""
+    the group (``campbell/speed_hz``, ``critical_speeds_hz``, …), and its attributes
+    ``stability_threshold_hz``, ``vertical_hz`` and ``horizontal_hz`` (None when absent)."""
     data: dict[str, object] = {}
 
     def visit(name: str, obj: h5py.HLObject) -> None:
@@ -358,7 +557,9 @@ def linear_system(g: h5py.Group) -> dict[str, object]:
             data[name] = v.astype(str) if v.dtype.kind == "O" else v
 
     g.visititems(visit)
-    data["stability_threshold_hz"] = g.attrs.get("stability_threshold_hz")
+    for name in ("stability_threshold_hz", "vertical_hz", "horizontal_hz"):
+        value = g.attrs.get(name)
+        data[name] = None if value is None else float(value)
     return data
 
 
@@ -416,20 +617,79 @@ def _campbell_panel(ax: Axes, sys_: dict[str, object], title: str) -> object | N
     for k in HARMONICS:
         ax.plot(speed, k * speed, color="0.2" if k == 1 else "0.5", lw=1.2 if k == 1 else 0.8,
                 ls="-" if k == 1 else ":")
-        ax.annotate(f"{k}×", (top / k, top), fontsize="small", ha="center", va="bottom")
+        # Where the line leaves the top edge; 1× leaves at the corner, so its label goes inside.
+        if k == 1:
+            ax.annotate("1×", (top, top), xytext=(-4, -4), textcoords="offset points",
+                        fontsize="small", ha="right", va="top")
+        else:
+            ax.annotate(f"{k}×", (top / k, top), fontsize="small", ha="center", va="bottom")
+    _label_branches(ax, sys_, top)
     crit = np.asarray(sys_.get("critical_speeds_hz", []))
     ax.plot(crit, crit, "o", mfc="none", mec="tab:red", ms=9, mew=1.5, label="critical speeds",
             zorder=4)
     for i, c in enumerate(crit):
-        # Alternate below and above the point: neighbouring criticals lie close together.
-        ax.annotate(f"{c:.2f} Hz", (c, c), xytext=(8, -12 if i % 2 == 0 else 4),
-                    textcoords="offset points", fontsize="small", color="tab:red")
+        # Alternate below and above the point: neighbouring criticals lie close together; in
+        # the right part of the panel, left of the point, clear of the branch labels there.
+        right = c > 0.6 * top
+        ax.annotate(f"{c:.2f} Hz", (c, c), xytext=(-8 if right else 8, -12 if i % 2 == 0 else 4),
+                    textcoords="offset points", fontsize="small", color="tab:red",
+                    ha="right" if right else "left")
     ax.set_xlim(0, top)
     ax.set_ylim(0, top)
     ax.set_xlabel("spin speed [Hz]")
     ax.set_title(title, fontsize="small", pad=14)
     ax.grid(alpha=0.3)
     return scatter
+
+
+def _branch_names(sys_: dict[str, object]) -> list[tuple[float, str]]:
+    """Per Campbell branch in the diagram's range: (its frequency at the top speed [Hz], its
+    label): the plane at the lowest speed (vertical / horizontal for the branch nearest, within
+    2 %, to the system's first bending frequency in that plane, attributes ``vertical_hz`` and
+    ``horizontal_hz``: each plane names one branch, so a near-degenerate pair gets one of each)
+    and the whirl at the top speed (forward / backward / mixed). [] without stored branches."""
+    speed = np.asarray(sys_["campbell/speed_hz"])
+    whirl = np.asarray(sys_["campbell/whirl_hz"])
+    branch = sys_.get("campbell/branch")
+    codes = sys_.get("campbell/whirl")
+    if branch is None:
+        return []
+    branch = np.asarray(branch)
+    top = float(speed[-1])
+    ends: dict[int, tuple[float, float, int, int]] = {}
+    for b in np.unique(branch[branch >= 0]):
+        rows, cols = np.nonzero(branch == b)
+        order = np.argsort(rows)
+        rows, cols = rows[order], cols[order]
+        f0, f1 = whirl[rows[0], cols[0]], whirl[rows[-1], cols[-1]]
+        if 0 < f1 <= top and rows[-1] == len(speed) - 1:
+            ends[int(b)] = (float(f0), float(f1), int(rows[-1]), int(cols[-1]))
+    planes: dict[int, str] = {}
+    for attr, name in (("vertical_hz", "vertical"), ("horizontal_hz", "horizontal")):
+        f = sys_.get(attr)
+        free = [b for b in ends if b not in planes]
+        if f is None or not np.isfinite(f) or not free:
+            continue
+        near = min(free, key=lambda b: abs(ends[b][0] - f))
+        if abs(ends[near][0] - f) <= 0.02 * f:
+            planes[near] = name
+    out = []
+    for b, (_, f1, r, c) in ends.items():
+        parts = [planes[b]] if b in planes else []
+        if codes is not None:
+            parts.append(WHIRL_MARKERS[int(np.rint(np.asarray(codes)[r, c]))][1])
+        if parts:
+            out.append((f1, ", ".join(parts)))
+    return sorted(out)
+
+
+def _label_branches(ax: Axes, sys_: dict[str, object], top: float) -> None:
+    """Each branch's label (:func:`_branch_names`) at its right end, inside the axes; labels of
+    neighbouring branches alternate above and below their lines."""
+    for i, (f, name) in enumerate(_branch_names(sys_)):
+        ax.annotate(name, (top, f), xytext=(-4, 3 if i % 2 else -3), textcoords="offset points",
+                    ha="right", va="bottom" if i % 2 else "top", fontsize="x-small",
+                    color="0.25")
 
 
 def campbell(systems: list[tuple[str, dict[str, object]]], study: str) -> Figure | None:
@@ -697,23 +957,39 @@ def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -
     if have and channel not in have:
         raise PlotError(f"{path}: no channel {channel!r} (there are: {', '.join(have)})")
     out.mkdir(parents=True, exist_ok=True)
+    attrs = rp.job_attrs(path)
     figures: list[tuple[str, Figure | None]] = []
     for s in sweeps:
         suffix = f"-{s['n']}" if len(sweeps) > 1 else ""
-        figures.append((f"spectral_map{suffix}.png", spectral_map(s, sensor, study)))
+        ratios = roller_ratios(attrs, s["job_ids"])
+        means = sweep_means(path, s["n"])
+        figures.append((f"spectral_map{suffix}.png",
+                        spectral_map(s, sensor, study, ratios, mean_removed=bool(means))))
         figures.append((f"harmonics{suffix}.png", harmonics(s, sensor, study)))
+        figures.append((f"mean{suffix}.png", mean_runout(s, means, study)))
     if not trial.empty:
         names = settings(summary, labels, [k for k in varying if k != "speed.hz"])
         figures.append(("trial_mass.png", trial_mass(trial, names, direction, study)))
+    physics = [k for k in varying if k != "speed.hz" and not k.startswith("solver.")]
     if ((summary["status"] == "ok") & (summary["error_max_um"] > 0)).any():
-        reference = rp.job_attrs(path)["reference_id"]
-        figures.append(("work_precision.png", work_precision(summary, reference, study)))
-    if 0 < len(summary) <= MAX_TIMING_JOBS:
+        reference = attrs["reference_id"]
+        solver_keys = [k for k in varying if k.startswith(("solver.", "reduction."))]
+        physics_keys = [k for k in varying if k not in solver_keys]
+        # The integrator has its colour; the points name the rest of the solver setting (by
+        # the axis's label where the integrator's axis has labels).
+        if "solver.integrator" not in labels.columns:
+            solver_keys = [k for k in solver_keys if k != "solver.integrator"] or solver_keys
+        # The same physics: the same values of the other keys (a labelled axis may zip solver
+        # keys with physics keys; its labels then tell settings, not physics, apart).
+        same = summary.set_index("job_id")[physics_keys].astype(str).agg("|".join, axis=1)
+        figures.append(("work_precision.png", work_precision(
+            summary, reference, study, settings(summary, labels, solver_keys),
+            settings(summary, labels, physics_keys), same)))
+    if len(summary) > 0:
         figures.append(("timing.png", timing(summary, settings(summary, labels, varying), study)))
     if "solver.integrator" in varying and len(varying) > 1:
         names = settings(summary, labels, [k for k in varying if k != "solver.integrator"])
         figures.append(("stability.png", stability(summary, names, study)))
-    physics = [k for k in varying if k != "speed.hz" and not k.startswith("solver.")]
     names = settings(summary, labels, physics)
     figures.append(("campbell.png", campbell(_study_systems(path, names), study)))
     figures += linear_figures(_linear_systems(path))

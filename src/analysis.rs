@@ -1,6 +1,7 @@
-//! Signal analysis of sampled runout (physics.md §8): amplitude-correct Hanning spectra, the
-//! complex amplitudes of chosen lines (harmonics k·Ω, roller lines), resonance peaks over a speed
-//! sweep, and the trial-mass 1× response against a baseline.
+//! Signal analysis of sampled runout (physics.md §8): amplitude-correct Hanning spectra of a
+//! record's fluctuating part (its mean, the static sag, apart), the complex amplitudes of chosen
+//! lines (harmonics k·Ω, roller lines), resonance peaks over a speed sweep with how well the
+//! sweep resolves them, and the trial-mass 1× response against a baseline.
 //!
 //! In: uniformly sampled signals (any unit; runout in µm) with their sample rate [Hz] or their
 //! sample times [s], and amplitude curves over speed [Hz].
@@ -61,6 +62,20 @@ pub fn spectrum(x: &[f64], fs: f64) -> Spectrum {
         .collect();
     let freq_hz = (0..=half).map(|k| k as f64 * fs / n as f64).collect();
     Spectrum { freq_hz, amplitude }
+}
+
+/// The mean of `x` and the amplitude-correct Hanning spectrum of `x` minus that mean: the static
+/// part of a runout record (sag, offset) apart from its fluctuation, so that a large mean does
+/// not leak into the lowest bins through the window (otherwise a 306 µm sag reads 306 µm at the first
+/// bin too: the Hann window's neighbour bin holds half of the 0 Hz value, and the one-sided
+/// spectrum doubles it). The spectrum's 0 Hz bin is then the window's residue of the fluctuation only.
+pub fn mean_and_spectrum(x: &[f64], fs: f64) -> (f64, Spectrum) {
+    if x.is_empty() {
+        return (f64::NAN, spectrum(x, fs));
+    }
+    let mean = x.iter().sum::<f64>() / x.len() as f64;
+    let fluct: Vec<f64> = x.iter().map(|v| v - mean).collect();
+    (mean, spectrum(&fluct, fs))
 }
 
 /// The complex amplitudes of the lines at `freqs_hz` in `x` sampled at times `t` [s], fitted
@@ -152,6 +167,62 @@ pub fn peaks(speeds: &[f64], amp: &[f64]) -> Vec<Peak> {
     }
     out.sort_by(|p, q| q.amplitude.total_cmp(&p.amplitude));
     out
+}
+
+/// A sweep's spacing [share of the speed] above which a peak is flagged coarse: a peak's speed is
+/// uncertain by up to half a step, and a roll's vertical and horizontal resonances lie 5–7 %
+/// apart, so a sweep spaced wider than 5 % cannot tell them apart.
+pub const COARSE_STEP: f64 = 0.05;
+
+/// How well a sweep resolves one of its peaks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Resolution {
+    /// The sweep's spacing around the peak [Hz]: the larger of the steps to its neighbours. The
+    /// peak's speed is uncertain by up to half of it.
+    pub step_hz: f64,
+    /// The step exceeds [`COARSE_STEP`] of the peak's speed.
+    pub coarse: bool,
+    /// The curve's largest sample lies at an end of the sweep and above this peak: the strongest
+    /// response may lie outside the sweep.
+    pub edge: bool,
+}
+
+impl Resolution {
+    /// `coarse`, `edge`, both (`coarse, edge`) or "".
+    pub fn note(&self) -> String {
+        let mut v = Vec::new();
+        if self.coarse {
+            v.push("coarse");
+        }
+        if self.edge {
+            v.push("edge");
+        }
+        v.join(", ")
+    }
+}
+
+/// The resolution of `peak` on the curve `amp` over ascending `speeds` (module doc of
+/// [`Resolution`]).
+pub fn resolution(speeds: &[f64], amp: &[f64], peak: &Peak) -> Resolution {
+    let n = speeds.len().min(amp.len());
+    let i = peak.index.min(n.saturating_sub(1));
+    let left = if i > 0 {
+        speeds[i] - speeds[i - 1]
+    } else {
+        0.0
+    };
+    let right = if i + 1 < n {
+        speeds[i + 1] - speeds[i]
+    } else {
+        0.0
+    };
+    let step_hz = left.max(right);
+    let at_end = |j: usize| amp.get(j).is_some_and(|a| *a > peak.amplitude);
+    Resolution {
+        step_hz,
+        coarse: step_hz > COARSE_STEP * peak.speed_hz.abs(),
+        edge: n > 0 && (at_end(0) || at_end(n - 1)),
+    }
 }
 
 /// The vertex of the parabola through samples i − 1, i, i + 1 (a strict local maximum at i).
@@ -326,6 +397,48 @@ mod tests {
         let two = [0.0, 2.0, 0.0, 3.0, 0.0];
         let ps = peaks(&[0.0, 1.0, 2.0, 3.0, 4.0], &two);
         assert_eq!(ps.iter().map(|p| p.index).collect::<Vec<_>>(), vec![3, 1]);
+    }
+
+    #[test]
+    fn mean_is_apart_from_the_spectrum() {
+        // 306 µm of sag under a 3.5 µm line on bin 200 (8192 samples at 1 kHz): the mean reads
+        // 306, the line 3.5, and the first bins nothing of the sag. With the sag left in, bin 1
+        // reads all of it: the Hann DFT of a constant m at bin 1 is m·n/4, times 2/Σw = 4/n.
+        let (n, fs) = (8192, 1000.0);
+        let (mut x, _) = tone(n, fs, 200.0 * fs / n as f64, 3.5, 0.2);
+        x.iter_mut().for_each(|v| *v += 306.0);
+        let (mean, s) = mean_and_spectrum(&x, fs);
+        assert!((mean - 306.0).abs() < 1e-9, "{mean}");
+        assert!((s.amplitude[200] - 3.5).abs() < 1e-9);
+        assert!(
+            s.amplitude[0] < 1e-9 && s.amplitude[1] < 1e-9,
+            "{:?}",
+            &s.amplitude[..2]
+        );
+        assert!((spectrum(&x, fs).amplitude[1] - 306.0).abs() < 1e-6);
+        assert!(mean_and_spectrum(&[], fs).0.is_nan());
+    }
+
+    #[test]
+    fn resolution_flags_coarse_sweeps_and_edges() {
+        // A 4-speed sweep 10, 14, 18, 22 Hz peaking at 14 Hz: step 4 Hz, 29 % of the speed
+        // (> 5 %): coarse. The same curve at 0.2 Hz spacing around 16 Hz (1.25 %) is not.
+        let speeds = [10.0, 14.0, 18.0, 22.0];
+        let amp = [1.0, 3.0, 2.0, 1.0];
+        let p = peaks(&speeds, &amp)[0];
+        let r = resolution(&speeds, &amp, &p);
+        assert_eq!((r.step_hz, r.coarse, r.edge), (4.0, true, false));
+        assert_eq!(r.note(), "coarse");
+        let fine = [15.8, 16.0, 16.2];
+        let p = peaks(&fine, &[1.0, 2.0, 1.5])[0];
+        let r = resolution(&fine, &[1.0, 2.0, 1.5], &p);
+        assert!((r.step_hz - 0.2).abs() < 1e-12 && !r.coarse && !r.edge);
+        // A curve still rising at the sweep's end, above its interior peak: edge.
+        let rising = [1.0, 2.0, 1.5, 5.0];
+        let p = peaks(&speeds, &rising)[0];
+        let r = resolution(&speeds, &rising, &p);
+        assert!(r.edge && r.coarse);
+        assert_eq!(r.note(), "coarse, edge");
     }
 
     #[test]

@@ -5,18 +5,24 @@
 //! against the reference, the varying keys and axis labels), `/linear/<id>` (Campbell data,
 //! critical speeds, first bending frequencies; threshold and Floquet ranges where stored),
 //! `/analysis/sweeps/<n>` (line amplitudes over speed) and `/analysis/trial_mass`.
-//! Out: a [`Report`] of neutral [`Table`]s, rendered as markdown, CSV or JSON:
+//! Out: a [`Report`] of neutral [`Table`]s (a short title, a legend with the units, columns and
+//! rows), rendered as markdown, CSV, JSON or one self-contained HTML page with the figures
+//! ([`Report::render_html`]). Long forms (CSV, JSON) carry `job_id` and one column per varying
+//! parameter; markdown and HTML show each job by its setting (labels, `key=value`). Numbers as
+//! text are written one way ([`number_text`], [`significant`]: scientific below 1e-3 and from 1e6).
 //! - `solver`: per job, CPU time [s], CPU time relative to the cheapest ok job, Newton iterations
 //!   per step, steps, rejected steps, max, RMS and peak-amplitude runout error against the reference [µm]
 //!   (the thesis's Tables 5.2–5.4; transposed in markdown up to 8 jobs);
 //! - `resonances`: per speed sweep, direction and integer order k ≥ 2, the speed [Hz] where
 //!   order k of the centre runout peaks nearest to (within 10 % of) the model's critical
-//!   speed / k, and the amplitude [µm] of order k at each sensor's own such peak (the thesis's
-//!   Table 5.1);
+//!   speed / k, the sweep's step there [Hz] and the flags `coarse` / `edge`
+//!   (`analysis::resolution`; markdown rounds the speed to the step), and the amplitude [µm] of
+//!   order k at each sensor's own such peak (the thesis's Table 5.1);
 //! - `trial_mass`: per trial-mass job, the vertical 1× amplitude change and vector change
 //!   against the baseline [µm] at each sensor;
-//! - `stability`: per integrator and other setting, the status, max error [µm] and CPU time [s]
-//!   (a matrix in markdown, long form in CSV and JSON);
+//! - `stability`: per integrator and other setting, the status, max error [µm], its class
+//!   ([`error_class`]) and CPU time [s] (a matrix in markdown and HTML, long form in CSV and
+//!   JSON);
 //! - `linear`: per linearised system (`/linear/<id>` of a study, `/linear/<scene>` of a
 //!   `rotorsweep linear -o` file, which the report also reads), long form: the lateral modes at
 //!   every stored speed (damped frequency [Hz]; damping ratio, log decrement and whirl where
@@ -71,22 +77,51 @@ impl Serialize for Cell {
     }
 }
 
-/// A grid of text: how markdown shows a table whose long form reads badly there.
+/// A grid of text: how markdown and HTML show a table whose long form reads badly there.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
     /// Column headings.
     pub columns: Vec<String>,
     /// Rows of cell text.
     pub rows: Vec<Vec<String>>,
+    /// Per row, each cell's class ([`error_class`]) by which HTML colours it; empty: none.
+    pub classes: Vec<Vec<String>>,
 }
+
+/// A figure of the HTML report: its file name and PNG bytes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    /// The file name `scripts/plots.py` gave it (`spectral_map-0.png`, …).
+    pub name: String,
+    /// The PNG.
+    pub png: Vec<u8>,
+}
+
+/// The marker every HTML report carries in its head: `report -o --overwrite` replaces only a
+/// file that has it.
+pub const HTML_MARKER: &str = "<meta name=\"generator\" content=\"rotorsweep report\">";
+
+/// Background colour of each class of [`error_class`] in the HTML stability matrix (the same as
+/// `scripts/plots.py`'s).
+const CLASS_COLOURS: [(&str, &str); 7] = [
+    ("< 1 µm", "#a5d6a7"),
+    ("1–10 µm", "#fff59d"),
+    ("10–100 µm", "#ffcc80"),
+    ("≥ 100 µm", "#ef9a9a"),
+    ("no reference", "#b3e5fc"),
+    ("diverged", "#ce93d8"),
+    ("budget", "#bdbdbd"),
+];
 
 /// A table: named columns (units in the names), rows of cells.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Table {
     /// Short name (`--table NAME`).
     pub name: String,
-    /// One line saying what the table holds, with units.
+    /// A short heading.
     pub title: String,
+    /// What the columns hold, with units.
+    pub legend: String,
     /// Column names.
     pub columns: Vec<String>,
     /// Rows, one cell per column.
@@ -101,10 +136,12 @@ pub struct Table {
 pub enum Format {
     /// Markdown tables under headings.
     Markdown,
-    /// CSV, each table after a `# title` line, tables apart by a blank line.
+    /// CSV, each table after a `# title` and a `# legend` line, tables apart by a blank line.
     Csv,
-    /// One JSON object `{"study", "tables": [{"name", "title", "columns", "rows"}]}`.
+    /// One JSON object `{"study", "tables": [{"name", "title", "legend", "columns", "rows"}]}`.
     Json,
+    /// One self-contained HTML page: the tables and the figures ([`Report::render_html`]).
+    Html,
 }
 
 impl FromStr for Format {
@@ -115,7 +152,8 @@ impl FromStr for Format {
             "md" | "markdown" => Ok(Format::Markdown),
             "csv" => Ok(Format::Csv),
             "json" => Ok(Format::Json),
-            _ => Err(format!("unknown format `{s}` (md, csv or json)")),
+            "html" => Ok(Format::Html),
+            _ => Err(format!("unknown format `{s}` (md, csv, json or html)")),
         }
     }
 }
@@ -135,6 +173,11 @@ pub struct Report {
 
 /// One job as the tables see it.
 struct Job {
+    id: String,
+    /// The job's label (its labelled axes' labels), "" without.
+    label: String,
+    /// One cell per varying key (the file's `varying_keys`, in order).
+    params: Vec<Cell>,
     status: String,
     cause: String,
     integrator: String,
@@ -151,8 +194,10 @@ struct Job {
     error_peak_um: f64,
 }
 
-/// A number as short text: `1e-4` rather than `0.0001`, `16.4` as written.
-fn short(x: f64) -> String {
+/// A parameter's value as text, the one way the report and the analysis write numbers: `1e-4`
+/// rather than `0.0001`, `16.4` as written (shortest round-trip form; scientific below 1e-3 and
+/// from 1e6, as [`significant`]).
+pub fn number_text(x: f64) -> String {
     if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
         format!("{x:e}")
     } else {
@@ -160,8 +205,9 @@ fn short(x: f64) -> String {
     }
 }
 
-/// A measured value to `sig` significant digits (scientific below 1e-3 and from 1e6).
-fn significant(x: f64, sig: usize) -> String {
+/// A measured value to `sig` significant digits (scientific below 1e-3 and from 1e6, as
+/// [`number_text`]).
+pub fn significant(x: f64, sig: usize) -> String {
     if !x.is_finite() {
         return "–".into();
     }
@@ -200,7 +246,7 @@ fn setting(g: &Group, varying: &[String], axes: &[LabelledAxis], skip_integrator
             }
         }
         match store::read_param(g, k) {
-            Ok(Param::Number(x)) => parts.push(format!("{k}={}", short(x))),
+            Ok(Param::Number(x)) => parts.push(format!("{k}={}", number_text(x))),
             Ok(Param::Text(t)) => parts.push(format!("{k}={t}")),
             Ok(Param::Count(n)) => parts.push(format!("{k}={n}")),
             Err(_) => {}
@@ -221,7 +267,19 @@ fn read_jobs(f: &File, varying: &[String], axes: &[LabelledAxis]) -> hdf5::Resul
         if all.is_empty() {
             all = format!("job {id}");
         }
+        let params = varying
+            .iter()
+            .map(|k| match store::read_param(&g, k) {
+                Ok(Param::Number(x)) => Cell::Number(x),
+                Ok(Param::Count(n)) => Cell::Count(n),
+                Ok(Param::Text(t)) => Cell::Text(t),
+                Err(_) => Cell::Number(f64::NAN),
+            })
+            .collect();
         let job = Job {
+            id: id.clone(),
+            label: text("label"),
+            params,
             status: text("status"),
             cause: text("cause"),
             integrator: text("integrator"),
@@ -250,14 +308,40 @@ fn count(x: f64) -> Cell {
     }
 }
 
-fn solver_table(jobs: &[Job]) -> Table {
+/// The long form's identifying columns of every job: `job_id`, `label` (when any job has one)
+/// and one per varying key (without `skip`); their names and each job's cells.
+fn job_columns(jobs: &[Job], varying: &[String], skip: &str) -> (Vec<String>, Vec<Vec<Cell>>) {
+    let labelled = jobs.iter().any(|j| !j.label.is_empty());
+    let keep: Vec<usize> = (0..varying.len()).filter(|&k| varying[k] != skip).collect();
+    let mut names = vec!["job_id".to_string()];
+    if labelled {
+        names.push("label".into());
+    }
+    names.extend(keep.iter().map(|&k| varying[k].clone()));
+    let cells = jobs
+        .iter()
+        .map(|j| {
+            let mut row = vec![Cell::Text(j.id.clone())];
+            if labelled {
+                row.push(Cell::Text(j.label.clone()));
+            }
+            row.extend(
+                keep.iter()
+                    .map(|&k| j.params.get(k).cloned().unwrap_or(Cell::Number(f64::NAN))),
+            );
+            row
+        })
+        .collect();
+    (names, cells)
+}
+
+fn solver_table(jobs: &[Job], varying: &[String]) -> Table {
     let cheapest = jobs
         .iter()
         .filter(|j| j.status == "ok" && j.cpu_time_s > 0.0)
         .map(|j| j.cpu_time_s)
         .fold(f64::NAN, f64::min);
-    let columns = [
-        "setting",
+    let measured = [
         "status",
         "cpu_time_s",
         "relative",
@@ -269,11 +353,14 @@ fn solver_table(jobs: &[Job]) -> Table {
         "error_peak_um",
         "cause",
     ];
+    let (mut columns, ids) = job_columns(jobs, varying, "");
+    let first = columns.len();
+    columns.extend(measured.iter().map(|c| c.to_string()));
     let rows: Vec<Vec<Cell>> = jobs
         .iter()
-        .map(|j| {
-            vec![
-                Cell::Text(j.setting.clone()),
+        .zip(ids)
+        .map(|(j, mut row)| {
+            row.extend([
                 Cell::Text(j.status.clone()),
                 Cell::Number(j.cpu_time_s),
                 Cell::Number(j.cpu_time_s / cheapest),
@@ -288,22 +375,28 @@ fn solver_table(jobs: &[Job]) -> Table {
                 } else {
                     j.cause.clone()
                 }),
-            ]
+            ]);
+            row
         })
         .collect();
-    let markdown = (jobs.len() <= TRANSPOSE_MAX).then(|| {
-        let mut shown = vec![
-            ("CPU time [s]", "cpu_time_s"),
-            ("relative", "relative"),
-            ("iterations/step", "iterations_per_step"),
-            ("max error [µm]", "error_max_um"),
-            ("RMS error [µm]", "error_rms_um"),
-            ("peak amplitude error [µm]", "error_peak_um"),
-            ("status", "status"),
-        ];
-        if jobs.iter().any(|j| j.status != "ok") {
-            shown.push(("cause", "cause"));
-        }
+    let mut shown = vec![
+        ("CPU time [s]", "cpu_time_s"),
+        ("relative", "relative"),
+        ("iterations/step", "iterations_per_step"),
+        ("max error [µm]", "error_max_um"),
+        ("RMS error [µm]", "error_rms_um"),
+        ("peak amplitude error [µm]", "error_peak_um"),
+        ("status", "status"),
+    ];
+    if !jobs.iter().any(|j| j.error_max_um.is_finite()) {
+        // No reference run: no errors to show.
+        shown.retain(|(_, name)| !name.starts_with("error_"));
+    }
+    if jobs.iter().any(|j| j.status != "ok") {
+        shown.push(("cause", "cause"));
+    }
+    let at = |name: &str| first + measured.iter().position(|x| *x == name).unwrap_or(0);
+    let markdown = if jobs.len() <= TRANSPOSE_MAX {
         Grid {
             columns: std::iter::once("setting".to_string())
                 .chain(jobs.iter().map(|j| j.setting.clone()))
@@ -311,23 +404,42 @@ fn solver_table(jobs: &[Job]) -> Table {
             rows: shown
                 .iter()
                 .map(|(heading, name)| {
-                    let c = columns.iter().position(|x| x == name).unwrap_or(0);
                     std::iter::once(heading.to_string())
-                        .chain(rows.iter().map(|r| md_cell(&r[c])))
+                        .chain(rows.iter().map(|r| md_cell(&r[at(name)])))
                         .collect()
                 })
                 .collect(),
+            classes: Vec::new(),
         }
-    });
+    } else {
+        Grid {
+            columns: std::iter::once("setting")
+                .chain(shown.iter().map(|(h, _)| *h))
+                .map(str::to_string)
+                .collect(),
+            rows: jobs
+                .iter()
+                .zip(&rows)
+                .map(|(j, r)| {
+                    std::iter::once(j.setting.clone())
+                        .chain(shown.iter().map(|(_, name)| md_cell(&r[at(name)])))
+                        .collect()
+                })
+                .collect(),
+            classes: Vec::new(),
+        }
+    };
     Table {
         name: "solver".into(),
-        title: "Solver cost and accuracy per job (thesis Tables 5.2–5.4): CPU time [s], relative \
-                to the cheapest ok job, Newton iterations per step, steps, rejected steps, max, \
-                RMS and peak-amplitude runout error against the reference [µm]"
+        title: "Solver cost and accuracy".into(),
+        legend: "Per job (thesis Tables 5.2–5.4): CPU time [s]; relative: CPU time over the \
+                 cheapest ok job's; Newton iterations per step; steps and rejected steps; max, \
+                 RMS and peak-amplitude runout error against the reference run [µm] (– without \
+                 a reference); cause of a job that did not end ok."
             .into(),
-        columns: columns.iter().map(|c| c.to_string()).collect(),
+        columns,
         rows,
-        markdown,
+        markdown: Some(markdown),
     }
 }
 
@@ -337,6 +449,22 @@ fn cut(text: &str, n: usize) -> String {
         text.to_string()
     } else {
         format!("{}…", text.chars().take(n).collect::<String>())
+    }
+}
+
+/// The class of a job's outcome, by which the stability matrix is coloured: its status when it
+/// did not end ok, `no reference` without an error against one, else the decade of its max
+/// runout error: `< 1 µm`, `1–10 µm`, `10–100 µm`, `≥ 100 µm` (a runout of a paper roll is
+/// specified to a few µm: from 10 µm on a solver's error is as large as what is measured, from
+/// 100 µm the run is wrong whatever its status). `scripts/plots.py` uses the same classes.
+pub fn error_class(status: &str, error_max_um: f64) -> &str {
+    match status {
+        "ok" if !error_max_um.is_finite() => "no reference",
+        "ok" if error_max_um < 1.0 => "< 1 µm",
+        "ok" if error_max_um < 10.0 => "1–10 µm",
+        "ok" if error_max_um < 100.0 => "10–100 µm",
+        "ok" => "≥ 100 µm",
+        other => other,
     }
 }
 
@@ -354,23 +482,47 @@ fn outcome(j: &Job) -> String {
     }
 }
 
-fn stability_table(jobs: &[Job]) -> Table {
+fn stability_table(jobs: &[Job], varying: &[String]) -> Table {
     let mut integrators: Vec<&str> = Vec::new();
     let mut settings: Vec<&str> = Vec::new();
     let mut cells: BTreeMap<(usize, usize), Vec<String>> = BTreeMap::new();
+    let mut worst: BTreeMap<(usize, usize), (usize, &str)> = BTreeMap::new();
+    let (mut columns, ids) = job_columns(jobs, varying, INTEGRATOR_KEY);
+    columns.splice(1..1, ["integrator".to_string()]);
+    columns.extend(
+        [
+            "status",
+            "error_max_um",
+            "error_class",
+            "cpu_time_s",
+            "cause",
+        ]
+        .iter()
+        .map(|c| c.to_string()),
+    );
     let mut rows = Vec::new();
-    for j in jobs {
+    for (j, mut row) in jobs.iter().zip(ids) {
         let i = position_or_push(&mut integrators, &j.integrator);
         let s = position_or_push(&mut settings, &j.other);
         cells.entry((i, s)).or_default().push(outcome(j));
-        rows.push(vec![
-            Cell::Text(j.integrator.clone()),
-            Cell::Text(j.other.clone()),
+        let class = error_class(&j.status, j.error_max_um);
+        let rank = CLASS_COLOURS
+            .iter()
+            .position(|(c, _)| *c == class)
+            .unwrap_or(CLASS_COLOURS.len());
+        let w = worst.entry((i, s)).or_insert((rank, class));
+        if rank > w.0 {
+            *w = (rank, class);
+        }
+        row.insert(1, Cell::Text(j.integrator.clone()));
+        row.extend([
             Cell::Text(j.status.clone()),
             Cell::Number(j.error_max_um),
+            Cell::Text(error_class(&j.status, j.error_max_um).to_string()),
             Cell::Number(j.cpu_time_s),
             Cell::Text(j.cause.clone()),
         ]);
+        rows.push(row);
     }
     let grid = Grid {
         columns: std::iter::once("integrator")
@@ -389,23 +541,27 @@ fn stability_table(jobs: &[Job]) -> Table {
                     .collect()
             })
             .collect(),
+        classes: (0..integrators.len())
+            .map(|i| {
+                std::iter::once(String::new())
+                    .chain((0..settings.len()).map(|s| {
+                        worst
+                            .get(&(i, s))
+                            .map_or_else(String::new, |w| w.1.to_string())
+                    }))
+                    .collect()
+            })
+            .collect(),
     };
     Table {
         name: "stability".into(),
-        title: "Outcome per integrator and setting: status, max runout error against the \
-                reference [µm], CPU time [s]"
+        title: "Stability and accuracy per integrator".into(),
+        legend: "Per integrator (rows) and other setting (columns): status, max runout error \
+                 against the reference [µm] and CPU time [s]; error class by decade (< 1 µm, \
+                 1–10 µm, 10–100 µm, ≥ 100 µm; no reference; or the status of a job that did \
+                 not end ok)."
             .into(),
-        columns: [
-            "integrator",
-            "setting",
-            "status",
-            "error_max_um",
-            "cpu_time_s",
-            "cause",
-        ]
-        .iter()
-        .map(|c| c.to_string())
-        .collect(),
+        columns,
         rows,
         markdown: Some(grid),
     }
@@ -471,12 +627,21 @@ fn sweep_groups(f: &File) -> hdf5::Result<Vec<Group>> {
 }
 
 fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
-    let mut columns: Vec<String> = ["sweep", "direction", "order", "expected_hz", "speed_hz"]
-        .iter()
-        .map(|c| c.to_string())
-        .collect();
+    let mut columns: Vec<String> = [
+        "sweep",
+        "direction",
+        "order",
+        "expected_hz",
+        "speed_hz",
+        "step_hz",
+        "note",
+    ]
+    .iter()
+    .map(|c| c.to_string())
+    .collect();
     let mut names: Vec<String> = Vec::new();
     let mut rows = Vec::new();
+    let mut md = Vec::new();
     for (n, sg) in sweep_groups(f)?.iter().enumerate() {
         let speeds: Vec<f64> = sg.dataset("speed_hz")?.read_raw()?;
         let orders: Vec<f64> = sg.dataset("orders")?.read_raw()?;
@@ -515,28 +680,38 @@ fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
                     continue;
                 }
                 let expected = crit[d].map(|c| c / order);
-                let found: Vec<Option<analysis::Peak>> = data
+                let found: Vec<Option<(analysis::Peak, analysis::Resolution)>> = data
                     .iter()
                     .map(|m| {
                         let m = m.as_ref()?;
                         let amp: Vec<f64> = (0..speeds.len())
                             .map(|s| m.get(s * orders.len() + k).copied().unwrap_or(f64::NAN))
                             .collect();
-                        pick(analysis::peaks(&speeds, &amp), expected)
+                        let p = pick(analysis::peaks(&speeds, &amp), expected)?;
+                        Some((p, analysis::resolution(&speeds, &amp, &p)))
                     })
                     .collect();
+                let centre = found[0];
                 let mut row = vec![
                     Cell::Text(sweep.clone()),
                     Cell::Text(dir.to_string()),
                     Cell::Count(*order as u64),
                     Cell::Number(expected.unwrap_or(f64::NAN)),
-                    Cell::Number(found[0].map_or(f64::NAN, |p| p.speed_hz)),
+                    Cell::Number(centre.map_or(f64::NAN, |p| p.0.speed_hz)),
+                    Cell::Number(centre.map_or(f64::NAN, |p| p.1.step_hz)),
+                    Cell::Text(centre.map_or_else(String::new, |p| p.1.note())),
                 ];
                 row.extend(
                     found
                         .iter()
-                        .map(|p| Cell::Number(p.map_or(f64::NAN, |p| p.amplitude))),
+                        .map(|p| Cell::Number(p.map_or(f64::NAN, |p| p.0.amplitude))),
                 );
+                let mut line: Vec<String> = row.iter().map(md_cell).collect();
+                if let Some((p, r)) = centre {
+                    line[4] = to_step(p.speed_hz, r.step_hz);
+                    line[5] = number_text(significant(r.step_hz, 3).parse().unwrap_or(r.step_hz));
+                }
+                md.push(line);
                 rows.push(row);
             }
         }
@@ -545,19 +720,52 @@ fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
         return Ok(None);
     }
     columns.extend(names.iter().map(|s| format!("{s}_um")));
+    let md_columns = columns
+        .iter()
+        .map(|c| match c.as_str() {
+            "expected_hz" => "expected [Hz]".to_string(),
+            "speed_hz" => "speed [Hz]".to_string(),
+            "step_hz" => "step [Hz]".to_string(),
+            other => match other.strip_suffix("_um") {
+                Some(sensor) => format!("{sensor} [µm]"),
+                None => other.to_string(),
+            },
+        })
+        .collect();
     Ok(Some(Table {
         name: "resonances".into(),
-        title: format!(
-            "Harmonic resonances per speed sweep (thesis Table 5.1): speed [Hz] where order k of \
-             the {} runout peaks nearest to the model's critical speed / k (expected_hz, within \
-             10 %; – when no peak is that close), and \
-             the amplitude [µm] of order k at each sensor's own such peak",
-            names[0]
+        title: "Harmonic resonances".into(),
+        legend: format!(
+            "Per speed sweep, direction and order k (thesis Table 5.1): the speed [Hz] where \
+             order k of the {} runout peaks nearest to the model's critical speed / k \
+             (expected, within 10 %; – when no peak is that close); the sweep's step there \
+             [Hz]: the speed is uncertain by up to half of it (markdown rounds to it); note: \
+             `coarse` when the step exceeds {:.0} % of the speed (too coarse to tell a roll's \
+             vertical and horizontal resonances apart), `edge` when the curve's largest value \
+             lies at an end of the sweep (the strongest response may lie outside it); then the \
+             amplitude [µm] of order k at each sensor's own such peak.",
+            names[0],
+            100.0 * analysis::COARSE_STEP
         ),
         columns,
         rows,
-        markdown: None,
+        markdown: Some(Grid {
+            columns: md_columns,
+            rows: md,
+            classes: Vec::new(),
+        }),
     }))
+}
+
+/// `x` rounded to the resolution of a sweep with step `step` (to the decimal of half a step: 16.2
+/// for a 0.2 Hz step, 16 for a 4 Hz one).
+fn to_step(x: f64, step: f64) -> String {
+    if !(step > 0.0 && x.is_finite()) {
+        return significant(x, 4);
+    }
+    // A step of 16.2 − 16.0 is 0.19999…: its decimal is that of 0.2.
+    let decimals = (-(0.5 * step).log10() - 1e-6).ceil().max(0.0) as usize;
+    format!("{x:.decimals$}")
 }
 
 /// The columns of `/analysis/trial_mass` the table uses (HDF5 converts records member by member
@@ -583,7 +791,7 @@ fn trial_mass_table(f: &File, label_key: Option<&str>) -> hdf5::Result<Option<Ta
     let mut sensors: Vec<&str> = Vec::new();
     // Job → (label, speed, job index, sensor index → (amplitude change, vector change)).
     type Changes = BTreeMap<usize, (f64, f64)>;
-    let mut per_job: BTreeMap<&str, (String, f64, f64, Changes)> = BTreeMap::new();
+    let mut per_job: BTreeMap<&str, (String, f64, f64, Changes, String)> = BTreeMap::new();
     for r in &records {
         let Some(sensor) = r.channel.as_str().strip_suffix("/vertical") else {
             continue;
@@ -599,7 +807,13 @@ fn trial_mass_table(f: &File, label_key: Option<&str>) -> hdf5::Result<Option<Ta
                 let index = g
                     .and_then(|g| store::read_num(&g, "job_index").ok())
                     .unwrap_or(f64::NAN);
-                (label, r.speed_hz, index, BTreeMap::new())
+                (
+                    label,
+                    r.speed_hz,
+                    index,
+                    BTreeMap::new(),
+                    r.job_id.as_str().to_string(),
+                )
             })
             .3
             .insert(s, (r.amplitude_change_um, r.vector_change_um));
@@ -621,15 +835,23 @@ fn trial_mass_table(f: &File, label_key: Option<&str>) -> hdf5::Result<Option<Ta
     });
     let mut shown: Vec<usize> = (0..sensors.len()).collect();
     shown.sort_by(|a, b| sensor_rank(sensors[*a]).cmp(&sensor_rank(sensors[*b])));
-    let mut columns = vec!["label".to_string(), "speed_hz".to_string()];
+    let mut columns = vec![
+        "job_id".to_string(),
+        "label".to_string(),
+        "speed_hz".to_string(),
+    ];
     for s in &shown {
         columns.push(format!("{}_amplitude_change_um", sensors[*s]));
         columns.push(format!("{}_vector_change_um", sensors[*s]));
     }
     let rows = jobs
         .iter()
-        .map(|(label, speed, _, ch)| {
-            let mut row = vec![Cell::Text(label.clone()), Cell::Number(*speed)];
+        .map(|(label, speed, _, ch, id)| {
+            let mut row = vec![
+                Cell::Text(id.clone()),
+                Cell::Text(label.clone()),
+                Cell::Number(*speed),
+            ];
             for s in &shown {
                 let (a, v) = ch.get(s).copied().unwrap_or((f64::NAN, f64::NAN));
                 row.extend([Cell::Number(a), Cell::Number(v)]);
@@ -639,8 +861,9 @@ fn trial_mass_table(f: &File, label_key: Option<&str>) -> hdf5::Result<Option<Ta
         .collect();
     Ok(Some(Table {
         name: "trial_mass".into(),
-        title: "Trial-mass 1× response against the baseline, vertical runout [µm]: amplitude \
-                change |A|−|A₀| and vector change |A−A₀| per sensor"
+        title: "Trial-mass response".into(),
+        legend: "Per trial-mass job: the vertical 1× runout against the baseline job's at the \
+                 same speed [µm]: amplitude change |A|−|A₀| and vector change |A−A₀| per sensor."
             .into(),
         columns,
         rows,
@@ -840,13 +1063,14 @@ fn linear_table(f: &File) -> hdf5::Result<Option<Table>> {
         .collect();
     Ok(Some(Table {
         name: "linear".into(),
-        title: format!(
-            "Linear systems: damped lateral modes per spin speed (quantity `mode`: damped \
-             frequency [Hz], damping ratio, log decrement δ, whirl, where stored; rank from 1 \
-             upwards), critical speeds [Hz] with their whirl and δ, the stability threshold [Hz] \
-             (empty: stable over the range) and the Floquet-unstable speed ranges [Hz]; in \
-             markdown at most {LINEAR_MD_SPEEDS} evenly spaced speeds and the lowest \
-             {LINEAR_MD_MODES} modes per system (CSV and JSON: all)"
+        title: "Linear systems".into(),
+        legend: format!(
+            "Damped lateral modes per spin speed (quantity `mode`: damped frequency [Hz], \
+             damping ratio, log decrement δ, whirl, where stored; rank from 1 upwards), critical \
+             speeds [Hz] with their whirl and δ, the stability threshold [Hz] (empty: stable \
+             over the range) and the Floquet-unstable speed ranges [Hz]; in markdown and HTML \
+             at most {LINEAR_MD_SPEEDS} evenly spaced speeds and the lowest {LINEAR_MD_MODES} \
+             modes per system (CSV and JSON: all)."
         ),
         columns: [
             "system",
@@ -863,7 +1087,11 @@ fn linear_table(f: &File) -> hdf5::Result<Option<Table>> {
         .map(|c| c.to_string())
         .collect(),
         rows,
-        markdown: Some(Grid { columns, rows: md }),
+        markdown: Some(Grid {
+            columns,
+            rows: md,
+            classes: Vec::new(),
+        }),
     }))
 }
 
@@ -908,12 +1136,12 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
     let jobs = read_jobs(&f, &varying, &axes).map_err(failed)?;
     let mut tables = Vec::new();
     if !jobs.is_empty() {
-        tables.push(solver_table(&jobs));
+        tables.push(solver_table(&jobs, &varying));
     }
     tables.extend(resonance_table(&f).map_err(failed)?);
     tables.extend(trial_mass_table(&f, label_key).map_err(failed)?);
     if varying.iter().any(|k| k == INTEGRATOR_KEY) && varying.len() >= 2 {
-        tables.push(stability_table(&jobs));
+        tables.push(stability_table(&jobs, &varying));
     }
     tables.extend(linear_table(&f).map_err(failed)?);
     let (mut names, mut counts): (Vec<&str>, Vec<usize>) = (Vec::new(), Vec::new());
@@ -931,8 +1159,9 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
         "linear analysis (`rotorsweep linear -o`), no jobs".to_string()
     } else {
         format!(
-            "{} jobs ({}); varying: {}",
+            "{} job{} ({}); varying: {}",
             jobs.len(),
+            if jobs.len() == 1 { "" } else { "s" },
             statuses.join(", "),
             if varying.is_empty() {
                 "nothing".to_string()
@@ -1019,7 +1248,7 @@ fn md_grid(out: &mut String, columns: &[String], rows: &[Vec<String>], right: &[
 }
 
 fn markdown(out: &mut String, t: &Table) {
-    let _ = writeln!(out, "## {} (`{}`)\n", t.title, t.name);
+    let _ = writeln!(out, "## {} (`{}`)\n\n{}\n", t.title, t.name, t.legend);
     match &t.markdown {
         Some(g) => md_grid(out, &g.columns, &g.rows, &[]),
         None => {
@@ -1053,7 +1282,190 @@ fn csv(out: &mut String, t: &Table) {
     }
 }
 
+/// `text` with `&`, `<`, `>` and `"` escaped for HTML.
+fn esc(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// `text` escaped for HTML, with `code` spans (between backticks) as `<code>`.
+fn esc_code(text: &str) -> String {
+    esc(text)
+        .split('`')
+        .enumerate()
+        .map(|(i, part)| {
+            if i % 2 == 1 {
+                format!("<code>{part}</code>")
+            } else {
+                part.to_string()
+            }
+        })
+        .collect()
+}
+
+/// What each figure of `scripts/plots.py` shows, by the start of its file name.
+const FIGURE_CAPTIONS: [(&str, &str); 13] = [
+    ("spectral_map", "Spectral map: amplitude of the runout's fluctuating part (mean removed) over frequency and speed, the roll's orders solid, the rollers' lines dashed"),
+    ("harmonics", "Amplitude of each analysed order over speed"),
+    ("trial_mass", "1× response to the trial masses against the baseline"),
+    ("work_precision", "Work-precision: runout error against the reference over CPU time, per integrator and physics"),
+    ("timing", "CPU time per job, Newton iterations per step on the bars"),
+    ("stability", "Stability matrix: integrator × setting, coloured by error class"),
+    ("campbell", "Campbell diagram on the linearised supports"),
+    ("mode_shapes", "Lateral mode shapes"),
+    ("bode", "Unbalance response (Bode)"),
+    ("polar", "Unbalance response (polar)"),
+    ("critical_map", "Critical-speed map"),
+    ("floquet", "Floquet stability over one revolution"),
+    ("mean", "Mean runout (static sag) over speed"),
+];
+
+/// The caption of a figure file.
+fn caption(name: &str) -> &str {
+    FIGURE_CAPTIONS
+        .iter()
+        .find(|(prefix, _)| name.starts_with(prefix))
+        .map_or(name, |(_, c)| c)
+}
+
+/// One table as HTML: heading, legend, and its grid (or its rows as markdown shows them).
+fn html_table(out: &mut String, t: &Table) {
+    let _ = writeln!(
+        out,
+        "<section id=\"{name}\"><h2>{} <code>{name}</code></h2>\n<p class=\"legend\">{}</p>",
+        esc(&t.title),
+        esc_code(&t.legend),
+        name = esc(&t.name)
+    );
+    let (columns, rows, classes): (&[String], Vec<Vec<String>>, &[Vec<String>]) = match &t.markdown
+    {
+        Some(g) => (&g.columns, g.rows.clone(), &g.classes),
+        None => (
+            &t.columns,
+            t.rows
+                .iter()
+                .map(|r| r.iter().map(md_cell).collect())
+                .collect(),
+            &[],
+        ),
+    };
+    out.push_str("<div class=\"scroll\"><table>\n<thead><tr>");
+    for c in columns {
+        let _ = write!(out, "<th>{}</th>", esc(c));
+    }
+    out.push_str("</tr></thead>\n<tbody>\n");
+    for (r, row) in rows.iter().enumerate() {
+        out.push_str("<tr>");
+        for (c, cell) in row.iter().enumerate() {
+            let colour = classes
+                .get(r)
+                .and_then(|v| v.get(c))
+                .and_then(|k| CLASS_COLOURS.iter().find(|(n, _)| n == k));
+            match colour {
+                Some((k, bg)) => {
+                    let _ = write!(
+                        out,
+                        "<td style=\"background:{bg}\" title=\"{}\">{}</td>",
+                        esc(k),
+                        esc(cell)
+                    );
+                }
+                None => {
+                    let _ = write!(out, "<td>{}</td>", esc(cell));
+                }
+            }
+        }
+        out.push_str("</tr>\n");
+    }
+    out.push_str("</tbody></table></div>\n");
+    if !classes.is_empty() {
+        out.push_str("<p class=\"legend\">Colours: ");
+        for (k, bg) in CLASS_COLOURS {
+            let _ = write!(
+                out,
+                "<span class=\"swatch\" style=\"background:{bg}\">{}</span> ",
+                esc(k)
+            );
+        }
+        out.push_str("</p>\n");
+    }
+    out.push_str("</section>\n");
+}
+
 impl Report {
+    /// The report as one self-contained HTML page: the overview, every figure (PNG embedded as
+    /// base64, captioned) and every table with its legend. It carries [`HTML_MARKER`].
+    pub fn render_html(&self, figures: &[Figure]) -> String {
+        self.html(&self.tables.iter().collect::<Vec<_>>(), figures)
+    }
+
+    fn html(&self, tables: &[&Table], figures: &[Figure]) -> String {
+        use base64::Engine as _;
+        let mut out = String::new();
+        let title = format!("Study {}", self.study);
+        let _ = write!(
+            out,
+            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n{HTML_MARKER}\n\
+             <title>{}</title>\n<style>\n\
+             body {{ font-family: sans-serif; margin: 2em auto; max-width: 1400px; padding: 0 1em; color: #222; }}\n\
+             table {{ border-collapse: collapse; font-size: 0.85em; margin: 0.5em 0; }}\n\
+             th, td {{ border: 1px solid #ccc; padding: 0.2em 0.5em; text-align: right; white-space: nowrap; }}\n\
+             th {{ background: #eee; }}\n\
+             td:first-child, th:first-child {{ text-align: left; }}\n\
+             .scroll {{ overflow-x: auto; }}\n\
+             .legend {{ color: #444; font-size: 0.9em; max-width: 70em; }}\n\
+             .swatch {{ padding: 0 0.4em; border: 1px solid #999; }}\n\
+             figure {{ margin: 1em 0; }} figure img {{ max-width: 100%; border: 1px solid #ddd; }}\n\
+             figcaption {{ color: #444; font-size: 0.9em; }}\n\
+             nav li {{ display: inline; margin-right: 1em; }}\n\
+             </style>\n</head>\n<body>\n<h1>{}</h1>\n<p><code>{}</code>: {}</p>\n<nav><ul>",
+            esc(&title),
+            esc(&title),
+            esc(&self.file.display().to_string()),
+            esc(&self.overview)
+        );
+        if !figures.is_empty() {
+            out.push_str("<li><a href=\"#figures\">Figures</a></li>");
+        }
+        for t in tables {
+            let _ = write!(
+                out,
+                "<li><a href=\"#{}\">{}</a></li>",
+                esc(&t.name),
+                esc(&t.title)
+            );
+        }
+        out.push_str("</ul></nav>\n");
+        if !figures.is_empty() {
+            out.push_str("<section id=\"figures\"><h2>Figures</h2>\n");
+            for f in figures {
+                let data = base64::engine::general_purpose::STANDARD.encode(&f.png);
+                let _ = writeln!(
+                    out,
+                    "<figure><img src=\"data:image/png;base64,{data}\" alt=\"{name}\">\
+                     <figcaption><code>{name}</code>: {}</figcaption></figure>",
+                    esc(caption(&f.name)),
+                    name = esc(&f.name)
+                );
+            }
+            out.push_str("</section>\n");
+        }
+        for t in tables {
+            html_table(&mut out, t);
+        }
+        out.push_str("</body>\n</html>\n");
+        out
+    }
+
     /// The names of the tables this report has.
     pub fn table_names(&self) -> Vec<&str> {
         self.tables.iter().map(|t| t.name.as_str()).collect()
@@ -1099,11 +1511,12 @@ impl Report {
                         out.push('\n');
                     }
                     if only.is_none() {
-                        let _ = writeln!(out, "# {}", t.title);
+                        let _ = writeln!(out, "# {}\n# {}", t.title, t.legend);
                     }
                     csv(&mut out, t);
                 }
             }
+            Format::Html => out = self.html(&tables, &[]),
             Format::Json => {
                 #[derive(Serialize)]
                 struct Doc<'a> {
@@ -1120,5 +1533,45 @@ impl Report {
             }
         }
         Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_written_one_way() {
+        // Parameters: shortest form, scientific below 1e-3 and from 1e6; measured values to
+        // their significant digits by the same rule.
+        assert_eq!(number_text(1e-4), "1e-4");
+        assert_eq!(number_text(16.4), "16.4");
+        assert_eq!(number_text(10.0), "10");
+        assert_eq!(number_text(2.5e7), "2.5e7");
+        assert_eq!(significant(1.234e-4, 3), "1.23e-4");
+        assert_eq!(significant(16.2345, 4), "16.23");
+        assert_eq!(significant(f64::NAN, 4), "–");
+    }
+
+    #[test]
+    fn speeds_are_rounded_to_the_sweeps_step() {
+        // 0.2 Hz steps (16.2 − 16.0 is 0.19999… in floating point): one decimal; a 4 Hz step
+        // (a 4-speed sweep 10…22 Hz): none; 0.05 Hz: two.
+        assert_eq!(to_step(16.17835, 16.2 - 16.0), "16.2");
+        assert_eq!(to_step(15.59, 4.0), "16");
+        assert_eq!(to_step(16.17835, 0.05), "16.18");
+        assert_eq!(to_step(16.17835, f64::NAN), "16.18");
+    }
+
+    #[test]
+    fn error_classes_by_decade() {
+        // The issue's case: an ok job 1.2e4 µm off is in the worst class, not "ok".
+        assert_eq!(error_class("ok", 1.2e4), "≥ 100 µm");
+        assert_eq!(error_class("ok", 0.5), "< 1 µm");
+        assert_eq!(error_class("ok", 5.0), "1–10 µm");
+        assert_eq!(error_class("ok", 50.0), "10–100 µm");
+        assert_eq!(error_class("ok", f64::NAN), "no reference");
+        assert_eq!(error_class("diverged", 0.1), "diverged");
+        assert_eq!(esc_code("a `b` <c>"), "a <code>b</code> &lt;c&gt;");
     }
 }

@@ -1,27 +1,200 @@
-//! `rotorsweep report`: the tables of a study results file (or a `rotorsweep linear -o` file) on
-//! standard output.
+//! `rotorsweep report`: the tables of a study results file (or a `rotorsweep linear -o` or
+//! `simulate -o` file) on standard output, or as one self-contained HTML page.
+//!
+//! `--format html` renders the figures with `scripts/plots.py` (the one place the figures are
+//! drawn; matplotlib) into a temporary folder, embeds each PNG in the page as base64 and removes
+//! the folder. The script is `$ROTORSWEEP_PLOTS`, else `scripts/plots.py` of the source tree the
+//! binary was built from (or the one two folders above the binary, `target/release/..`); the
+//! interpreter is `$ROTORSWEEP_PYTHON`, else that tree's `.venv/bin/python` (made by
+//! `scripts/python-test`), else `python3`. `--no-figures` leaves the figures out (tables only).
+//! With `-o` the page goes through `store::output::write_text` (refuses an existing file unless
+//! `--overwrite`, and then only a page it wrote; tmp + rename).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
-use rotorsweep::report::{self, Format};
+use rotorsweep::report::{self, Figure, Format, HTML_MARKER};
+use rotorsweep::store::output::{self, OutputError};
+use rotorsweep::study::campaign::CampaignError;
 
 /// Arguments of `rotorsweep report`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Results file (HDF5) of `rotorsweep run`, `rotorsweep merge` or `rotorsweep linear -o`.
+    /// Results file (HDF5) of `rotorsweep run`, `merge`, `simulate -o` or `linear -o`.
     file: PathBuf,
-    /// Output format: md (markdown), csv (each table after a `# title` line) or json.
-    #[arg(long, default_value = "md", value_name = "md|csv|json")]
+    /// Output format: md (markdown), csv (each table after `# title` and `# legend` lines),
+    /// json, or html (one self-contained page with the figures; give -o).
+    #[arg(long, default_value = "md", value_name = "md|csv|json|html")]
     format: Format,
-    /// Only this table: solver, resonances, trial_mass, stability or linear (in CSV without the title
-    /// line, so that pandas.read_csv reads it).
+    /// Only this table: solver, resonances, trial_mass, stability or linear (in CSV without the
+    /// title lines, so that pandas.read_csv reads it).
     #[arg(long, value_name = "NAME")]
     table: Option<String>,
+    /// Write the HTML page to this file (with --format html) instead of standard output.
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+    /// Replace an existing output (only an HTML report rotorsweep wrote).
+    #[arg(long, requires = "output")]
+    overwrite: bool,
+    /// HTML without the figures (no Python needed).
+    #[arg(long)]
+    no_figures: bool,
 }
 
 /// Runs `report`.
 pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
+    if a.output.is_some() && a.format != Format::Html {
+        return Err(clap_usage(
+            "-o writes the HTML report: add --format html (other formats go to standard output)",
+        ));
+    }
+    if a.no_figures && a.format != Format::Html {
+        return Err(clap_usage("--no-figures is for --format html"));
+    }
     let r = report::read(&a.file)?;
-    print!("{}", r.render(a.format, a.table.as_deref())?);
+    if a.format != Format::Html {
+        print!("{}", r.render(a.format, a.table.as_deref())?);
+        return Ok(());
+    }
+    if let Some(t) = &a.table {
+        // The same check (and message) as the text formats.
+        r.render(Format::Markdown, Some(t))?;
+        return Err(clap_usage(
+            "--table is for md, csv and json; the HTML report has every table",
+        ));
+    }
+    // A refused output is known before the figures are drawn.
+    if let Some(out) = &a.output {
+        output::check_replace_text(out, a.overwrite, HTML_MARKER)?;
+    }
+    let figures = if a.no_figures {
+        Vec::new()
+    } else {
+        figures(&a.file)?
+    };
+    let html = r.render_html(&figures);
+    match &a.output {
+        Some(out) => output::write_text(out, a.overwrite, HTML_MARKER, &html)?,
+        None => print!("{html}"),
+    }
     Ok(())
+}
+
+/// A usage error (exit code 64).
+fn clap_usage(msg: &str) -> Box<dyn std::error::Error> {
+    Box::new(CampaignError::Usage(msg.to_string()))
+}
+
+/// The source tree the figures script is looked for in: the build's, else two folders above
+/// the binary.
+fn source_trees() -> Vec<PathBuf> {
+    let mut v = vec![PathBuf::from(env!("CARGO_MANIFEST_DIR"))];
+    if let Some(up) = std::env::current_exe()
+        .ok()
+        .and_then(|e| e.parent()?.parent()?.parent().map(Path::to_path_buf))
+    {
+        v.push(up);
+    }
+    v
+}
+
+/// The figures script and the Python that runs it (module doc).
+fn plotter() -> Result<(PathBuf, PathBuf), String> {
+    let trees = source_trees();
+    let script = match std::env::var_os("ROTORSWEEP_PLOTS") {
+        Some(p) => PathBuf::from(p),
+        None => trees
+            .iter()
+            .map(|t| t.join("scripts/plots.py"))
+            .find(|p| p.is_file())
+            .ok_or_else(|| {
+                "the figures script scripts/plots.py was not found beside the build; set \
+                 ROTORSWEEP_PLOTS to it, or add --no-figures"
+                    .to_string()
+            })?,
+    };
+    let python = match std::env::var_os("ROTORSWEEP_PYTHON") {
+        Some(p) => PathBuf::from(p),
+        None => trees
+            .iter()
+            .map(|t| t.join(".venv/bin/python"))
+            .find(|p| p.is_file())
+            .unwrap_or_else(|| PathBuf::from("python3")),
+    };
+    Ok((script, python))
+}
+
+/// A fresh folder of our own under the temporary directory.
+fn scratch() -> std::io::Result<PathBuf> {
+    let base = std::env::temp_dir();
+    for i in 0..100u32 {
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.subsec_nanos());
+        let d = base.join(format!(
+            "rotorsweep-report-{}-{nanos}-{i}",
+            std::process::id()
+        ));
+        match std::fs::create_dir(&d) {
+            Ok(()) => return Ok(d),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
+    Err(std::io::Error::other("no free temporary folder name"))
+}
+
+/// The figures of `file`, drawn by `scripts/plots.py` in the order it prints them.
+fn figures(file: &Path) -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
+    let (script, python) = plotter()?;
+    let dir = scratch()?;
+    let result = (|| -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
+        let run = Command::new(&python)
+            .arg(&script)
+            .arg(file)
+            .arg("-o")
+            .arg(&dir)
+            .output()
+            .map_err(|e| {
+                format!(
+                    "cannot run {} for the figures ({e}); set ROTORSWEEP_PYTHON to a Python with \
+                     the packages of scripts/requirements.txt, or add --no-figures",
+                    python.display()
+                )
+            })?;
+        if !run.status.success() {
+            return Err(format!(
+                "the figures script {} failed ({}):\n{}\n(ROTORSWEEP_PYTHON picks the Python; \
+                 --no-figures leaves the figures out)",
+                script.display(),
+                run.status,
+                String::from_utf8_lossy(&run.stderr).trim_end()
+            )
+            .into());
+        }
+        String::from_utf8_lossy(&run.stdout)
+            .lines()
+            .filter(|l| l.ends_with(".png"))
+            .map(|l| {
+                let p = PathBuf::from(l);
+                let png = std::fs::read(&p).map_err(output::io_at(&p))?;
+                let name = p
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                Ok(Figure { name, png })
+            })
+            .collect::<Result<Vec<_>, OutputError>>()
+            .map_err(Into::into)
+    })();
+    // Only what the script wrote into our own folder, then the folder.
+    if let Ok(rd) = std::fs::read_dir(&dir) {
+        for e in rd.flatten() {
+            if e.file_type().is_ok_and(|t| t.is_file()) {
+                let _ = std::fs::remove_file(e.path());
+            }
+        }
+    }
+    let _ = std::fs::remove_dir(&dir);
+    result
 }

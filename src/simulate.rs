@@ -1,4 +1,12 @@
 //! `rotorsweep simulate SCENE`: one job, its statistics, and its results in HDF5.
+//!
+//! With `-o`, the file has the layout of a study's results file with one job, so that
+//! `rotorsweep report` and `scripts/plots.py` read it as they read a study's: root attributes
+//! `study_name` (the scene's name), `varying_keys` (empty: one job varies nothing) and
+//! `scene_text`; `/jobs/<scene name>` with the attributes a study job has (`job_index` 0,
+//! `kind` job, `speed_hz`, `roll_angle_offset_rad`, `roller_ratio:…`, every `--set` key), its
+//! samples, mean and spectrum; `/analysis` (its lines) and `/summary` (one row), both as `run`
+//! writes them (`study::post::analyse`, `campaign::write_summary`).
 
 use std::path::PathBuf;
 
@@ -7,6 +15,7 @@ use rotorsweep::model::Model;
 use rotorsweep::scene::{parse_override, Scene};
 use rotorsweep::store::output::{self, OutputError};
 use rotorsweep::store::{self, Param};
+use rotorsweep::study::{campaign, post};
 use serde::Serialize;
 
 /// Arguments of `rotorsweep simulate`.
@@ -128,15 +137,22 @@ pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
     }
     if let Some(path) = &a.output {
         let command = std::env::args().collect::<Vec<_>>().join(" ");
-        let params: Vec<(String, Param)> = a
+        let mut params: Vec<(String, Param)> = a
             .set
             .iter()
             .filter_map(|kv| parse_override(kv).ok())
             .map(|(k, v)| (k, Param::from_toml(&v)))
             .collect();
+        params.extend(post::job_attrs(&scene));
+        params.push(("job_index".into(), Param::Count(0)));
+        params.push(("kind".into(), Param::Text("job".into())));
         let tmp = store::with_suffix(path, ".tmp");
         let written = store::create_file(path, &command, &text).and_then(|(file, jobs)| {
+            store::attr_str(&file, "study_name", &scene.name)?;
+            store::attr_str(&file, "varying_keys", "")?;
             store::write_job(&jobs, &scene.name, &params, integrator, &r)?;
+            post::analyse(&file)?;
+            campaign::write_summary(&file, &[])?;
             Ok((file, jobs))
         });
         let done = match written {

@@ -34,12 +34,13 @@ fn run_study(name: &str, body: &str, ok: usize) -> (std::path::PathBuf, Report) 
     (d, r)
 }
 
-/// The markdown table under the heading that ends with `(`name`)`: its lines.
+/// The markdown table under the heading that ends with `(`name`)` (after its legend): its lines.
 fn md_table<'a>(md: &'a str, name: &str) -> Vec<&'a str> {
     let heading = format!("(`{name}`)");
     md.lines()
         .skip_while(|l| !(l.starts_with("## ") && l.ends_with(&heading)))
-        .skip(2)
+        .skip(1)
+        .skip_while(|l| !l.starts_with('|'))
         .take_while(|l| l.starts_with('|'))
         .collect()
 }
@@ -117,25 +118,35 @@ fn report_tables_in_markdown_csv_and_json() {
         "no gen-alpha job with max_steps"
     );
 
-    // CSV of one table: a header and one line per job, no title line, so pandas reads it.
+    // CSV of one table: a header and one line per job, no title line, so pandas reads it; the
+    // job's id and one column per varying key (the file's `varying_keys`), no joined setting.
     let csv = r.render(Format::Csv, Some("solver")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 1 + JOBS, "{csv}");
     assert_eq!(
         lines[0],
-        "setting,status,cpu_time_s,relative,iterations_per_step,steps,rejected_steps,\
-         error_max_um,error_rms_um,error_peak_um,cause"
+        "job_id,speed.hz,solver.integrator,solver.max_steps,status,cpu_time_s,relative,\
+         iterations_per_step,steps,rejected_steps,error_max_um,error_rms_um,error_peak_um,cause"
     );
-    // Every job's setting is `speed.hz=…, solver.integrator=…` (and `solver.max_steps=…` for the
-    // explicit job): quoted, as it holds commas.
+    // The first job: speed 12, bdf, no max_steps of its own (empty); the explicit job has 5.
+    let first: Vec<&str> = lines[1].split(',').collect();
+    assert!(first[0].starts_with('j'), "{csv}");
+    assert_eq!(&first[1..4], ["12", "bdf", ""], "{csv}");
     assert!(
-        lines[1].starts_with("\"speed.hz=12, solver.integrator=bdf"),
+        lines.iter().any(|l| l.split(',').nth(3) == Some("5")),
         "{csv}"
     );
-    // All tables: each after a `# title` line, tables apart by one blank line.
+    // All tables: each after a `# title` and a `# legend` line, tables apart by one blank line.
     let all = r.render(Format::Csv, None).unwrap();
-    assert_eq!(all.lines().filter(|l| l.starts_with("# ")).count(), 4);
+    assert_eq!(all.lines().filter(|l| l.starts_with("# ")).count(), 2 * 4);
     assert_eq!(all.lines().filter(|l| l.is_empty()).count(), 3);
+    // Short headings: a title of a few words, the units in the legend.
+    assert!(
+        r.tables.iter().all(|t| t.title.split(' ').count() <= 5),
+        "{:?}",
+        r.table_names()
+    );
+    assert!(r.tables.iter().all(|t| t.legend.contains('[')));
 
     // JSON: the study and its tables, numbers as numbers.
     let json: serde_json::Value =
@@ -192,11 +203,21 @@ fn report_tables_in_markdown_csv_and_json() {
             "order",
             "expected_hz",
             "speed_hz",
+            "step_hz",
+            "note",
             "centre_um",
             "drive_um",
             "tending_um"
         ])
     );
+    // Three speeds 12, 14, 16 Hz: a 2 Hz step around any peak (14 Hz, the only interior
+    // sample), 14 % of the speed: every resonance found is flagged coarse.
+    for row in res["rows"].as_array().unwrap() {
+        if row[4].is_f64() {
+            assert_eq!(row[5], 2.0, "{row}");
+            assert!(row[6].as_str().unwrap().contains("coarse"), "{row}");
+        }
+    }
     // Long form of the stability table: one row per job.
     assert_eq!(tables[2]["rows"].as_array().unwrap().len(), JOBS);
 
@@ -240,7 +261,11 @@ fn trial_mass_table_per_job_against_the_baseline() {
         6,
     );
     let t = r.tables.iter().find(|t| t.name == "trial_mass").unwrap();
-    let mut columns = vec!["label".to_string(), "speed_hz".to_string()];
+    let mut columns = vec![
+        "job_id".to_string(),
+        "label".to_string(),
+        "speed_hz".to_string(),
+    ];
     for s in ["centre", "drive", "tending"] {
         columns.push(format!("{s}_amplitude_change_um"));
         columns.push(format!("{s}_vector_change_um"));
@@ -248,17 +273,21 @@ fn trial_mass_table_per_job_against_the_baseline() {
     assert_eq!(t.columns, columns);
     // One row per trial-mass job (3 speeds), sorted by speed; the label as the study wrote it
     // (the file's table keeps ASCII only: "100 g 0").
-    let speeds: Vec<Cell> = t.rows.iter().map(|row| row[1].clone()).collect();
+    let speeds: Vec<Cell> = t.rows.iter().map(|row| row[2].clone()).collect();
     assert_eq!(speeds, [12.0, 14.0, 16.0].map(Cell::Number));
     assert!(t
         .rows
         .iter()
-        .all(|row| row[0] == Cell::Text("100 g 0°".into())));
+        .all(|row| row[1] == Cell::Text("100 g 0°".into())));
+    assert!(t
+        .rows
+        .iter()
+        .all(|row| matches!(&row[0], Cell::Text(id) if id.starts_with('j'))));
     // A 100 g mass at the centre changes the 1× response there.
     assert!(t
         .rows
         .iter()
-        .all(|row| matches!(row[3], Cell::Number(v) if v > 0.0)));
+        .all(|row| matches!(row[4], Cell::Number(v) if v > 0.0)));
     std::fs::remove_dir_all(d).unwrap();
 }
 

@@ -216,9 +216,9 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     let one = job_data(&d.join("one.h5"));
     assert_eq!(
         one.len(),
-        4 * 20,
-        "4 jobs × (time + 6 runout channels + spectrum frequencies + 6 spectra, and time and \
-         the frequencies linked into the 3 runout and 3 spectrum groups as their axes)"
+        4 * 26,
+        "4 jobs × (time + 6 runout channels + 6 means + spectrum frequencies + 6 spectra, and \
+         time and the frequencies linked into the 3 runout and 3 spectrum groups as their axes)"
     );
     assert_eq!(one, job_data(&d.join("two.h5")));
     assert_eq!(one, job_data(&d.join("merged.h5")));

@@ -28,7 +28,7 @@ import pytest
 
 import plots
 import rotorsweep as rp
-from test_results import ROOT, run_ok
+from test_results import ROOT, rotorsweep, run_ok
 
 
 def study(name: str, scene: str, rest: str) -> str:
@@ -80,7 +80,10 @@ orders = [1.0, 2.0, 3.0, 4.0, 0.92]
 max_freq_hz = 100.0
 """,
 )
-SWEEP_PLOTS = ["spectral_map-0.png", "harmonics-0.png", "spectral_map-1.png", "harmonics-1.png"]
+SWEEP_PLOTS = [
+    "spectral_map-0.png", "harmonics-0.png", "mean-0.png",
+    "spectral_map-1.png", "harmonics-1.png", "mean-1.png",
+]
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
@@ -142,7 +145,7 @@ def test_trial_mass_study(trial_results: Path, tmp_path: Path) -> None:
     for p in written:
         check_png(p)
     check_map(written[0])
-    check_map(written[2])
+    check_map(written[3])
     # The trial-mass table the plot draws: both directions of three sensors at three speeds.
     table = rp.analysis_table(trial_results, "trial_mass")
     assert set(table["label"]) == {"100 g"} and len(table) == 3 * 6
@@ -220,7 +223,8 @@ def test_settings_name_labels_and_the_other_keys() -> None:
     assert names["a"] == "nominal, speed.hz=10, solver.integrator=bdf"
     assert names["d"] == "x1000, speed.hz=12.5, solver.integrator=rk45"
     hmax = plots.settings(summary, labels, ["solver.hmax"])
-    assert list(hmax) == ["solver.hmax=0.0001"] * 2 + ["solver.hmax=5e-05"] * 2
+    # Numbers as `rotorsweep report` writes them: 1e-4, not 0.0001 (issue 12).
+    assert list(hmax) == ["solver.hmax=1e-4"] * 2 + ["solver.hmax=5e-5"] * 2
     assert list(plots.settings(summary, labels.iloc[:, :0], [])) == [""] * 4
 
 
@@ -305,3 +309,135 @@ def test_linear_file_of_one_speed(tmp_path: Path) -> None:
         check_png(p)
     jeff = plots._linear_systems(tmp_path / "one.h5")["jeffcott"]
     assert len(plots.mode_shapes(jeff, "jeffcott").axes) == 4
+
+
+def test_numbers_and_error_classes_as_the_report_writes_them(solver_results: Path) -> None:
+    """number_text and error_class agree with src/report.rs: the classes of the report's own
+    stability table (JSON) are the figure's; 1.2e4 µm is not "ok" (issue 12)."""
+    assert [plots.number_text(x) for x in (1e-4, 16.4, 10.0, 2.5e-5, 1e7, 0.005)] == [
+        "1e-4", "16.4", "10", "2.5e-5", "1e7", "0.005"
+    ]
+    assert plots.error_class("ok", 1.2e4) == "≥ 100 µm"
+    assert plots.error_class("ok", 0.5) == "< 1 µm"
+    assert plots.error_class("ok", float("nan")) == "no reference"
+    assert plots.error_class("diverged", 1.0) == "diverged"
+    p = rotorsweep("report", solver_results, "--format", "json", "--table", "stability",
+                   cwd=solver_results.parent)
+    assert p.returncode == 0, p.stderr
+    import json
+    table = json.loads(p.stdout)["tables"][0]
+    col = {c: i for i, c in enumerate(table["columns"])}
+    for row in table["rows"]:
+        error = row[col["error_max_um"]]
+        ours = plots.error_class(row[col["status"]], float("nan") if error is None else error)
+        assert ours == row[col["error_class"]], row
+
+
+def test_timing_is_drawn_for_every_study_size() -> None:
+    """Above 12 jobs one horizontal bar a job (the figure was skipped there, issue 12)."""
+    n = 130
+    summary = pd.DataFrame({
+        "job_id": [f"j{i}" for i in range(n)],
+        "status": ["ok"] * (n - 1) + ["diverged"],
+        "cpu_time_s": np.linspace(0.2, 0.6, n),
+        "iterations_per_step": np.ones(n),
+    })
+    names = pd.Series([f"speed.hz={7.2 + 0.2 * i:.1f}" for i in range(n)], index=summary["job_id"])
+    fig = plots.timing(summary, names, "t")
+    ax = fig.axes[0]
+    assert len(ax.patches) == n
+    assert [t.get_text() for t in ax.get_yticklabels()][-1] == "speed.hz=33.0"
+    assert all(p.get_width() > 0 for p in ax.patches), "horizontal bars, widths the CPU times"
+
+
+def test_spectral_map_draws_the_scenes_roller_lines(tmp_path: Path) -> None:
+    """The rollers' dashed lines come from the jobs' roller_ratio attributes (the scene's
+    journal/roller diameters), not a fixed 0.92: a simulate -o file of the timing case with its
+    tending rollers driven by their own angle has 115/125 there and 1 on the drive side."""
+    scene = ROOT / "studies" / "scenes" / "timing-case.toml"
+    run_ok("simulate", scene, "--set", "simulation.t_end_s=0.4", "--set",
+           "simulation.settle_s=0.2", "--set", "supports[0].roller_phase=roller-angle",
+           "-o", "sim.h5", cwd=tmp_path)
+    sim = tmp_path / "sim.h5"
+    attrs = rp.job_attrs(sim)
+    assert plots.roller_ratios(attrs, list(attrs.index)) == [0.92, 1.0]
+    # A sweep with orders 1–3 and one roller ratio 0.92: 3 solid order lines, 3 dashed ones
+    # per panel; a ratio of 1 adds none.
+    freq = np.linspace(0.0, 60.0, 121)
+    speed = np.array([10.0, 12.0, 14.0])
+    amp = np.abs(np.sin(freq[None, :] / 3.0 + speed[:, None])) + 0.01
+    sweep = {"n": 0, "fixed": "", "speed_hz": speed, "job_ids": [], "orders": np.array([1.0, 2.0, 3.0]),
+             "lines": {}, "freq_hz": freq, "maps": {"centre/vertical": amp}}
+    for ratios, dashed in (([0.92, 1.0], 3), ([1.0], 0)):
+        ax = plots.spectral_map(sweep, "centre", "t", ratios).axes[0]
+        styles = [ln.get_linestyle() for ln in ax.lines]
+        assert styles.count("-") == 3 and styles.count("--") == dashed, styles
+    # The simulate -o file plots as a study of one job: its timing bar.
+    written = plots.render(sim, tmp_path / "plots")
+    assert [p.name for p in written] == ["timing.png"]
+
+
+def test_work_precision_points_are_labelled_per_physics(solver_results: Path) -> None:
+    """One panel per physics (here the speed: one reference run each), every point labelled
+    with its solver setting (issue 12: the points zig-zagged across physics, unnamed)."""
+    summary = rp.load_summary(solver_results)
+    labels = rp.job_labels(solver_results)
+    reference = rp.job_attrs(solver_results)["reference_id"]
+    solver = plots.settings(summary, labels, ["solver.integrator"])
+    physics = plots.settings(summary, labels, ["speed.hz"])
+    fig = plots.work_precision(summary, reference, "t", solver, physics)
+    panels = [a for a in fig.axes if a.get_visible()]
+    assert [a.get_title() for a in panels] == ["speed.hz=10", "speed.hz=14", "speed.hz=18"]
+    for a in panels:
+        texts = sorted(t.get_text() for t in a.texts)
+        assert texts == ["solver.integrator=bdf", "solver.integrator=gen-alpha"], texts
+
+
+def test_campbell_is_labelled_and_nothing_is_clipped(solver_results: Path) -> None:
+    """The reference roll's first bending pair: labelled with its plane at standstill and its
+    whirl at the top speed; every text inside the figure (the 1× label was cut off)."""
+    summary = rp.load_summary(solver_results)
+    names = pd.Series("", index=summary["job_id"])
+    fig = plots.campbell(plots._study_systems(solver_results, names), "t")
+    fig.canvas.draw()
+    texts = [t for ax in fig.axes for t in ax.texts]
+    words = " ".join(t.get_text() for t in texts)
+    assert "vertical, forward" in words and "horizontal, backward" in words, words
+    box = fig.bbox
+    for t in texts:
+        e = t.get_window_extent()
+        assert box.x0 <= e.x0 and e.x1 <= box.x1 and box.y0 <= e.y0 and e.y1 <= box.y1, t
+
+
+def test_html_report_with_figures_in_chromium(solver_results: Path, tmp_path: Path) -> None:
+    """`rotorsweep report --format html -o` with this Python drawing the figures: every figure
+    embedded as a PNG; rendered by headless Chromium (Debian's, when installed: the Rust test
+    tests/report_html.rs installs it where it can) into a PNG with figures on it."""
+    import base64
+    import os
+    import shutil
+
+    page = tmp_path / "report.html"
+    env = dict(os.environ, ROTORSWEEP_PYTHON=sys.executable)
+    bin_ = Path(os.environ.get("ROTORSWEEP_BIN", ROOT / "target" / "release" / "rotorsweep"))
+    p = subprocess.run([bin_, "report", solver_results, "--format", "html", "-o", page],
+                       capture_output=True, text=True, env=env, timeout=300)
+    assert p.returncode == 0, p.stderr
+    html = page.read_text()
+    chunks = html.split('src="data:image/png;base64,')[1:]
+    names = [*SWEEP_PLOTS, "work_precision.png", "timing.png", "stability.png", "campbell.png"]
+    assert len(chunks) == len(names)
+    for name, chunk in zip(names, chunks):
+        assert base64.b64decode(chunk[: chunk.index('"')])[:8] == PNG_MAGIC
+        assert f'alt="{name}"' in html
+    browser = shutil.which("chromium") or shutil.which("chromium-browser")
+    if browser is None:
+        pytest.skip("no chromium on PATH (apt-get install -y chromium): the page is not rendered")
+    shot = tmp_path / "report.png"
+    subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                    "--window-size=1400,4000", f"--screenshot={shot}", page.as_uri()],
+                   capture_output=True, timeout=300)
+    img = matplotlib.image.imread(shot)
+    inked = (img[..., :3] < 0.92).any(axis=-1).mean()
+    assert inked > 0.05, inked
+    assert colours(img) > 200, "figures (colour maps) on the page, not text alone"

@@ -3,11 +3,12 @@
 //! In: the output path a user named (`-o OUT.h5`) and whether `--overwrite` was given.
 //! Out: an [`OutputLock`] held for the command's lifetime, and a verdict on the existing path.
 //!
-//! Rules, the same for every command that writes (`run`, `merge`, `simulate`):
+//! Rules, the same for every command that writes (`run`, `merge`, `simulate`, `report -o`):
 //! - A path that does not exist may be written. An existing one is refused unless
 //!   `--overwrite` is given, and even then it must be a regular file that is a rotorsweep
-//!   results file (HDF5 with the root attribute `tool = "rotorsweep"`). A directory, a device,
-//!   a FIFO, a symbolic link, or a file from elsewhere is never replaced.
+//!   results file (HDF5 with the root attribute `tool = "rotorsweep"`), or for a text output
+//!   ([`write_text`], the HTML report) a text file that carries that output's marker. A
+//!   directory, a device, a FIFO, a symbolic link, or a file from elsewhere is never replaced.
 //! - The new file is written under `OUT.h5.tmp` and renamed over `OUT.h5` only when complete,
 //!   so the old file stays intact until then.
 //! - One writer per output: an advisory `flock` on `OUT.h5.lock`, taken before anything is
@@ -28,7 +29,7 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// The output exists and `--overwrite` was not given.
-    #[error("{0}: exists; add --overwrite to replace it (only a rotorsweep results file is replaced), or choose another -o")]
+    #[error("{0}: exists; add --overwrite to replace it (only a file rotorsweep wrote is replaced), or choose another -o")]
     Exists(PathBuf),
     /// The output is something that is never replaced.
     #[error("{0}: {1}; refusing to replace it")]
@@ -116,6 +117,81 @@ pub fn open_results_file(path: &Path) -> Result<hdf5::File, String> {
 /// Checks that `path` may be (re)written as an output: absent, or with `overwrite` a regular
 /// rotorsweep results file (module doc). Its parent directory must exist.
 pub fn check_replace(path: &Path, overwrite: bool) -> Result<(), OutputError> {
+    check_replace_as(path, overwrite, is_results_file)
+}
+
+/// Whether the first 4 KiB of a regular file hold `marker`; the reason when not.
+fn has_marker(path: &Path, marker: &str) -> Result<(), String> {
+    let mut head = Vec::new();
+    File::open(path)
+        .and_then(|f| f.take(4096).read_to_end(&mut head))
+        .map_err(|e| format!("cannot be read ({e})"))?;
+    let text = String::from_utf8_lossy(&head);
+    if text.contains(marker) {
+        Ok(())
+    } else {
+        Err(format!(
+            "is not a file rotorsweep wrote (no `{marker}` in its first 4 KiB)"
+        ))
+    }
+}
+
+/// [`check_replace`] for a text output that carries `marker` ([`write_text`]).
+pub fn check_replace_text(path: &Path, overwrite: bool, marker: &str) -> Result<(), OutputError> {
+    check_replace_as(path, overwrite, |p| has_marker(p, marker))
+}
+
+/// Writes a text output whole (the HTML report): the output's lock, then `path` checked (absent,
+/// or with `overwrite` a regular file whose first 4 KiB hold `marker`, which `text` must hold
+/// too), then `text` written to `path` + ".tmp" (absent, empty or ours), synced and renamed
+/// over `path`. Nothing is left under either name on failure.
+pub fn write_text(
+    path: &Path,
+    overwrite: bool,
+    marker: &str,
+    text: &str,
+) -> Result<(), OutputError> {
+    let _lock = OutputLock::acquire(path)?;
+    check_replace_text(path, overwrite, marker)?;
+    let tmp = super::with_suffix(path, ".tmp");
+    match describe(&tmp)? {
+        None => {}
+        Some((m, _))
+            if m.file_type().is_file() && (m.len() == 0 || has_marker(&tmp, marker).is_ok()) => {}
+        Some((_, what)) => {
+            return Err(OutputError::Refused(
+                tmp,
+                format!("is {what} rotorsweep did not write, where it keeps a working file"),
+            ))
+        }
+    }
+    let write = || -> std::io::Result<()> {
+        let mut f = OpenOptions::new()
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .mode(0o644)
+            .custom_flags(libc::O_NOFOLLOW)
+            .open(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()
+    };
+    if let Err(e) = write() {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(OutputError::Io(tmp, e));
+    }
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        OutputError::Io(path.to_path_buf(), e)
+    })
+}
+
+/// [`check_replace`] with `own` judging whether an existing regular file may be replaced.
+fn check_replace_as(
+    path: &Path,
+    overwrite: bool,
+    own: impl Fn(&Path) -> Result<(), String>,
+) -> Result<(), OutputError> {
     let parent = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -145,9 +221,7 @@ pub fn check_replace(path: &Path, overwrite: bool) -> Result<(), OutputError> {
             format!("is {what}"),
         )),
         Some(_) if !overwrite => Err(OutputError::Exists(path.to_path_buf())),
-        Some(_) => {
-            is_results_file(path).map_err(|why| OutputError::Refused(path.to_path_buf(), why))
-        }
+        Some(_) => own(path).map_err(|why| OutputError::Refused(path.to_path_buf(), why)),
     }
 }
 

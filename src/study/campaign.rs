@@ -296,18 +296,9 @@ fn save_part(
         if let Some(l) = w.linear_id {
             params.push(("linear_id".into(), Param::Text(l.to_string())));
         }
-        // The spin speed over the record and the roll angle's offset from Ω·t, for the
-        // spectral analysis (NaN when the speed changes while recording).
-        let sim = &w.scene.simulation;
-        let (speed, offset) = w
-            .scene
-            .speed
-            .constant_over(sim.settle, sim.t_end)
-            .map_or((f64::NAN, f64::NAN), |(omega, d)| {
-                (omega / std::f64::consts::TAU, d)
-            });
-        params.push(("speed_hz".into(), Param::Number(speed)));
-        params.push(("roll_angle_offset_rad".into(), Param::Number(offset)));
+        // The spin speed over the record, the roll angle's offset and the roller ratios, for
+        // the spectral analysis.
+        params.extend(super::post::job_attrs(w.scene));
         if let Some(p) = w.prune {
             params.push((super::PRUNE_KEY.into(), Param::Number(p)));
         }

@@ -98,7 +98,8 @@ pub struct AnalysisSpec {
     /// 115/125 of the roll's speed).
     #[serde(default = "default_orders")]
     pub orders: Vec<f64>,
-    /// Highest frequency [Hz] kept in stored spectra and maps (default: 8 × the job's speed).
+    /// Highest frequency [Hz] kept in stored spectra and maps (default: 1.25 × the highest order
+    /// × the job's speed, `study::post::ORDER_MARGIN`).
     pub max_freq_hz: Option<f64>,
     /// The label (on a labelled axis) of the baseline jobs: every other job on that axis gets
     /// its 1× trial-mass response against the baseline job with the same other keys.

@@ -1,25 +1,33 @@
-//! Post-processing of an assembled results file (physics.md §8), after `run` assembles it and
-//! after `merge`: it reads only the file, so shards merged later get the same analysis.
+//! Post-processing of an assembled results file (physics.md §8), after `run` assembles it, after
+//! `merge`, and after `simulate -o`: it reads only the file, so shards merged later get the same
+//! analysis.
 //!
 //! In: `/jobs/<id>` groups (status, `speed_hz`, `time` [s], `runout/<sensor>/<dir>` [µm], the
-//! varying keys and `label:<key>` as attributes), the file's `varying_keys`, and its
-//! `study_text` (the `[analysis]` table, the labelled axes).
+//! varying keys and `label:<key>` as attributes; [`job_attrs`] gives the attributes a job's
+//! scene decides), the file's `varying_keys`, and its `study_text` (the `[analysis]` table, the
+//! labelled axes; a file without one, as `simulate -o` writes, gets the default orders 1–4).
 //! Out, in the same file (every job that ended ok at a constant speed):
+//! - `/jobs/<id>/runout_mean/<sensor>/<dir>` [µm, scalar]: the record's mean (static sag and
+//!   offset), removed before the spectrum;
 //! - `/jobs/<id>/spectrum/freq_hz` [Hz], `/jobs/<id>/spectrum/<sensor>/<dir>` [µm]: the
-//!   amplitude-correct Hanning spectrum up to `max_freq_hz` (default 8 × the speed);
+//!   amplitude-correct Hanning spectrum of the record minus its mean, up to `max_freq_hz`
+//!   (default [`ORDER_MARGIN`] × the highest order × the speed);
 //! - `/analysis/lines`: table job_id, channel, order, speed_hz, freq_hz, amplitude_um, phase_deg
 //!   (the line at order × speed, all orders fitted together, `analysis::lines`; phase relative
 //!   to roll angle 0). A job is analysed when it ended ok and its speed was constant while it
 //!   recorded (a ramp or speed step may end before `settle_s`): attributes `speed_hz` and
 //!   `roll_angle_offset_rad` (θ = Ω t + δ) say so;
 //! - `/analysis/sweeps/<n>` for each set of ≥ 3 jobs that differ only in `speed.hz`: `speed_hz`,
-//!   `job_ids`, `orders`, `lines/<sensor>/<dir>` [speeds × orders, µm] and, when the records
-//!   match, `freq_hz` and `map/<sensor>/<dir>` [speeds × frequencies, µm]; attribute `fixed` (the
-//!   other keys' values); `skipped_speed_hz` and `skipped_job_ids` when some of its jobs could
-//!   not be analysed (failed, or no runout);
-//!   the axes `freq_hz`, `speed_hz` and `orders` are dimension scales (`store::scales`);
-//! - `/analysis/resonances`: table sweep, fixed, channel, order, rank, speed_hz, amplitude_um (the three
-//!   highest interior peaks of each order's amplitude over speed);
+//!   `job_ids`, `orders`, `lines/<sensor>/<dir>` [speeds × orders, µm], `mean/<sensor>/<dir>`
+//!   [speeds, µm] (the static part over speed) and, when the records match, `freq_hz` and
+//!   `map/<sensor>/<dir>` [speeds × frequencies, µm] (spectra of the fluctuating part, up to the
+//!   study's cap: `max_freq_hz`, default [`ORDER_MARGIN`] × the highest order × the top speed);
+//!   attribute `fixed` (the other keys' values); `skipped_speed_hz` and `skipped_job_ids` when
+//!   some of its jobs could not be analysed (failed, or no runout); the axes `freq_hz`,
+//!   `speed_hz` and `orders` are dimension scales (`store::scales`);
+//! - `/analysis/resonances`: table sweep, fixed, channel, order, rank, speed_hz, amplitude_um,
+//!   step_hz, note (the three highest interior peaks of each order's amplitude over speed, the
+//!   sweep's spacing there and `coarse` / `edge` flags, `analysis::resolution`);
 //! - `/analysis/trial_mass`, with an `[analysis] baseline`: table job_id, baseline_id, label,
 //!   channel, speed_hz, amplitude_um, baseline_amplitude_um, amplitude_change_um,
 //!   vector_change_um, vector_phase_deg (1× change against the baseline job).
@@ -30,13 +38,64 @@ use rustfft::num_complex::Complex64;
 
 use super::{self as study, analysis_of_text, AnalysisSpec, LabelledAxis};
 use crate::analysis;
-use crate::store::{self, Column};
+use crate::report::number_text;
+use crate::scene::{RollerPhase, Scene, SupportModel};
+use crate::store::{self, Column, Param};
 
 /// The key a spectral map sweeps.
 pub const SWEEP_KEY: &str = "speed.hz";
 
 /// Peaks kept per order and channel in the resonance table.
 const RANKS: usize = 3;
+
+/// The default spectrum range: this share above the highest analysed order's line, so that the
+/// line and its window skirt show (1.25 × 4 × the speed for the default orders 1–4).
+pub const ORDER_MARGIN: f64 = 1.25;
+
+/// Prefix of the job attributes that give each roller's line ratio (`roller_ratio:<node>/<roller>`).
+pub const ROLLER_RATIO: &str = "roller_ratio:";
+
+/// The attributes of a job that its scene decides and the analysis reads, for `run` and
+/// `simulate -o` alike:
+/// - `speed_hz` and `roll_angle_offset_rad`: the spin speed [Hz] over the record and δ in
+///   θ = Ω t + δ [rad] (NaN when the speed changes while recording);
+/// - `roller_ratio:<support node>/<roller>`: the roller's roundness lines lie at k × this ×
+///   the spin frequency: the journal/roller diameter ratio when the roundness follows the
+///   roller's own angle (`roller_phase = "roller-angle"`), 1 when it follows the roll angle.
+pub fn job_attrs(scene: &Scene) -> Vec<(String, Param)> {
+    let sim = &scene.simulation;
+    let (speed, offset) = scene
+        .speed
+        .constant_over(sim.settle, sim.t_end)
+        .map_or((f64::NAN, f64::NAN), |(omega, d)| {
+            (omega / std::f64::consts::TAU, d)
+        });
+    let mut out = vec![
+        ("speed_hz".to_string(), Param::Number(speed)),
+        ("roll_angle_offset_rad".to_string(), Param::Number(offset)),
+    ];
+    for s in &scene.supports {
+        if let SupportModel::Rollers(rs) = &s.model {
+            for r in &rs.rollers {
+                let ratio = match rs.roller_phase {
+                    RollerPhase::RollAngle => 1.0,
+                    RollerPhase::RollerAngle => rs.journal_diameter / r.diameter,
+                };
+                out.push((
+                    format!("{ROLLER_RATIO}{}/{}", s.node, r.name),
+                    Param::Number(ratio),
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// The default highest frequency [Hz] of a spectrum at `speed_hz` (module doc).
+fn default_cap(orders: &[f64], speed_hz: f64) -> f64 {
+    let top = orders.iter().copied().fold(1.0, f64::max);
+    ORDER_MARGIN * top * speed_hz
+}
 
 /// One job as the analysis sees it: its lines and its spectra up to the study's frequency cap
 /// (not its samples: memory stays small however long the records and large the study).
@@ -51,6 +110,8 @@ struct JobData {
     /// Spectrum bins [Hz] up to the study's cap, and each channel's amplitudes there [µm].
     freq_hz: Vec<f64>,
     spectra: Vec<Vec<f64>>,
+    /// Each channel's mean [µm] (removed before the spectrum).
+    means: Vec<f64>,
     /// Varying key → value as text.
     values: BTreeMap<String, String>,
     /// Label per labelled axis key.
@@ -96,9 +157,9 @@ fn fixed_text(
 }
 
 /// Reads every job, one at a time; of each analysable one (ok, constant speed, runout
-/// recorded) fits its lines, writes its spectra into its group (unless a merged shard already
-/// did) and keeps them up to the study's cap (`max_freq_hz`, or 8 × the highest speed); the
-/// others are returned as skipped.
+/// recorded) fits its lines, writes its means and spectra into its group (unless a merged shard
+/// already did) and keeps them up to the study's cap (module doc); the others are returned as
+/// skipped.
 fn read_jobs(
     f: &hdf5::File,
     varying: &[String],
@@ -112,14 +173,16 @@ fn read_jobs(
         .iter()
         .filter_map(|id| analysable_speed(&jobs.group(id).ok()?))
         .fold(0.0, f64::max);
-    let study_cap = spec.max_freq_hz.unwrap_or(8.0 * top_speed);
+    let study_cap = spec
+        .max_freq_hz
+        .unwrap_or_else(|| default_cap(orders, top_speed));
     let mut out = Vec::new();
     let mut skipped = Vec::new();
     for id in ids {
         let g = jobs.group(&id)?;
         let values: BTreeMap<String, String> = varying
             .iter()
-            .filter_map(|k| Some((k.clone(), store::read_param(&g, k).ok()?.to_string())))
+            .filter_map(|k| Some((k.clone(), param_text(&store::read_param(&g, k).ok()?))))
             .collect();
         let labels: BTreeMap<String, String> = axes
             .iter()
@@ -182,18 +245,26 @@ fn read_jobs(
                 (z, one_x)
             })
             .unzip();
-        let full: Vec<analysis::Spectrum> = channels
+        let (means, full): (Vec<f64>, Vec<analysis::Spectrum>) = channels
             .iter()
-            .map(|(_, x)| analysis::spectrum(x, rate_hz))
-            .collect();
+            .map(|(_, x)| analysis::mean_and_spectrum(x, rate_hz))
+            .unzip();
         let names: Vec<String> = channels.into_iter().map(|(name, _)| name).collect();
         if !g.link_exists("spectrum") {
-            let own = bins_below(&full[0], spec.max_freq_hz.unwrap_or(8.0 * speed_hz));
+            let cap = spec
+                .max_freq_hz
+                .unwrap_or_else(|| default_cap(orders, speed_hz));
+            let own = bins_below(&full[0], cap);
             store::dataset(&g, "spectrum/freq_hz", &full[0].freq_hz[..own], "Hz")?;
             for (name, s) in names.iter().zip(&full) {
                 store::dataset(&g, &format!("spectrum/{name}"), &s.amplitude[..own], "um")?;
             }
             store::scales::attach_axis(&g.group("spectrum")?, "freq_hz", &[""], 0)?;
+        }
+        if !g.link_exists("runout_mean") {
+            for (name, m) in names.iter().zip(&means) {
+                scalar_dataset(&g, &format!("runout_mean/{name}"), *m, "um")?;
+            }
         }
         let keep = bins_below(&full[0], study_cap);
         out.push(JobData {
@@ -203,6 +274,7 @@ fn read_jobs(
             rate_hz,
             freq_hz: full[0].freq_hz[..keep].to_vec(),
             spectra: full.iter().map(|s| s.amplitude[..keep].to_vec()).collect(),
+            means,
             names,
             values,
             labels,
@@ -211,6 +283,26 @@ fn read_jobs(
         });
     }
     Ok((out, skipped))
+}
+
+/// A parameter as the analysis's texts show it (numbers as the report writes them).
+fn param_text(p: &Param) -> String {
+    match p {
+        Param::Number(x) => number_text(*x),
+        other => other.to_string(),
+    }
+}
+
+/// Writes a scalar float dataset with a `units` attribute, creating the intermediate groups of
+/// a path-like name.
+fn scalar_dataset(group: &hdf5::Group, name: &str, value: f64, units: &str) -> hdf5::Result<()> {
+    let (parent, leaf) = match name.rsplit_once('/') {
+        Some((p, l)) => (store::subgroup(group, p)?, l),
+        None => (group.clone(), name),
+    };
+    let ds = parent.new_dataset::<f64>().shape(()).create(leaf)?;
+    ds.write_scalar(&value)?;
+    store::attr_str(&ds, "units", units)
 }
 
 /// The number of spectrum bins at or below `max_hz`.
@@ -289,6 +381,8 @@ struct ResonanceRows {
     rank: Vec<f64>,
     speed: Vec<f64>,
     amp: Vec<f64>,
+    step: Vec<f64>,
+    note: Vec<String>,
 }
 
 fn write_sweep(
@@ -329,7 +423,9 @@ fn write_sweep(
             && j.names.len() == names.len()
     });
     let max_speed = speeds.iter().copied().fold(0.0, f64::max);
-    let cap = spec.max_freq_hz.unwrap_or(8.0 * max_speed);
+    let cap = spec
+        .max_freq_hz
+        .unwrap_or_else(|| default_cap(&spec.orders, max_speed));
     for (c, name) in names.iter().enumerate() {
         if !set.iter().all(|j| j.names.get(c) == Some(name)) {
             continue;
@@ -340,6 +436,8 @@ fn write_sweep(
             lines.extend(j.lines[c].iter().map(|z| z.norm()));
         }
         store::dataset_2d(&sg, &format!("lines/{name}"), (set.len(), no), &lines, "um")?;
+        let means: Vec<f64> = set.iter().map(|j| j.means[c]).collect();
+        store::dataset(&sg, &format!("mean/{name}"), &means, "um")?;
         for (k, o) in spec.orders.iter().enumerate() {
             let amp: Vec<f64> = (0..set.len()).map(|s| lines[s * no + k]).collect();
             for (r, p) in analysis::peaks(&speeds, &amp)
@@ -347,6 +445,9 @@ fn write_sweep(
                 .take(RANKS)
                 .enumerate()
             {
+                let fit = analysis::resolution(&speeds, &amp, &p);
+                res.step.push(fit.step_hz);
+                res.note.push(fit.note());
                 res.sweep.push(n as f64);
                 res.fixed.push(fixed.to_string());
                 res.channel.push(name.to_string());
@@ -498,6 +599,8 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
         rank: Vec::new(),
         speed: Vec::new(),
         amp: Vec::new(),
+        step: Vec::new(),
+        note: Vec::new(),
     };
     for (n, (fixed, set)) in sweeps(&jobs, &varying, &partners).iter().enumerate() {
         write_sweep(&sg, (n, fixed), set, (&skipped, &partners), &spec, &mut res)?;
@@ -513,6 +616,8 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
             Column::count("rank", res.rank.iter().map(|&x| x as u64).collect()),
             Column::number("speed_hz", "Hz", res.speed),
             Column::number("amplitude_um", "um", res.amp),
+            Column::number("step_hz", "Hz", res.step),
+            Column::text("note", res.note),
         ],
     )?;
     if let Some(b) = &spec.baseline {
