@@ -6,7 +6,8 @@
 //! the folder. The script is `$ROTORSWEEP_PLOTS`, else `scripts/plots.py` of the source tree the
 //! binary was built from (or the one two folders above the binary, `target/release/..`); the
 //! interpreter is `$ROTORSWEEP_PYTHON`, else that tree's `.venv/bin/python` (made by
-//! `scripts/python-test`), else `python3`. `--no-figures` leaves the figures out (tables only).
+//! `scripts/python-test`), else `python3`; the tree's `python/` package goes first on its
+//! `PYTHONPATH`. `--no-figures` leaves the figures out (tables only).
 //! With `-o` the page goes through `store::output::write_text` (refuses an existing file unless
 //! `--overwrite`, and then only a page it wrote; tmp + rename).
 
@@ -149,7 +150,24 @@ fn figures(file: &Path) -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
     let (script, python) = plotter()?;
     let dir = scratch()?;
     let result = (|| -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
-        let run = Command::new(&python)
+        let mut cmd = Command::new(&python);
+        // The script's own tree's package (python/) first, so the figures work without
+        // `pip install ./python` and never use another version of it.
+        if let Some(pkg) = script
+            .parent()
+            .and_then(Path::parent)
+            .map(|t| t.join("python"))
+            .filter(|p| p.join("rotorsweep").is_dir())
+        {
+            let mut paths = vec![pkg];
+            paths.extend(
+                std::env::var_os("PYTHONPATH")
+                    .iter()
+                    .flat_map(std::env::split_paths),
+            );
+            cmd.env("PYTHONPATH", std::env::join_paths(paths)?);
+        }
+        let run = cmd
             .arg(&script)
             .arg(file)
             .arg("-o")

@@ -155,7 +155,7 @@ fn figure_python() -> Option<PathBuf> {
         .collect();
     candidates.into_iter().find(|p| {
         Command::new(p)
-            .args(["-c", "import h5py, matplotlib, pandas"])
+            .args(["-c", "import h5py, matplotlib, pandas, xarray, h5netcdf"])
             .output()
             .is_ok_and(|o| o.status.success())
     })
@@ -256,7 +256,7 @@ fn html_report_is_self_contained_and_follows_the_output_rules() {
     };
     if python.is_none() {
         eprintln!(
-            "report_html: no Python with h5py, matplotlib and pandas (set ROTORSWEEP_PYTHON or \
+            "report_html: no Python with h5py, matplotlib, pandas, xarray and h5netcdf (set ROTORSWEEP_PYTHON or \
              run scripts/python-test first): the page is made with --no-figures"
         );
         args.push("--no-figures");
