@@ -753,8 +753,7 @@ fn pilot_run(
         .map(|(k, v)| format!("{k}={}", super::value_text(v)))
         .collect();
     over.push("outputs.modal=true".into());
-    let text = std::fs::read_to_string(&study.scene_path).map_err(|e| e.to_string())?;
-    let scene = Scene::from_text(&study.scene_path, &text, &over).map_err(|e| e.to_string())?;
+    let scene = Scene::load(&study.scene_path, &over).map_err(|e| e.to_string())?;
     let r = run_one(&scene, &model);
     if r.stats.status != Status::Ok {
         return Err(format!("{}: {}", r.stats.status.name(), r.stats.cause));
