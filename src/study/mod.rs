@@ -19,6 +19,7 @@
 pub mod campaign;
 pub mod identity;
 pub mod post;
+pub mod progress;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
