@@ -32,7 +32,8 @@ use rotorsweep::store::output::OutputError;
   rotorsweep run studies/smoke.toml -o smoke.h5 --threads 2   (--resume after a crash, --overwrite to redo)
   rotorsweep run S.toml -o s0.h5 --shard 0/2; ... ; rotorsweep merge s0.h5 s1.h5 -o all.h5
   rotorsweep report smoke.h5 --format csv --table solver
-  rotorsweep check my-roll.toml --set roll.shell.length_mm=5000   the effective scene, derived values
+  rotorsweep check studies/scenes/timing-case.toml --set roll.shell.elements=60   effective scene
+                                                              (after extends, --set), derived values
   rotorsweep keys > scene-keys.md                             every scene key (docs/scene-keys.md)
 
 Exit codes: 0 done, every job ok; 1 input error (the message names the file, line and key);

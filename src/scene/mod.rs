@@ -1,7 +1,9 @@
 //! Scene files: one rotor on its supports, in TOML, parsed strictly into SI values.
 //!
 //! In: a `.toml` scene (the commented `studies/scenes/reference-roll.toml` is the documentation's
-//! spine) and optional dotted-key overrides (`--set roll.shell.elements=60`).
+//! spine; every key is in `docs/scene-keys.md`, from [`keys`]), the scenes it `extends`
+//! ([`source`]), and optional dotted-key overrides (`--set roll.shell.elements=60`). Axial
+//! positions may be written relative to the shell ([`position`]).
 //! Out: a validated [`Scene`] in SI units (m, kg, N, s, rad), or an [`InputError`] naming the file,
 //! the line, the key and the reason. Units live in key names (`length_mm`, `mass_kg`) and are
 //! converted here, once.

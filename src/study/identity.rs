@@ -2,10 +2,10 @@
 //! join results of the same inputs.
 //!
 //! In: a loaded [`Study`]. Out: an [`Identity`]: the SHA-256 of every file the study reads
-//! (the study file, its base scene, every thickness map a job's scene reads) and one digest
-//! over them. Paths are taken relative to the study file's folder, so a study moved whole (or
-//! run from another working directory, or on another cluster node) keeps its identity; any
-//! edit of any of its files changes it.
+//! (the study file, its base scene, the scenes that one `extends`, every thickness map a job's
+//! scene reads) and one digest over them. Paths are taken relative to the study file's folder,
+//! so a study moved whole (or run from another working directory, or on another cluster node)
+//! keeps its identity; any edit of any of its files changes it.
 //!
 //! Stored as the attributes `study_digest` (hex) and `study_inputs` (a JSON array of
 //! `{role, path, sha256}`, so any character in a path survives) in every part file and results
