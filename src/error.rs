@@ -70,11 +70,11 @@ pub fn line_of_offset(text: &str, offset: usize) -> usize {
 
 /// What a TOML text is, for the hint when a file is given to the wrong command: `"study"` when
 /// it names a `scene` and has none of a scene's own tables, `"scene"` when it has a `roll`,
-/// `rotor` or `supports` and no `scene`; `None` otherwise (or when it is not TOML).
+/// `rotor`, `supports` or `extends` and no `scene`; `None` otherwise (or when it is not TOML).
 pub fn toml_kind(text: &str) -> Option<&'static str> {
     let t: toml::Table = toml::from_str(text).ok()?;
     let has = |k: &str| t.contains_key(k);
-    let scene_like = has("roll") || has("rotor") || has("supports");
+    let scene_like = has("roll") || has("rotor") || has("supports") || has("extends");
     match (has("scene"), scene_like) {
         (true, false) => Some("study"),
         (false, true) => Some("scene"),

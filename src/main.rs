@@ -8,6 +8,8 @@
 //! 75 the output is in use by another rotorsweep process (try again later).
 
 mod campaign_cli;
+mod check_cli;
+mod keys_cli;
 mod linear_cli;
 mod modes;
 mod report_cli;
@@ -30,6 +32,9 @@ use rotorsweep::store::output::OutputError;
   rotorsweep run studies/smoke.toml -o smoke.h5 --threads 2   (--resume after a crash, --overwrite to redo)
   rotorsweep run S.toml -o s0.h5 --shard 0/2; ... ; rotorsweep merge s0.h5 s1.h5 -o all.h5
   rotorsweep report smoke.h5 --format csv --table solver
+  rotorsweep check studies/scenes/timing-case.toml --set roll.shell.elements=60   effective scene
+                                                              (after extends, --set), derived values
+  rotorsweep keys > scene-keys.md                             every scene key (docs/scene-keys.md)
 
 Exit codes: 0 done, every job ok; 1 input error (the message names the file, line and key);
 2 done, some job or reference run not ok; 64 usage error (options, or an output that may not
@@ -58,6 +63,11 @@ enum Command {
     Merge(campaign_cli::MergeArgs),
     /// Tables of a study results file: solver cost and error, resonances, trial masses, stability.
     Report(report_cli::Args),
+    /// The effective scene of a scene or study file (after `extends` and --set, with units) and
+    /// what is derived from it: positions, wall, mass, balancing masses, first frequencies.
+    Check(check_cli::Args),
+    /// Every key a scene file accepts (type, units, default, range, meaning), as Markdown.
+    Keys(keys_cli::Args),
 }
 
 fn main() -> ExitCode {
@@ -88,6 +98,8 @@ fn main() -> ExitCode {
         Command::Run(a) => campaign_cli::run(&a),
         Command::Merge(a) => campaign_cli::merge(&a).map(|()| true),
         Command::Report(a) => report_cli::run(&a).map(|()| true),
+        Command::Check(a) => check_cli::run(&a).map(|()| true),
+        Command::Keys(a) => keys_cli::run(&a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

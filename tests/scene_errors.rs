@@ -10,7 +10,6 @@ use std::fs;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rotorsweep::error::InputError;
 use rotorsweep::scene::Scene;
@@ -18,21 +17,11 @@ use rotorsweep::scene::Scene;
 /// The overrides' pseudo-file name in errors.
 const CLI: &str = "<command line --set>";
 
+mod common;
+use common::{line_number, scratch};
+
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// A fresh, empty directory of this test process under the system temp dir.
-fn scratch(name: &str) -> PathBuf {
-    static N: AtomicUsize = AtomicUsize::new(0);
-    let dir = std::env::temp_dir().join(format!(
-        "rotorsweep-scene-errors-{}-{}-{name}",
-        std::process::id(),
-        N.fetch_add(1, Ordering::Relaxed)
-    ));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).expect("create scratch dir");
-    dir
 }
 
 /// The shipped reference roll, its thickness map pointed at the shipped CSV by absolute path so
@@ -70,18 +59,6 @@ fn replace_line(text: &str, old: &str, new: &str) -> (String, usize) {
         .map(|(i, l)| if i == hits[0] { new } else { l })
         .collect();
     (out.join("\n") + "\n", hits[0] + 1)
-}
-
-/// 1-based line of the one line that reads exactly `line` (after trimming).
-fn line_number(text: &str, line: &str) -> usize {
-    let hits: Vec<usize> = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| l.trim() == line)
-        .map(|(i, _)| i + 1)
-        .collect();
-    assert_eq!(hits.len(), 1, "`{line}` must occur on exactly one line");
-    hits[0]
 }
 
 /// What an error must say.
@@ -812,10 +789,12 @@ fn mesh_above_the_fe_limit() {
 fn record_above_the_sample_limit() {
     let timing =
         fs::read_to_string(root().join("studies/scenes/timing-case.toml")).expect("timing case");
-    let csv = root().join("studies/maps/reference-roll-thickness.csv");
-    let timing = timing.replace(
-        "\"../maps/reference-roll-thickness.csv\"",
-        &format!("{:?}", csv.to_str().unwrap()),
+    // The timing case extends the reference roll: by absolute path, so it can be written anywhere.
+    let base = root().join("studies/scenes/reference-roll.toml");
+    let (timing, _) = replace_line(
+        &timing,
+        "extends = \"reference-roll.toml\"",
+        &format!("extends = {:?}", base.to_str().unwrap()),
     );
     let (text, line) = replace_line(&timing, "sample_rate_hz = 1000.0", "sample_rate_hz = 1e12");
     case(

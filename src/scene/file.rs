@@ -4,9 +4,11 @@ use std::collections::BTreeMap;
 
 use serde::Deserialize;
 
+use super::position::Position;
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct SceneFile {
+pub(crate) struct SceneFile {
     pub name: Option<String>,
     pub description: Option<String>,
     pub materials: BTreeMap<String, MaterialFile>,
@@ -242,7 +244,7 @@ pub(super) struct RollFile {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct BalancingFile {
-    pub planes_mm: Vec<f64>,
+    pub planes_mm: Vec<Position>,
     pub radius_mm: f64,
 }
 
@@ -310,13 +312,13 @@ pub(super) struct ShaftFile {
 #[serde(deny_unknown_fields)]
 pub(super) struct SensorFile {
     pub name: String,
-    pub z_mm: f64,
+    pub z_mm: Position,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct MassFile {
-    pub z_mm: f64,
+    pub z_mm: Position,
     pub radius_mm: f64,
     pub angle_deg: f64,
     pub mass_g: f64,
@@ -333,7 +335,7 @@ pub(super) struct RotorFile {
     #[serde(default)]
     pub masses: Vec<MassFile>,
     #[serde(default)]
-    pub nodes: BTreeMap<String, f64>,
+    pub nodes: BTreeMap<String, Position>,
     #[serde(default)]
     pub sensors: Vec<SensorFile>,
 }
@@ -352,7 +354,7 @@ pub(super) struct SegmentFile {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct DiskFile {
-    pub z_mm: f64,
+    pub z_mm: Position,
     pub mass_kg: f64,
     pub polar_kg_m2: f64,
     pub diametral_kg_m2: f64,

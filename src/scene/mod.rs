@@ -1,7 +1,9 @@
 //! Scene files: one rotor on its supports, in TOML, parsed strictly into SI values.
 //!
 //! In: a `.toml` scene (the commented `studies/scenes/reference-roll.toml` is the documentation's
-//! spine) and optional dotted-key overrides (`--set roll.shell.elements=60`).
+//! spine; every key is in `docs/scene-keys.md`, from [`keys`]), the scenes it `extends`
+//! ([`source`]), and optional dotted-key overrides (`--set roll.shell.elements=60`). Axial
+//! positions may be written relative to the shell ([`position`]).
 //! Out: a validated [`Scene`] in SI units (m, kg, N, s, rad), or an [`InputError`] naming the file,
 //! the line, the key and the reason. Units live in key names (`length_mm`, `mass_kg`) and are
 //! converted here, once.
@@ -14,8 +16,12 @@
 //! above [`MAX_SAMPLES_PER_CHANNEL`] or [`MAX_RECORD_VALUES`].
 
 mod file;
+pub mod keys;
+mod keys_docs;
 pub mod locate;
+pub mod position;
 mod run;
+pub mod source;
 
 pub use run::{
     DampingBands, IntegratorKind, Outputs, SimulationSettings, SolverSettings, SpeedProfile,
@@ -35,6 +41,8 @@ use crate::reduction::ModeSelection;
 use crate::thickness::{AxialShape, HarmonicSpec, SyntheticSpec, ThicknessMap};
 
 use file::*;
+use position::{Frame, Position};
+use source::Source;
 
 /// A validated scene in SI units.
 #[derive(Debug, Clone)]
@@ -45,6 +53,8 @@ pub struct Scene {
     pub description: String,
     /// The file it came from.
     pub source: PathBuf,
+    /// The files it extends (`extends`), nearest first.
+    pub bases: Vec<PathBuf>,
     /// The rotor to mesh.
     pub rotor: RotorSpec,
     /// Thickness map of the shell, if the rotor is a roll with a map.
@@ -276,10 +286,10 @@ pub struct Drive {
     pub axial_damping: f64,
 }
 
-/// Checks values and reports errors at their key and line.
+/// Checks values and reports errors at their key and line, in the file that wrote the key.
 struct Check<'a> {
     file: &'a Path,
-    text: &'a str,
+    source: &'a Source,
     overridden: &'a [String],
 }
 
@@ -288,11 +298,12 @@ impl Check<'_> {
         if self.overridden.iter().any(|k| key.starts_with(k.as_str())) {
             return InputError::new(Path::new("<command line --set>"), reason).with_key(key);
         }
-        let e = InputError::new(self.file, reason).with_key(key);
-        match locate::line_of(self.text, key) {
-            Some(l) => e.at_line(l),
-            None => e,
-        }
+        self.source.err(key, reason)
+    }
+
+    /// An axial position (`position.rs`) in mm on the scene's axis.
+    fn position(&self, key: &str, p: &Position, frame: &Frame) -> Result<f64, InputError> {
+        p.mm(frame).map_err(|r| self.err(key, r))
     }
 
     fn positive(&self, key: &str, v: f64) -> Result<f64, InputError> {
@@ -406,6 +417,33 @@ pub fn set_path(root: &mut toml::Value, key: &str, value: toml::Value) -> Result
     set_in(root, &steps, value, key)
 }
 
+/// The merged table of a scene (`source`) with `key=value` overrides applied in order, and the
+/// keys they set. An override that replaces an earlier one, or whose path does not fit the
+/// table, is an error at the command line.
+pub fn with_overrides(
+    source: &Source,
+    overrides: &[String],
+) -> Result<(toml::Value, Vec<String>), InputError> {
+    let cli = Path::new("<command line --set>");
+    let mut table = toml::Value::Table(source.table.clone());
+    let mut keys: Vec<String> = Vec::new();
+    for o in overrides {
+        let (k, v) = parse_override(o).map_err(|r| InputError::new(cli, r))?;
+        if let Some(other) = keys.iter().find(|p| replaces(&k, p)) {
+            return Err(InputError::new(
+                cli,
+                format!(
+                    "`{k}` would replace `{other}`, given before it: `{other}` would be dropped"
+                ),
+            )
+            .with_key(k));
+        }
+        set_path(&mut table, &k, v).map_err(|r| InputError::new(cli, r).with_key(k.clone()))?;
+        keys.push(k);
+    }
+    Ok((table, keys))
+}
+
 /// The dotted key a deserialisation error of the overridden scene `table` is about.
 fn override_error_key(table: &toml::Value) -> Option<String> {
     let text = toml::to_string(table).ok()?;
@@ -414,7 +452,7 @@ fn override_error_key(table: &toml::Value) -> Option<String> {
 }
 
 impl Scene {
-    /// Reads, overrides (`key=value`) and validates a scene file.
+    /// Reads, overrides (`key=value`) and validates a scene file (and the files it extends).
     pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, InputError> {
         let text = crate::error::read_text(path)
             .map_err(|e| InputError::new(path, format!("cannot read the scene file: {e}")))?;
@@ -423,36 +461,40 @@ impl Scene {
 
     /// Validates a scene given as text (`path` names it in errors and anchors relative paths).
     pub fn from_text(path: &Path, text: &str, overrides: &[String]) -> Result<Scene, InputError> {
-        let mut raw: SceneFile = toml::from_str(text).map_err(|e| {
-            if crate::error::toml_kind(text) == Some("study") {
+        Self::from_source(&Source::from_text(path, text)?, overrides)
+    }
+
+    /// Validates a scene read with its bases ([`Source`]), with `key=value` overrides.
+    pub fn from_source(source: &Source, overrides: &[String]) -> Result<Scene, InputError> {
+        let path = source.path();
+        let not_study = |e: InputError| {
+            if crate::error::toml_kind(&source.layers[0].text) == Some("study") {
                 InputError::new(
                     path,
                     "this is a study file (it names a `scene`), not a scene: run it with \
                      `rotorsweep plan` or `rotorsweep run`",
                 )
             } else {
-                locate::toml_error(path, text, &e)
+                e
             }
-        })?;
-        let mut keys: Vec<String> = Vec::new();
+        };
+        let mut raw: SceneFile = match source.layers.as_slice() {
+            // One file: its own spans give the line of a schema error.
+            [only] => toml::from_str(&only.text)
+                .map_err(|e| not_study(locate::toml_error(path, &only.text, &e)))?,
+            _ => {
+                let table = toml::Value::Table(source.table.clone());
+                table.clone().try_into().map_err(|e: toml::de::Error| {
+                    not_study(match override_error_key(&table) {
+                        Some(k) => source.err(&k, e.message().to_string()),
+                        None => InputError::new(path, e.message().to_string()),
+                    })
+                })?
+            }
+        };
+        let (table, keys) = with_overrides(source, overrides)?;
         if !overrides.is_empty() {
             let cli = Path::new("<command line --set>");
-            let mut table = toml::Value::Table(
-                toml::from_str(text).map_err(|e| locate::toml_error(path, text, &e))?,
-            );
-            for o in overrides {
-                let (k, v) = parse_override(o).map_err(|r| InputError::new(cli, r))?;
-                if let Some(other) = keys.iter().find(|p| replaces(&k, p)) {
-                    return Err(InputError::new(
-                        cli,
-                        format!("`{k}` would replace `{other}`, given before it: `{other}` would be dropped"),
-                    )
-                    .with_key(k));
-                }
-                set_path(&mut table, &k, v)
-                    .map_err(|r| InputError::new(cli, r).with_key(k.clone()))?;
-                keys.push(k);
-            }
             raw = table.clone().try_into().map_err(|e: toml::de::Error| {
                 let err = InputError::new(cli, e.message().to_string());
                 match override_error_key(&table) {
@@ -463,10 +505,12 @@ impl Scene {
         }
         let check = Check {
             file: path,
-            text,
+            source,
             overridden: &keys,
         };
-        build(&check, raw)
+        let mut scene = build(&check, raw)?;
+        scene.bases = source.layers[1..].iter().map(|l| l.path.clone()).collect();
+        Ok(scene)
     }
 }
 
@@ -570,6 +614,7 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         }),
         description: raw.description.clone().unwrap_or_default(),
         source: c.file.to_path_buf(),
+        bases: Vec::new(),
         rotor,
         thickness_map: map,
         boundary,
@@ -853,10 +898,23 @@ fn build_roll(
         ("shell_tending_end".to_string(), 0.0),
         ("shell_drive_end".to_string(), length),
     ];
+    let shell_frame = Frame {
+        start_mm: 0.0,
+        length_mm: length * 1e3,
+        ends: ("tending", "drive"),
+        what: "the shell",
+    };
     let mut sensors = Vec::new();
     for (i, s) in roll.sensors.iter().enumerate() {
         let key = format!("roll.sensors[{i}]");
-        let z = 1e-3 * c.range(&format!("{key}.z_mm"), s.z_mm, 0.0, length * 1e3)?;
+        let zk = format!("{key}.z_mm");
+        let z = 1e-3
+            * c.range(
+                &zk,
+                c.position(&zk, &s.z_mm, &shell_frame)?,
+                0.0,
+                length * 1e3,
+            )?;
         if named_points.iter().any(|(n, _)| n == &s.name) {
             return Err(c.err(
                 &format!("{key}.name"),
@@ -878,7 +936,7 @@ fn build_roll(
         z_start,
         disks: &[],
     };
-    let point_masses = masses(c, "roll.masses", &roll.masses, &body)?;
+    let point_masses = masses(c, "roll.masses", &roll.masses, &body, &shell_frame)?;
     let balancing = match &roll.balancing {
         Some(b) => {
             let key = "roll.balancing.planes_mm";
@@ -892,7 +950,9 @@ fn build_roll(
             for (i, z) in b.planes_mm.iter().enumerate() {
                 let lo = z_start * 1e3;
                 let hi = (length + outboard) * 1e3;
-                planes.push(1e-3 * c.range(&format!("{key}[{i}]"), *z, lo, hi)?);
+                let k = format!("{key}[{i}]");
+                let z = c.position(&k, z, &shell_frame)?;
+                planes.push(1e-3 * c.range(&k, z, lo, hi)?);
             }
             let mut sorted = planes.clone();
             sorted.sort_by(f64::total_cmp);
@@ -1062,6 +1122,7 @@ fn masses(
     key: &str,
     list: &[MassFile],
     body: &Body,
+    frame: &Frame,
 ) -> Result<Vec<PointMassSpec>, InputError> {
     let z_start = body.z_start;
     let z_end = z_start + body.segments.iter().map(|s| s.length).sum::<f64>();
@@ -1069,7 +1130,9 @@ fn masses(
         .enumerate()
         .map(|(i, m)| {
             let k = format!("{key}[{i}]");
-            let z = 1e-3 * c.range(&format!("{k}.z_mm"), m.z_mm, z_start * 1e3, z_end * 1e3)?;
+            let zk = format!("{k}.z_mm");
+            let z_mm = c.position(&zk, &m.z_mm, frame)?;
+            let z = 1e-3 * c.range(&zk, z_mm, z_start * 1e3, z_end * 1e3)?;
             let radius = 1e-3 * c.non_negative(&format!("{k}.radius_mm"), m.radius_mm)?;
             let angle =
                 c.range(&format!("{k}.angle_deg"), m.angle_deg, -360.0, 360.0)? * PI / 180.0;
@@ -1162,10 +1225,19 @@ fn build_rotor(
     }
     let z0 = 1e-3 * c.finite("rotor.z_start_mm", r.z_start_mm)?;
     let z1 = z0 + segments.iter().map(|s| s.length).sum::<f64>();
-    let in_rotor = |key: &str, z_mm: f64| c.range(key, z_mm, z0 * 1e3, z1 * 1e3).map(|z| z * 1e-3);
+    let frame = Frame {
+        start_mm: z0 * 1e3,
+        length_mm: (z1 - z0) * 1e3,
+        ends: ("start", "end"),
+        what: "the rotor",
+    };
+    let in_rotor = |key: &str, z: &Position| {
+        let z_mm = c.position(key, z, &frame)?;
+        c.range(key, z_mm, z0 * 1e3, z1 * 1e3).map(|z| z * 1e-3)
+    };
     let mut named_points = Vec::new();
     for (name, z) in &r.nodes {
-        named_points.push((name.clone(), in_rotor(&format!("rotor.nodes.{name}"), *z)?));
+        named_points.push((name.clone(), in_rotor(&format!("rotor.nodes.{name}"), z)?));
     }
     let mut sensors = Vec::new();
     for (i, s) in r.sensors.iter().enumerate() {
@@ -1176,14 +1248,14 @@ fn build_rotor(
                 format!("duplicate node name `{}`", s.name),
             ));
         }
-        named_points.push((s.name.clone(), in_rotor(&format!("{k}.z_mm"), s.z_mm)?));
+        named_points.push((s.name.clone(), in_rotor(&format!("{k}.z_mm"), &s.z_mm)?));
         sensors.push(s.name.clone());
     }
     let mut disks = Vec::new();
     for (i, d) in r.disks.iter().enumerate() {
         let k = format!("rotor.disks[{i}]");
         let disk = DiskSpec {
-            z: in_rotor(&format!("{k}.z_mm"), d.z_mm)?,
+            z: in_rotor(&format!("{k}.z_mm"), &d.z_mm)?,
             mass: c.positive(&format!("{k}.mass_kg"), d.mass_kg)?,
             polar: c.non_negative(&format!("{k}.polar_kg_m2"), d.polar_kg_m2)?,
             diametral: c.non_negative(&format!("{k}.diametral_kg_m2"), d.diametral_kg_m2)?,
@@ -1202,7 +1274,7 @@ fn build_rotor(
         z_start: z0,
         disks: &disks,
     };
-    let point_masses = masses(c, "rotor.masses", &r.masses, &body)?;
+    let point_masses = masses(c, "rotor.masses", &r.masses, &body, &frame)?;
     Ok((
         RotorSpec {
             z_start: z0,

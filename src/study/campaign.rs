@@ -26,12 +26,13 @@
 //! after checking its study digest, so a campaign of n shards computes each once. The shard
 //! files are the same either way.
 //!
+//! Progress goes to stderr (a bar on a terminal) and is appended to `OUT.h5.log` (`progress`).
+//!
 //! Each job runs on one thread; results do not depend on the thread count. A job that panics,
 //! diverges, exhausts its budget, or whose model cannot be built is a result with its status
 //! and cause.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::io::IsTerminal;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -40,6 +41,7 @@ use std::sync::{mpsc, Arc};
 use rayon::prelude::*;
 
 use super::identity::{compare, describe_mismatch, Identity};
+use super::progress::{Progress, RunLog};
 use super::{Job, Study};
 use crate::dynamics::linear::LinearSystem;
 use crate::error::InputError;
@@ -442,6 +444,7 @@ fn stored_identity(path: &Path) -> Result<(String, Option<String>, String), Camp
 /// Runs a study (module doc).
 pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     let _lock = OutputLock::acquire(&opts.output)?;
+    RunLog::check(&opts.output)?;
     let identity = Identity::of(study)?;
     let dir = parts_dir(&opts.output);
     let only = opts.references == ReferenceSource::Only;
@@ -547,6 +550,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         _ => None,
     };
     output::check_working_file(&store::with_suffix(&opts.output, ".tmp"))?;
+    let log = RunLog::open(&opts.output)?;
     std::fs::create_dir_all(&dir).map_err(|e| CampaignError::io(&dir, e))?;
     let wanted: BTreeSet<&str> = jobs
         .iter()
@@ -690,7 +694,14 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     let resumed = jobs.iter().filter(|j| done.contains(&j.id)).count();
     work.retain(|w| !done.contains(&w.id));
     let total = work.len();
-    let progress = Progress::new(total as u64);
+    let progress = Progress::new(
+        total as u64,
+        log,
+        &format!(
+            "{} (shard {shard_text}, {} threads): {total} runs to do, {resumed} saved before",
+            opts.command, opts.threads
+        ),
+    );
     let (tx, rx) = mpsc::channel::<(usize, JobResult)>();
     let mut write_error: Option<CampaignError> = None;
     // Set at the first failed save: no new job starts; running ones finish.
@@ -743,7 +754,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         for (i, r) in rx {
             let w = &work[i];
             let saved = save_part(&dir, w, &r, w.scene.solver.integrator.name(), &identity);
-            progress.job_done(w, &r, saved.as_ref().err());
+            progress.job_done(
+                &w.id,
+                &w.name,
+                &r.stats,
+                saved.as_ref().err().map(|e| e as &dyn std::fmt::Display),
+            );
             if let Err(e) = saved {
                 stop.store(true, Ordering::SeqCst);
                 write_error.get_or_insert(e);
@@ -815,8 +831,7 @@ fn pilot_run(
         .map(|(k, v)| format!("{k}={}", super::value_text(v)))
         .collect();
     over.push("outputs.modal=true".into());
-    let text = std::fs::read_to_string(&study.scene_path).map_err(|e| e.to_string())?;
-    let scene = Scene::from_text(&study.scene_path, &text, &over).map_err(|e| e.to_string())?;
+    let scene = Scene::load(&study.scene_path, &over).map_err(|e| e.to_string())?;
     let r = run_one(&scene, &model);
     if r.stats.status != Status::Ok {
         return Err(format!("{}: {}", r.stats.status.name(), r.stats.cause));
@@ -1297,100 +1312,6 @@ pub fn write_summary(f: &hdf5::File, varying: &[String]) -> hdf5::Result<()> {
         });
     }
     store::compound_table(f, "summary", &cols)
-}
-
-/// Seconds as `m:ss` (or `h:mm:ss`).
-fn clock(s: f64) -> String {
-    let s = s.round() as u64;
-    if s >= 3600 {
-        format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
-    } else {
-        format!("{}:{:02}", s / 60, s % 60)
-    }
-}
-
-/// Progress: an indicatif bar on a terminal, plain lines otherwise. Each line names the job
-/// (id, labels or varying values), the elapsed time and an ETA from the mean time per job.
-struct Progress {
-    bar: Option<indicatif::ProgressBar>,
-    start: std::time::Instant,
-    total: u64,
-    done: std::cell::Cell<u64>,
-    failed: std::cell::Cell<u64>,
-}
-
-impl Progress {
-    fn new(total: u64) -> Self {
-        let bar = std::io::stderr().is_terminal().then(|| {
-            let b = indicatif::ProgressBar::new(total);
-            b.set_style(
-                indicatif::ProgressStyle::with_template(
-                    "{bar:40} {pos}/{len} jobs, {msg} failed, {elapsed} elapsed, ETA {eta}",
-                )
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-            );
-            b.set_message("0");
-            b
-        });
-        Self {
-            bar,
-            start: std::time::Instant::now(),
-            total,
-            done: 0.into(),
-            failed: 0.into(),
-        }
-    }
-
-    /// Reports a finished run: its status, or that it could not be saved (then it is not ok,
-    /// whatever the integrator said).
-    fn job_done(&self, w: &Work, r: &JobResult, not_saved: Option<&CampaignError>) {
-        self.done.set(self.done.get() + 1);
-        if r.stats.status != Status::Ok || not_saved.is_some() {
-            self.failed.set(self.failed.get() + 1);
-        }
-        let (done, total) = (self.done.get(), self.total);
-        let elapsed = self.start.elapsed().as_secs_f64();
-        let eta = elapsed / done as f64 * total.saturating_sub(done) as f64;
-        let head = format!(
-            "[{done}/{total} {} elapsed, ETA {}] {} ({})",
-            clock(elapsed),
-            clock(eta),
-            w.id,
-            w.name
-        );
-        let line = match not_saved {
-            Some(e) => format!(
-                "{head} NOT SAVED ({} in memory): {e}",
-                r.stats.status.name()
-            ),
-            None => format!(
-                "{head} {} cpu {:.3} s{}",
-                r.stats.status.name(),
-                r.stats.cpu_time_s,
-                if r.stats.cause.is_empty() {
-                    String::new()
-                } else {
-                    format!(": {}", r.stats.cause)
-                }
-            ),
-        };
-        match &self.bar {
-            Some(b) => {
-                b.inc(1);
-                b.set_message(self.failed.get().to_string());
-                if not_saved.is_some() {
-                    b.println(line);
-                }
-            }
-            None => eprintln!("{line}"),
-        }
-    }
-
-    fn finish(&self) {
-        if let Some(b) = &self.bar {
-            b.finish();
-        }
-    }
 }
 
 /// How to merge shard files.

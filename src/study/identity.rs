@@ -2,10 +2,10 @@
 //! join results of the same inputs.
 //!
 //! In: a loaded [`Study`]. Out: an [`Identity`]: the SHA-256 of every file the study reads
-//! (the study file, its base scene, every thickness map a job's scene reads) and one digest
-//! over them. Paths are taken relative to the study file's folder, so a study moved whole (or
-//! run from another working directory, or on another cluster node) keeps its identity; any
-//! edit of any of its files changes it.
+//! (the study file, its base scene, the scenes that one `extends`, every thickness map a job's
+//! scene reads) and one digest over them. Paths are taken relative to the study file's folder,
+//! so a study moved whole (or run from another working directory, or on another cluster node)
+//! keeps its identity; any edit of any of its files changes it.
 //!
 //! Stored as the attributes `study_digest` (hex) and `study_inputs` (a JSON array of
 //! `{role, path, sha256}`, so any character in a path survives) in every part file and results
@@ -69,13 +69,15 @@ impl Identity {
             std::fs::read(p).map_err(|e| InputError::new(p, format!("cannot read: {e}")))
         };
         let scene_bytes = read(&study.scene_path)?;
-        let scene: toml::Table = std::str::from_utf8(&scene_bytes)
-            .ok()
-            .and_then(|t| toml::from_str(t).ok())
-            .unwrap_or_default();
+        // The merged table of the scene and the scenes it extends (each one an input too).
+        let source = crate::scene::source::Source::load(&study.scene_path)?;
+        let scene = &source.table;
         let mut files: BTreeSet<(String, PathBuf)> = BTreeSet::new();
         files.insert(("study".into(), study.path.clone()));
         files.insert(("scene".into(), study.scene_path.clone()));
+        for base in &source.layers[1..] {
+            files.insert(("base scene".into(), base.path.clone()));
+        }
         let scene_dir = study.scene_path.parent().unwrap_or(Path::new("."));
         let overrides = study
             .jobs
@@ -83,7 +85,7 @@ impl Identity {
             .map(|j| &j.overrides)
             .chain(study.references.iter().map(|r| &r.overrides));
         for o in overrides {
-            if let Some(m) = map_of(&scene, o) {
+            if let Some(m) = map_of(scene, o) {
                 files.insert(("map".into(), scene_dir.join(m)));
             }
         }

@@ -19,6 +19,7 @@
 pub mod campaign;
 pub mod identity;
 pub mod post;
+pub mod progress;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -26,6 +27,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::error::InputError;
+use crate::scene::source::Source;
 use crate::scene::{locate, replaces, set_path, Scene};
 
 /// The pseudo-key that asks for strain-energy pruning (not a scene key).
@@ -301,9 +303,11 @@ pub(crate) fn value_text(v: &toml::Value) -> String {
     }
 }
 
-/// The text of every file a scene reads (the scene and its thickness map), for hashing.
-fn scene_inputs(scene_path: &Path, merged: &toml::Value) -> String {
-    let mut text = crate::error::read_text(scene_path).unwrap_or_default();
+/// The text of every file a scene reads (the scene, the scenes it extends and its thickness
+/// map), for hashing.
+fn scene_inputs(source: &Source, merged: &toml::Value) -> String {
+    let scene_path = source.path();
+    let mut text: String = source.layers.iter().map(|l| l.text.as_str()).collect();
     if let Some(csv) = merged
         .get("roll")
         .and_then(|r| r.get("shell"))
@@ -637,8 +641,7 @@ fn replaced_keys(
 /// coordinates recorded. [pruning] without a pruned job is an error, not a silent no-op.
 fn pilots_load(
     c: &Ctx,
-    scene_path: &Path,
-    scene_text: &str,
+    source: &Source,
     jobs: &[Job],
     pilot: &[(String, toml::Value)],
 ) -> Result<(), InputError> {
@@ -664,7 +667,7 @@ fn pilots_load(
             .map(|(k, v)| format!("{k}={}", value_text(v)))
             .collect();
         over.push("outputs.modal=true".into());
-        Scene::from_text(scene_path, scene_text, &over).map_err(|e| {
+        Scene::from_source(source, &over).map_err(|e| {
             let key = override_key(&e, pilot);
             let at = if pilot.iter().any(|(k, _)| *k == key) {
                 format!("pruning.{key}")
@@ -706,8 +709,8 @@ impl Study {
                 format!("cannot read {}: {e}", scene_path.display()),
             )
         })?;
-        let scene_table: toml::Table = toml::from_str(&scene_text)
-            .map_err(|e| locate::toml_error(&scene_path, &scene_text, &e))?;
+        let source = Source::from_text(&scene_path, &scene_text)?;
+        let scene_table = source.table.clone();
         let mut base = Vec::new();
         flatten("", &raw.set, &mut base);
         let mut axes = Vec::new();
@@ -886,7 +889,7 @@ impl Study {
                 .iter()
                 .map(|(k, v)| format!("{k}={}", value_text(v)))
                 .collect();
-            let scene = Scene::from_text(&scene_path, &scene_text, &strings).map_err(|mut e| {
+            let scene = Scene::from_source(&source, &strings).map_err(|mut e| {
                 let key = override_key(&e, &overrides);
                 if e.file.as_os_str() == "<command line --set>" {
                     let mut err = c.err(&locate_key(&key), format!("job {index}: {}", e.reason));
@@ -917,7 +920,7 @@ impl Study {
             for (k, v) in &overrides {
                 set_path(&mut merged, k, v.clone()).map_err(|r| c.err(&locate_key(k), r))?;
             }
-            let inputs = scene_inputs(&scene_path, &merged);
+            let inputs = scene_inputs(&source, &merged);
             let model_part = canonical(&merged, &["materials", "roll", "rotor", "reduction"], &[]);
             let model_id = hash_id('m', &[&inputs, &model_part]);
             let linear_part = canonical(
@@ -969,7 +972,7 @@ impl Study {
                     .iter()
                     .map(|(k, v)| format!("{k}={}", value_text(v)))
                     .collect();
-                let rscene = Scene::from_text(&scene_path, &scene_text, &rs).map_err(|e| {
+                let rscene = Scene::from_source(&source, &rs).map_err(|e| {
                     let key = override_key(&e, &ref_over);
                     let at = if reference.iter().any(|(k, _)| *k == key) {
                         format!("reference.{key}")
@@ -1010,7 +1013,7 @@ impl Study {
         if jobs.is_empty() {
             return Err(c.err("axes", "the study has no jobs: add axes or [[jobs]]"));
         }
-        pilots_load(&c, &scene_path, &scene_text, &jobs, &pilot)?;
+        pilots_load(&c, &source, &jobs, &pilot)?;
         // Every line a study asks for must lie below the Nyquist frequency of its job's record
         // (with the default orders, lines above it are stored as NaN).
         let top = raw.analysis.orders.iter().copied().fold(0.0, f64::max);

@@ -319,3 +319,31 @@ pub fn results_content(path: &std::path::Path) -> Vec<(String, Vec<u64>)> {
     }
     out
 }
+
+/// A fresh, empty directory of this test process under the system temp dir, named after the
+/// test binary.
+pub fn scratch(name: &str) -> std::path::PathBuf {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static N: AtomicUsize = AtomicUsize::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "rotorsweep-{}-{}-{}-{name}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("create scratch dir");
+    dir
+}
+
+/// 1-based line of the one line that reads exactly `line` (after trimming).
+pub fn line_number(text: &str, line: &str) -> usize {
+    let hits: Vec<usize> = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.trim() == line)
+        .map(|(i, _)| i + 1)
+        .collect();
+    assert_eq!(hits.len(), 1, "`{line}` must occur on exactly one line");
+    hits[0]
+}
