@@ -460,6 +460,7 @@ fn every_commented_example_loads_once_uncommented() {
         }
     }
     // The examples of the reference roll (synthetic map, masses, linear supports), the Jeffcott
-    // rotor (speed-dependent springs), the timing case (custom damping) and smoke's [[jobs]].
-    assert_eq!(checked.len(), 6, "{checked:#?}");
+    // rotor (speed-dependent springs), the timing case (custom damping) and smoke's [[jobs]],
+    // [analysis] and [linear].
+    assert_eq!(checked.len(), 8, "{checked:#?}");
 }
