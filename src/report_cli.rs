@@ -13,7 +13,8 @@ pub struct Args {
     /// Output format: md (markdown), csv (each table after a `# title` line) or json.
     #[arg(long, default_value = "md", value_name = "md|csv|json")]
     format: Format,
-    /// Only this table: solver, resonances, trial_mass, stability or linear (in CSV without the title
+    /// Only this table: solver, resonances, trial_mass, stability, linear, orders or
+    /// order_resonances (in CSV without the title
     /// line, so that pandas.read_csv reads it).
     #[arg(long, value_name = "NAME")]
     table: Option<String>,

@@ -561,6 +561,8 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
     }
     let modes =
         ModeSelection::parse(&raw.reduction.modes).map_err(|r| c.err("reduction.modes", r))?;
+    let speed = run::speed(c, &raw.speed)?;
+    let simulation = run::simulation(c, &raw.simulation)?;
     let scene = Scene {
         name: raw.name.clone().unwrap_or_else(|| {
             c.file
@@ -577,11 +579,11 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         sensors,
         supports,
         drive,
-        speed: run::speed(c, &raw.speed)?,
+        outputs: run::outputs(&raw.outputs, &speed, &simulation),
+        speed,
         damping: run::damping(c, &raw.damping)?,
-        simulation: run::simulation(c, &raw.simulation)?,
+        simulation,
         solver: run::solver(c, &raw.solver)?,
-        outputs: run::outputs(&raw.outputs),
     };
     record_size(c, &scene)?;
     Ok(scene)
@@ -667,6 +669,9 @@ impl Scene {
         }
         if o.modal {
             n += self.modal_coordinates();
+        }
+        if o.speed {
+            n += 2;
         }
         n
     }
