@@ -7,6 +7,7 @@
 //! while writing (disk full, read-only folder: the message names the path and the OS error);
 //! 75 the output is in use by another rotorsweep process (try again later).
 
+mod balance_cli;
 mod campaign_cli;
 mod linear_cli;
 mod modes;
@@ -58,6 +59,9 @@ enum Command {
     Merge(campaign_cli::MergeArgs),
     /// Tables of a study results file: solver cost and error, resonances, trial masses, stability.
     Report(report_cli::Args),
+    /// Influence-coefficient balancing from a study's trial-mass runs: corrections, predicted
+    /// residual, and with --check a run of the corrected roll.
+    Balance(balance_cli::Args),
 }
 
 fn main() -> ExitCode {
@@ -88,6 +92,7 @@ fn main() -> ExitCode {
         Command::Run(a) => campaign_cli::run(&a),
         Command::Merge(a) => campaign_cli::merge(&a).map(|()| true),
         Command::Report(a) => report_cli::run(&a).map(|()| true),
+        Command::Balance(a) => balance_cli::run(&a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

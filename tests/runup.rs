@@ -212,33 +212,16 @@ fn a_study_stores_tracked_orders_and_the_report_lists_them() {
          orders = [1.0, 2.0]\norder_revolutions = 4.0\n",
     );
     let out = dir.join("out.h5");
-    let bin = env!("CARGO_BIN_EXE_rotorsweep");
-    let run = std::process::Command::new(bin)
-        .args(["run", study.to_str().unwrap(), "-o", out.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let rep = std::process::Command::new(bin)
-        .args([
-            "report",
-            out.to_str().unwrap(),
-            "--table",
-            "orders",
-            "--format",
-            "json",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        rep.status.success(),
-        "{}",
-        String::from_utf8_lossy(&rep.stderr)
-    );
-    let doc: serde_json::Value = serde_json::from_slice(&rep.stdout).unwrap();
+    common::rotorsweep_ok(&["run", study.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let rep = common::rotorsweep_ok(&[
+        "report",
+        out.to_str().unwrap(),
+        "--table",
+        "orders",
+        "--format",
+        "json",
+    ]);
+    let doc: serde_json::Value = serde_json::from_slice(&rep).unwrap();
     let table = &doc["tables"][0];
     let cols: Vec<&str> = table["columns"]
         .as_array()

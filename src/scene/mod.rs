@@ -885,12 +885,15 @@ fn build_roll(
     };
     let point_masses = masses(c, "roll.masses", &roll.masses, &body)?;
     let balancing = match &roll.balancing {
+        // No planes: no balancing masses (the roll with its own unbalance, as trial-mass
+        // balancing starts from).
+        Some(b) if b.planes_mm.is_empty() => None,
         Some(b) => {
             let key = "roll.balancing.planes_mm";
             if !(2..=3).contains(&b.planes_mm.len()) {
                 return Err(c.err(
                     key,
-                    "two planes (rigid balancing) or three (modal) are needed",
+                    "two planes (rigid balancing) or three (modal) are needed (or none: no balancing)",
                 ));
             }
             let mut planes = Vec::new();

@@ -16,6 +16,7 @@
 //! [pruning] without pruned jobs or with model keys. The study's [budget] binds the reference
 //! runs too, unless [reference] sets `solver.cpu_budget_s` / `solver.max_steps` itself.
 
+pub mod balancing;
 pub mod campaign;
 pub mod identity;
 pub mod orders;

@@ -329,3 +329,18 @@ modes = "12n+12st"
 "#
     )
 }
+
+/// Runs the rotorsweep binary with `args` and returns its standard output; panics with its
+/// standard error when it fails.
+pub fn rotorsweep_ok(args: &[&str]) -> Vec<u8> {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rotorsweep"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "rotorsweep {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}
