@@ -18,6 +18,10 @@ pub struct Args {
     /// Run the corrected roll at every speed and report its 1× (`check`).
     #[arg(long)]
     check: bool,
+    /// The study file for --check (default: the path the run was given, from the working
+    /// directory).
+    #[arg(long, requires = "check", value_name = "STUDY")]
+    study: Option<PathBuf>,
     /// Print one JSON object.
     #[arg(long)]
     json: bool,
@@ -28,7 +32,7 @@ pub struct Args {
     #[arg(long, conflicts_with = "angles_deg", value_name = "N")]
     holes: Option<usize>,
     /// At most this mass [g] per plane.
-    #[arg(long, value_name = "G")]
+    #[arg(long, value_name = "G", allow_negative_numbers = true)]
     max_mass_g: Option<f64>,
 }
 
@@ -55,7 +59,7 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut b = balancing::balance(&a.file, &limits)?;
     if a.check {
-        balancing::check(&mut b)?;
+        balancing::check(&mut b, a.study.as_deref())?;
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&b)?);

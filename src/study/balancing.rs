@@ -73,9 +73,9 @@ pub struct Balance {
     /// The masses axis key and the reference's masses (TOML).
     #[serde(skip)]
     masses: (String, Vec<toml::Value>),
-    /// The study file.
+    /// The study file as the run named it, and its text then.
     #[serde(skip)]
-    study_path: PathBuf,
+    study: (PathBuf, String),
 }
 
 /// A row of `/analysis/lines`.
@@ -276,7 +276,10 @@ pub fn balance(path: &Path, limits: &PlaneLimits) -> Result<Balance, InputError>
         .zip(b.iter().zip(&after))
         .map(|((s, c), (bb, aa))| residual(*s, c, bb.norm(), aa.norm()))
         .collect();
-    let study_path = PathBuf::from(store::read_str(&f, "study_path").unwrap_or_default());
+    let study = (
+        PathBuf::from(store::read_str(&f, "study_path").unwrap_or_default()),
+        text.clone(),
+    );
     Ok(Balance {
         corrections,
         predicted,
@@ -284,7 +287,7 @@ pub fn balance(path: &Path, limits: &PlaneLimits) -> Result<Balance, InputError>
         planes: planes.iter().map(|p| p.0).collect(),
         references,
         masses: (key, ref_masses),
-        study_path,
+        study,
     })
 }
 
@@ -299,9 +302,24 @@ fn residual(speed_hz: f64, channel: &str, before: f64, after: f64) -> Residual {
     }
 }
 
-/// Runs the corrected roll at every speed (module doc) and stores the 1× in `b.check`.
-pub fn check(b: &mut Balance) -> Result<(), InputError> {
-    let study = Study::load(&b.study_path)?;
+/// Runs the corrected roll at every speed (module doc) and stores the 1× in `b.check`. The
+/// study file is `study` when given, else the path the run named (relative to the working
+/// directory, as `run` was given it); it must be the text the run used.
+pub fn check(b: &mut Balance, study: Option<&Path>) -> Result<(), InputError> {
+    let path = study.unwrap_or(&b.study.0).to_path_buf();
+    let now = crate::error::read_text(&path).map_err(|e| {
+        InputError::new(
+            &path,
+            format!("cannot read the study file for the check run ({e}): name it with --study"),
+        )
+    })?;
+    if now != b.study.1 {
+        return Err(InputError::new(
+            &path,
+            "is not the study text the results were made from (changed since the run?)",
+        ));
+    }
+    let study = Study::load(&path)?;
     let scene_text = crate::error::read_text(&study.scene_path)
         .map_err(|e| InputError::new(&study.scene_path, e.to_string()))?;
     let (key, ref_masses) = &b.masses;
@@ -319,9 +337,9 @@ pub fn check(b: &mut Balance) -> Result<(), InputError> {
     for (speed, rid) in &b.references {
         let job = study.jobs.iter().find(|j| &j.id == rid).ok_or_else(|| {
             InputError::new(
-                &b.study_path,
+                &path,
                 format!(
-                    "the study no longer has the reference job {rid}: it changed since the run"
+                    "the study no longer has the reference job {rid}: its scene changed since the run"
                 ),
             )
         })?;
