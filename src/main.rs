@@ -9,6 +9,7 @@
 
 mod balance_cli;
 mod campaign_cli;
+mod import_cli;
 mod linear_cli;
 mod modes;
 mod report_cli;
@@ -62,6 +63,8 @@ enum Command {
     /// Influence-coefficient balancing from a study's trial-mass runs: corrections, predicted
     /// residual, and with --check a run of the corrected roll.
     Balance(balance_cli::Args),
+    /// A measured record (CSV) into a results file, analysed like a simulated job.
+    Import(import_cli::Args),
 }
 
 fn main() -> ExitCode {
@@ -93,6 +96,7 @@ fn main() -> ExitCode {
         Command::Merge(a) => campaign_cli::merge(&a).map(|()| true),
         Command::Report(a) => report_cli::run(&a).map(|()| true),
         Command::Balance(a) => balance_cli::run(&a).map(|()| true),
+        Command::Import(a) => import_cli::run(&a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

@@ -19,6 +19,7 @@
 pub mod balancing;
 pub mod campaign;
 pub mod identity;
+pub mod measured;
 pub mod orders;
 pub mod post;
 
