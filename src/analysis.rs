@@ -13,6 +13,9 @@ use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
 
+pub mod balancing;
+pub mod orders;
+
 /// The periodic (DFT-even) Hanning window of length n: w_i = ½(1 − cos 2πi/n), Σw = n/2.
 pub fn hanning(n: usize) -> Vec<f64> {
     let tau = std::f64::consts::TAU;
@@ -87,23 +90,33 @@ pub fn mean_and_spectrum(x: &[f64], fs: f64) -> (f64, Spectrum) {
 /// Zeros for fewer than two samples.
 pub fn lines(x: &[f64], t: &[f64], freqs_hz: &[f64]) -> Vec<Complex64> {
     let n = x.len().min(t.len());
-    let k = freqs_hz.len();
+    weighted_lines(&x[..n], &t[..n], &hanning(n), freqs_hz)
+}
+
+/// The weighted least-squares fit behind [`lines`], for any abscissa: x ≈ m + Σ_k A_k cos(2π f_k
+/// s + φ_k) with weights `w` (one per sample), returned as A_k e^{iφ_k}. With s the time [s] and
+/// f_k in Hz it is [`lines`]; with s the roll angle in revolutions and f_k orders it fits orders
+/// in the angle domain (`orders`). Zeros for fewer than two samples.
+pub fn weighted_lines(x: &[f64], s: &[f64], w: &[f64], freqs: &[f64]) -> Vec<Complex64> {
+    let n = x.len().min(s.len()).min(w.len());
+    let k = freqs.len();
     if n < 2 {
         return vec![Complex64::new(0.0, 0.0); k];
     }
-    let w = hanning(n);
     let m = 2 * k + 1;
     let tau = std::f64::consts::TAU;
     let mut a = DMatrix::<f64>::zeros(m, m);
     let mut b = DVector::<f64>::zeros(m);
     let mut phi = vec![0.0; m];
+    let mut sw = 0.0;
     for i in 0..n {
         phi[0] = 1.0;
-        for (j, f) in freqs_hz.iter().enumerate() {
-            let (s, c) = (tau * f * t[i]).sin_cos();
+        for (j, f) in freqs.iter().enumerate() {
+            let (sn, c) = (tau * f * s[i]).sin_cos();
             phi[1 + 2 * j] = c;
-            phi[2 + 2 * j] = s;
+            phi[2 + 2 * j] = sn;
         }
+        sw += w[i];
         for r in 0..m {
             let wr = w[i] * phi[r];
             b[r] += wr * x[i];
@@ -113,8 +126,8 @@ pub fn lines(x: &[f64], t: &[f64], freqs_hz: &[f64]) -> Vec<Complex64> {
         }
     }
     a.fill_lower_triangle_with_upper_triangle();
-    // Relative cut-off for the pseudo-inverse: the Gram matrix's scale is Σw = n/2.
-    let eps = 1e-12 * n as f64;
+    // Relative cut-off for the pseudo-inverse: the Gram matrix's scale is Σw (n/2 for Hann).
+    let eps = 2e-12 * sw;
     let sol = a
         .svd(true, true)
         .solve(&b, eps)

@@ -226,6 +226,14 @@ fn run_window(sc: &Scene) {
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
+        SpeedProfile::Table { times, speeds, .. } => format!(
+            "table of {} points, {:.4} Hz at {} s … {:.4} Hz at {} s (linear between)",
+            times.len(),
+            speeds.first().map_or(f64::NAN, |w| hz(*w)),
+            times.first().copied().unwrap_or(f64::NAN),
+            speeds.last().map_or(f64::NAN, |w| hz(*w)),
+            times.last().copied().unwrap_or(f64::NAN)
+        ),
     };
     let sim = &sc.simulation;
     println!("speed: {speed}");

@@ -3,8 +3,8 @@
 //!
 //! In: a validated [`Scene`] and its [`Model`].
 //! Out: a [`JobResult`]: solver statistics (status, cause, counts, times) and sampled channels
-//! (runout and journal/stand motion in µm, contact forces in N, modal coordinates), each with its
-//! units. A failure at any stage is a result with status `diverged` and its cause, never a panic.
+//! (runout and journal/stand motion in µm, contact forces in N, modal coordinates, and the spin
+//! speed [Hz] and roll angle [rad] when the scene records them), each with its units. A failure at any stage is a result with status `diverged` and its cause, never a panic.
 
 use nalgebra::DVector;
 
@@ -90,6 +90,10 @@ impl<'a> Recorder<'a> {
                 add(format!("modal/{i:03}"), "kg^0.5 m");
             }
         }
+        if o.speed {
+            add("speed/hz".into(), "Hz");
+            add("speed/roll_angle".into(), "rad");
+        }
         let sim = &scene.simulation;
         Self {
             sys,
@@ -142,6 +146,11 @@ impl<'a> Recorder<'a> {
             for i in 0..self.sys.nm {
                 push(q[i], &mut self.channels);
             }
+        }
+        if o.speed {
+            let (theta, omega, _) = self.scene.speed.at(t);
+            push(omega / std::f64::consts::TAU, &mut self.channels);
+            push(theta, &mut self.channels);
         }
         self.time.push(t);
     }

@@ -7,8 +7,10 @@
 //! while writing (disk full, read-only folder: the message names the path and the OS error);
 //! 75 the output is in use by another rotorsweep process (try again later).
 
+mod balance_cli;
 mod campaign_cli;
 mod check_cli;
+mod import_cli;
 mod keys_cli;
 mod linear_cli;
 mod modes;
@@ -68,6 +70,11 @@ enum Command {
     Check(check_cli::Args),
     /// Every key a scene file accepts (type, units, default, range, meaning), as Markdown.
     Keys(keys_cli::Args),
+    /// Influence-coefficient balancing from a study's trial-mass runs: corrections, predicted
+    /// residual, and with --check a run of the corrected roll.
+    Balance(balance_cli::Args),
+    /// A measured record (CSV) into a results file, analysed like a simulated job.
+    Import(import_cli::Args),
 }
 
 fn main() -> ExitCode {
@@ -100,6 +107,8 @@ fn main() -> ExitCode {
         Command::Report(a) => report_cli::run(&a).map(|()| true),
         Command::Check(a) => check_cli::run(&a).map(|()| true),
         Command::Keys(a) => keys_cli::run(&a).map(|()| true),
+        Command::Balance(a) => balance_cli::run(&a).map(|()| true),
+        Command::Import(a) => import_cli::run(&a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

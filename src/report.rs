@@ -28,9 +28,13 @@
 //!   every stored speed (damped frequency [Hz]; damping ratio, log decrement and whirl where
 //!   stored, as `linear -o` does and a study's Campbell data does not), the critical speeds
 //!   [Hz] with their whirl and log decrement, the stability threshold [Hz] and the
-//!   Floquet-unstable ranges [Hz] (in markdown a grid of speeds × lowest modes).
+//!   Floquet-unstable ranges [Hz] (in markdown a grid of speeds × lowest modes);
+//! - `orders`, `order_resonances`: order tracking (`/analysis/orders`, module `orders`), when
+//!   some job's speed changed while it recorded.
 //!
 //! Each table appears only when the file holds what it needs.
+
+mod orders;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -1140,6 +1144,8 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
     }
     tables.extend(resonance_table(&f).map_err(failed)?);
     tables.extend(trial_mass_table(&f, label_key).map_err(failed)?);
+    tables.extend(orders::orders_table(&f).map_err(failed)?);
+    tables.extend(orders::order_resonance_table(&f).map_err(failed)?);
     if varying.iter().any(|k| k == INTEGRATOR_KEY) && varying.len() >= 2 {
         tables.push(stability_table(&jobs, &varying));
     }

@@ -22,51 +22,7 @@ const K: f64 = 1.0e5;
 
 /// The rotor with `spring` (TOML inline-table body) and extra support lines at both ends.
 fn scene(spring: &str, extra: &str) -> rotorsweep::scene::Scene {
-    let text = format!(
-        r#"name = "stiff-jeffcott"
-[materials.steel]
-youngs_modulus_gpa = 210.0
-poisson = 0.3
-density_kg_m3 = 7850.0
-[rotor]
-[[rotor.segments]]
-length_mm = 400.0
-outer_diameter_mm = 200.0
-elements = 4
-material = "steel"
-[rotor.nodes]
-bearing_a = 0.0
-bearing_b = 400.0
-[[rotor.sensors]]
-name = "centre"
-z_mm = 200.0
-[[rotor.masses]]
-z_mm = 200.0
-radius_mm = 100.0
-angle_deg = 30.0
-mass_g = 10.0
-[[supports]]
-node = "bearing_a"
-type = "linear"
-spring = {{ {spring} }}
-{extra}
-[[supports]]
-node = "bearing_b"
-type = "linear"
-spring = {{ {spring} }}
-{extra}
-[drive]
-node = "bearing_a"
-axial_stiffness_n_per_m = 1.0e7
-[damping]
-bands = []
-above_ratio = 0.0
-[reduction]
-boundary = ["bearing_a", "bearing_b"]
-modes = "12n+12st"
-"#
-    );
-    common::scene_from_text("jeffcott.toml", &text)
+    common::scene_from_text("jeffcott.toml", &common::stiff_jeffcott(spring, extra, ""))
 }
 
 #[test]

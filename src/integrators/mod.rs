@@ -124,6 +124,14 @@ impl Stats {
         }
     }
 
+    /// The statistics of a record no solver made (an imported measurement): ok, no counts.
+    pub fn unsolved(t_end_s: f64) -> Self {
+        Self {
+            t_end_s,
+            ..Self::new()
+        }
+    }
+
     /// The statistics of a run that failed before its first step.
     pub fn failed(cause: String) -> Self {
         Self {

@@ -43,6 +43,8 @@ pub(super) struct SpeedFile {
     pub ramp_end_s: Option<f64>,
     pub times_s: Option<Vec<f64>>,
     pub steps_hz: Option<Vec<f64>>,
+    pub rate_hz_per_s: Option<f64>,
+    pub table_hz: Option<Vec<f64>>,
 }
 
 impl Default for SpeedFile {
@@ -56,6 +58,8 @@ impl Default for SpeedFile {
             ramp_end_s: None,
             times_s: None,
             steps_hz: None,
+            rate_hz_per_s: None,
+            table_hz: None,
         }
     }
 }
@@ -204,6 +208,7 @@ pub(super) struct OutputsFile {
     pub stand_motion: bool,
     #[serde(default)]
     pub modal: bool,
+    pub speed: Option<bool>,
 }
 
 impl Default for OutputsFile {
@@ -214,6 +219,7 @@ impl Default for OutputsFile {
             contact_forces: false,
             stand_motion: false,
             modal: false,
+            speed: None,
         }
     }
 }

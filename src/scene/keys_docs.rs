@@ -1018,7 +1018,7 @@ pub const DOCS: &[KeyDoc] = &[
         key: "speed.profile",
         units: "",
         default: "constant",
-        range: "constant, ramp, steps",
+        range: "constant, ramp, steps, table",
         meaning: "Speed profile.",
     },
     KeyDoc {
@@ -1052,16 +1052,24 @@ pub const DOCS: &[KeyDoc] = &[
     KeyDoc {
         key: "speed.ramp_end_s",
         units: "s",
-        default: "required for ramp",
+        default: "required for ramp unless rate_hz_per_s",
         range: "> ramp_start_s",
         meaning: "ramp: end time.",
     },
     KeyDoc {
+        key: "speed.rate_hz_per_s",
+        units: "Hz/s",
+        default: "none (give it or ramp_end_s, not both)",
+        range: "> 0",
+        meaning: "ramp: rate of speed change; the ramp ends at ramp_start_s + |to − from| / rate \
+                  (a coast-down when to_hz < from_hz).",
+    },
+    KeyDoc {
         key: "speed.times_s",
         units: "s",
-        default: "required for steps",
-        range: "ascending, first 0, as many as steps_hz",
-        meaning: "steps: switch times.",
+        default: "required for steps and table",
+        range: "ascending, first 0, as many as steps_hz or table_hz",
+        meaning: "steps: switch times; table: the times of the speed table.",
     },
     KeyDoc {
         key: "speed.steps_hz",
@@ -1069,6 +1077,14 @@ pub const DOCS: &[KeyDoc] = &[
         default: "required for steps",
         range: "0 … 1e5 each",
         meaning: "steps: speed from each switch time on.",
+    },
+    KeyDoc {
+        key: "speed.table_hz",
+        units: "Hz",
+        default: "required for table",
+        range: "0 … 1e5 each",
+        meaning: "table: a measured speed-time table, linear between its points (the roll \
+                  angle is its exact integral).",
     },
     KeyDoc {
         key: "damping",
@@ -1279,5 +1295,13 @@ pub const DOCS: &[KeyDoc] = &[
         default: "false",
         range: "true, false",
         meaning: "Modal coordinates.",
+    },
+    KeyDoc {
+        key: "outputs.speed",
+        units: "",
+        default: "true when the speed changes while recording, else false",
+        range: "true, false",
+        meaning: "The speed [Hz] and roll angle [rad] channels (speed/hz, speed/roll_angle), \
+                  which order tracking reads.",
     },
 ];

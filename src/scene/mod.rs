@@ -605,6 +605,8 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
     }
     let modes =
         ModeSelection::parse(&raw.reduction.modes).map_err(|r| c.err("reduction.modes", r))?;
+    let speed = run::speed(c, &raw.speed)?;
+    let simulation = run::simulation(c, &raw.simulation)?;
     let scene = Scene {
         name: raw.name.clone().unwrap_or_else(|| {
             c.file
@@ -622,11 +624,11 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         sensors,
         supports,
         drive,
-        speed: run::speed(c, &raw.speed)?,
+        outputs: run::outputs(&raw.outputs, &speed, &simulation),
+        speed,
         damping: run::damping(c, &raw.damping)?,
-        simulation: run::simulation(c, &raw.simulation)?,
+        simulation,
         solver: run::solver(c, &raw.solver)?,
-        outputs: run::outputs(&raw.outputs),
     };
     record_size(c, &scene)?;
     Ok(scene)
@@ -712,6 +714,9 @@ impl Scene {
         }
         if o.modal {
             n += self.modal_coordinates();
+        }
+        if o.speed {
+            n += 2;
         }
         n
     }
@@ -938,12 +943,15 @@ fn build_roll(
     };
     let point_masses = masses(c, "roll.masses", &roll.masses, &body, &shell_frame)?;
     let balancing = match &roll.balancing {
+        // No planes: no balancing masses (the roll with its own unbalance, as trial-mass
+        // balancing starts from).
+        Some(b) if b.planes_mm.is_empty() => None,
         Some(b) => {
             let key = "roll.balancing.planes_mm";
             if !(2..=3).contains(&b.planes_mm.len()) {
                 return Err(c.err(
                     key,
-                    "two planes (rigid balancing) or three (modal) are needed",
+                    "two planes (rigid balancing) or three (modal) are needed (or none: no balancing)",
                 ));
             }
             let mut planes = Vec::new();

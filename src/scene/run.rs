@@ -1,5 +1,14 @@
 //! The time-simulation part of a scene: speed profile, modal damping, run window, solver and
 //! outputs, validated into SI values.
+//!
+//! Speed profiles (`[speed] profile`): `constant` (`hz`); `ramp` from `from_hz` to `to_hz`
+//! starting at `ramp_start_s`, ending at `ramp_end_s` or running at `rate_hz_per_s` (a run-up
+//! or, with `to_hz` < `from_hz`, a coast-down); `steps` (`times_s`, `steps_hz`); `table`, a
+//! measured speed–time table (`times_s`, `table_hz`), linear between its points and constant
+//! beyond them. The roll angle θ is the exact integral of Ω (θ(0) = 0: the keyphasor mark). The
+//! integrators evaluate θ, Ω and Ω̇ at every stage time, so the step follows a changing speed
+//! by the local error test alone (no speed schedule); at a ramp's or table's corner Ω̇ jumps
+//! and the error test shortens the step there.
 
 use std::f64::consts::PI;
 
@@ -22,6 +31,16 @@ pub enum SpeedProfile {
         t0: f64,
         /// Ramp end [s].
         t1: f64,
+    },
+    /// A speed–time table: linear between the points, `speeds[0]` before the first and the last
+    /// speed after the last point.
+    Table {
+        /// Times [s], strictly ascending.
+        times: Vec<f64>,
+        /// Speeds [rad/s].
+        speeds: Vec<f64>,
+        /// θ at each time [rad] (θ(0) = 0), precomputed.
+        angles: Vec<f64>,
     },
     /// Piecewise constant: `speeds[i]` from `times[i]` on (`times[0]` = 0).
     Steps {
@@ -49,6 +68,33 @@ impl SpeedProfile {
                     (th1 + to * (t - t1), *to, 0.0)
                 }
             }
+            Self::Table {
+                times,
+                speeds,
+                angles,
+            } => {
+                let last = times.len() - 1;
+                if t <= times[0] {
+                    let th0 = angles[0] + speeds[0] * (t - times[0]);
+                    return (th0, speeds[0], 0.0);
+                }
+                if t >= times[last] {
+                    return (
+                        angles[last] + speeds[last] * (t - times[last]),
+                        speeds[last],
+                        0.0,
+                    );
+                }
+                // The segment [times[i], times[i + 1]) holding t (t inside, so 0 ≤ i < last).
+                let i = times.partition_point(|x| *x <= t) - 1;
+                let a = (speeds[i + 1] - speeds[i]) / (times[i + 1] - times[i]);
+                let dt = t - times[i];
+                (
+                    angles[i] + speeds[i] * dt + 0.5 * a * dt * dt,
+                    speeds[i] + a * dt,
+                    a,
+                )
+            }
             Self::Steps { times, speeds } => {
                 let mut theta = 0.0;
                 for i in 0..times.len() {
@@ -72,9 +118,33 @@ impl SpeedProfile {
             Self::Constant(_) => true,
             Self::Ramp { t0: r0, t1: r1, .. } => *r1 <= t0 || *r0 >= t1,
             Self::Steps { times, .. } => !times.iter().any(|s| *s > t0 && *s < t1),
+            Self::Table { times, speeds, .. } => {
+                let w0 = self.at(t0).1;
+                self.at(t1).1 == w0
+                    && times
+                        .iter()
+                        .zip(speeds)
+                        .all(|(t, w)| *t <= t0 || *t >= t1 || *w == w0)
+            }
         };
         let (theta, w, _) = self.at(t0);
         constant.then_some((w, theta - w * t0))
+    }
+
+    /// A table profile from times [s] and speeds [rad/s] (validated by the caller: as many of
+    /// each, times strictly ascending): θ integrated exactly (trapezoids), θ(0) = 0.
+    pub fn table(times: Vec<f64>, speeds: Vec<f64>) -> Self {
+        // θ at times[0] is the constant speeds[0] integrated from t = 0 (times[0] ≥ 0).
+        let mut angles = vec![speeds[0] * times[0]];
+        for i in 1..times.len() {
+            let prev = angles[i - 1];
+            angles.push(prev + 0.5 * (speeds[i - 1] + speeds[i]) * (times[i] - times[i - 1]));
+        }
+        Self::Table {
+            times,
+            speeds,
+            angles,
+        }
     }
 }
 
@@ -192,12 +262,36 @@ pub struct Outputs {
     pub stand_motion: bool,
     /// Modal coordinates.
     pub modal: bool,
+    /// The spin speed and the roll angle (keyphasor) as channels `speed/hz` [Hz] and
+    /// `speed/roll_angle` [rad, unwrapped, 0 at the keyphasor mark]; by default when the speed
+    /// changes while recording.
+    pub speed: bool,
 }
 
 /// Highest spin speed a scene may ask for, Hz (6 million rpm): far above any rotor this tool
 /// models (a tube roll turns below 100 Hz, a turbocharger below 5 kHz), and far below where
 /// 2π·f, Ω² and the centrifugal loads overflow (speed.hz = 1e308 was accepted).
 pub const MAX_SPEED_HZ: f64 = 1e5;
+
+/// Checks that `speed.times_s` ascends strictly and turns the speeds at `key` [Hz] into rad/s.
+fn ascending_speeds(
+    c: &Check,
+    times: &[f64],
+    speeds: &[f64],
+    key: &str,
+) -> Result<Vec<f64>, InputError> {
+    if times
+        .windows(2)
+        .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+    {
+        return Err(c.err("speed.times_s", "must be strictly ascending"));
+    }
+    speeds
+        .iter()
+        .enumerate()
+        .map(|(i, v)| Ok(2.0 * PI * c.range(&format!("{key}[{i}]"), *v, 0.0, MAX_SPEED_HZ)?))
+        .collect()
+}
 
 pub(super) fn speed(c: &Check, s: &SpeedFile) -> Result<SpeedProfile, InputError> {
     let hz = |key: &str, v: Option<f64>| -> Result<f64, InputError> {
@@ -208,18 +302,55 @@ pub(super) fn speed(c: &Check, s: &SpeedFile) -> Result<SpeedProfile, InputError
         "constant" => Ok(SpeedProfile::Constant(hz("speed.hz", s.hz)?)),
         "ramp" => {
             let t0 = c.non_negative("speed.ramp_start_s", s.ramp_start_s.unwrap_or(0.0))?;
-            let t1 = s
-                .ramp_end_s
-                .ok_or_else(|| c.err("speed.ramp_end_s", "missing for a ramp"))?;
+            let from = hz("speed.from_hz", s.from_hz)?;
+            let to = hz("speed.to_hz", s.to_hz)?;
+            let t1 = match (s.ramp_end_s, s.rate_hz_per_s) {
+                (Some(t1), None) => t1,
+                (None, Some(rate)) => {
+                    let rate = c.range("speed.rate_hz_per_s", rate, 1e-9, MAX_SPEED_HZ)?;
+                    if from == to {
+                        return Err(c.err("speed.rate_hz_per_s", "needs from_hz ≠ to_hz"));
+                    }
+                    t0 + (to - from).abs() / (2.0 * PI * rate)
+                }
+                (Some(_), Some(_)) => {
+                    return Err(c.err(
+                        "speed.rate_hz_per_s",
+                        "give either speed.ramp_end_s or speed.rate_hz_per_s, not both",
+                    ))
+                }
+                (None, None) => {
+                    return Err(c.err(
+                        "speed.ramp_end_s",
+                        "missing for a ramp (or give speed.rate_hz_per_s)",
+                    ))
+                }
+            };
             if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
                 return Err(c.err("speed.ramp_end_s", "must be after speed.ramp_start_s"));
             }
-            Ok(SpeedProfile::Ramp {
-                from: hz("speed.from_hz", s.from_hz)?,
-                to: hz("speed.to_hz", s.to_hz)?,
-                t0,
-                t1,
-            })
+            Ok(SpeedProfile::Ramp { from, to, t0, t1 })
+        }
+        "table" => {
+            let times = s
+                .times_s
+                .clone()
+                .ok_or_else(|| c.err("speed.times_s", "missing for a table"))?;
+            let speeds = s
+                .table_hz
+                .clone()
+                .ok_or_else(|| c.err("speed.table_hz", "missing for a table"))?;
+            if times.len() < 2 || times.len() != speeds.len() {
+                return Err(c.err(
+                    "speed.times_s",
+                    "needs at least two entries, as many as speed.table_hz",
+                ));
+            }
+            for (i, t) in times.iter().enumerate() {
+                c.range(&format!("speed.times_s[{i}]"), *t, 0.0, 1e9)?;
+            }
+            let sp = ascending_speeds(c, &times, &speeds, "speed.table_hz")?;
+            Ok(SpeedProfile::table(times, sp))
         }
         "steps" => {
             let times = s
@@ -236,22 +367,12 @@ pub(super) fn speed(c: &Check, s: &SpeedFile) -> Result<SpeedProfile, InputError
                     "needs as many entries as speed.steps_hz, starting at 0",
                 ));
             }
-            if times
-                .windows(2)
-                .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
-            {
-                return Err(c.err("speed.times_s", "must be strictly ascending"));
-            }
-            let mut sp = Vec::new();
-            for (i, v) in speeds.iter().enumerate() {
-                let k = format!("speed.steps_hz[{i}]");
-                sp.push(2.0 * PI * c.range(&k, *v, 0.0, MAX_SPEED_HZ)?);
-            }
+            let sp = ascending_speeds(c, &times, &speeds, "speed.steps_hz")?;
             Ok(SpeedProfile::Steps { times, speeds: sp })
         }
         other => Err(c.err(
             "speed.profile",
-            format!("`{other}`: expected constant, ramp or steps"),
+            format!("`{other}`: expected constant, ramp, steps or table"),
         )),
     }
 }
@@ -347,8 +468,11 @@ pub(super) fn solver(c: &Check, s: &SolverFile) -> Result<SolverSettings, InputE
     })
 }
 
-pub(super) fn outputs(o: &OutputsFile) -> Outputs {
+pub(super) fn outputs(o: &OutputsFile, speed: &SpeedProfile, sim: &SimulationSettings) -> Outputs {
     Outputs {
+        speed: o
+            .speed
+            .unwrap_or_else(|| speed.constant_over(sim.settle, sim.t_end).is_none()),
         runout: o.runout,
         journal_orbits: o.journal_orbits,
         contact_forces: o.contact_forces,

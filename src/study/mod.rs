@@ -16,8 +16,11 @@
 //! [pruning] without pruned jobs or with model keys. The study's [budget] binds the reference
 //! runs too, unless [reference] sets `solver.cpu_budget_s` / `solver.max_steps` itself.
 
+pub mod balancing;
 pub mod campaign;
 pub mod identity;
+pub mod measured;
+pub mod orders;
 pub mod post;
 pub mod progress;
 
@@ -106,7 +109,13 @@ pub struct AnalysisSpec {
     /// The label (on a labelled axis) of the baseline jobs: every other job on that axis gets
     /// its 1× trial-mass response against the baseline job with the same other keys.
     pub baseline: Option<String>,
+    /// Order tracking of jobs whose speed changes while recording (`analysis::orders`): the
+    /// block length [revolutions] (default 8; blocks overlap by half).
+    pub order_revolutions: Option<f64>,
 }
+
+/// The order-tracking block length [revolutions] when a study names none.
+pub const DEFAULT_ORDER_REVOLUTIONS: f64 = 8.0;
 
 fn default_orders() -> Vec<f64> {
     vec![1.0, 2.0, 3.0, 4.0]
@@ -118,6 +127,7 @@ impl Default for AnalysisSpec {
             orders: default_orders(),
             max_freq_hz: None,
             baseline: None,
+            order_revolutions: None,
         }
     }
 }
@@ -837,6 +847,14 @@ impl Study {
         }
         if a.max_freq_hz.is_some_and(|f| !(f.is_finite() && f > 0.0)) {
             return Err(c.err("analysis.max_freq_hz", "must be a positive frequency"));
+        }
+        if a.order_revolutions
+            .is_some_and(|r| !(r.is_finite() && (1.0..=1e5).contains(&r)))
+        {
+            return Err(c.err(
+                "analysis.order_revolutions",
+                "must lie in [1, 100000] revolutions",
+            ));
         }
         if let Some(b) = &a.baseline {
             let found = raw

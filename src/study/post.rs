@@ -30,7 +30,9 @@
 //!   sweep's spacing there and `coarse` / `edge` flags, `analysis::resolution`);
 //! - `/analysis/trial_mass`, with an `[analysis] baseline`: table job_id, baseline_id, label,
 //!   channel, speed_hz, amplitude_um, baseline_amplitude_um, amplitude_change_um,
-//!   vector_change_um, vector_phase_deg (1× change against the baseline job).
+//!   vector_change_um, vector_phase_deg (1× change against the baseline job);
+//! - `/analysis/orders`, `/analysis/order_resonances` and each ramp's `/jobs/<id>/waterfall`:
+//!   order tracking of every job with a roll angle, ramps included (`study::orders`).
 
 use std::collections::BTreeMap;
 
@@ -623,5 +625,5 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
     if let Some(b) = &spec.baseline {
         trial_mass_table(&g, &jobs, b, &axes)?;
     }
-    Ok(())
+    super::orders::write(f, &g, &spec)
 }

@@ -347,3 +347,70 @@ pub fn line_number(text: &str, line: &str) -> usize {
     assert_eq!(hits.len(), 1, "`{line}` must occur on exactly one line");
     hits[0]
 }
+
+/// The stiff Jeffcott rotor of tests/linear_jeffcott.rs and tests/runup.rs as scene text: a
+/// steel cylinder Ø200 × 400 mm (bending above 1 kHz) with 10 g at r = 100 mm, 30°, at its
+/// centre, on two linear supports with `spring` (TOML inline-table body) and `extra` support
+/// lines at both ends; `tail` is appended (further sections).
+pub fn stiff_jeffcott(spring: &str, extra: &str, tail: &str) -> String {
+    format!(
+        r#"name = "stiff-jeffcott"
+[materials.steel]
+youngs_modulus_gpa = 210.0
+poisson = 0.3
+density_kg_m3 = 7850.0
+[rotor]
+[[rotor.segments]]
+length_mm = 400.0
+outer_diameter_mm = 200.0
+elements = 4
+material = "steel"
+[rotor.nodes]
+bearing_a = 0.0
+bearing_b = 400.0
+[[rotor.sensors]]
+name = "centre"
+z_mm = 200.0
+[[rotor.masses]]
+z_mm = 200.0
+radius_mm = 100.0
+angle_deg = 30.0
+mass_g = 10.0
+[[supports]]
+node = "bearing_a"
+type = "linear"
+spring = {{ {spring} }}
+{extra}
+[[supports]]
+node = "bearing_b"
+type = "linear"
+spring = {{ {spring} }}
+{extra}
+[drive]
+node = "bearing_a"
+axial_stiffness_n_per_m = 1.0e7
+[damping]
+bands = []
+above_ratio = 0.0
+[reduction]
+boundary = ["bearing_a", "bearing_b"]
+modes = "12n+12st"
+{tail}
+"#
+    )
+}
+
+/// Runs the rotorsweep binary with `args` and returns its standard output; panics with its
+/// standard error when it fails.
+pub fn rotorsweep_ok(args: &[&str]) -> Vec<u8> {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rotorsweep"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "rotorsweep {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}

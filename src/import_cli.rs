@@ -1,0 +1,56 @@
+//! `rotorsweep import MEASURED.csv -o OUT.h5`: a measured record (format in
+//! `rotorsweep::study::measured`) into a results file, analysed like a simulated job.
+
+use std::path::PathBuf;
+
+use rotorsweep::store::output::{self, OutputError};
+use rotorsweep::study::measured;
+
+/// Arguments of `rotorsweep import`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Measured record (CSV: time_s, runout/<sensor>/<dir> [µm], roll_angle_rad or keyphasor,
+    /// optional speed_hz).
+    measured: PathBuf,
+    /// Results file to write.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Replace an existing output file (only a rotorsweep results file).
+    #[arg(long)]
+    overwrite: bool,
+    /// Orders to analyse (default 1,2,3,4; fractional ones too, e.g. 0.92).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1,2,3,4",
+        allow_negative_numbers = true
+    )]
+    orders: Vec<f64>,
+}
+
+/// Runs `import`.
+pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
+    if a.orders.is_empty() || a.orders.iter().any(|o| !(o.is_finite() && *o > 0.0)) {
+        return Err(Box::new(rotorsweep::study::campaign::CampaignError::Usage(
+            "--orders must be positive".into(),
+        )));
+    }
+    let record = measured::read_csv(&a.measured)?;
+    let _lock = output::claim(&a.output, a.overwrite)?;
+    let name = a
+        .measured
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "measured".into());
+    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    measured::write(&a.output, &name, &record, &a.orders, &command)
+        .map_err(|e| OutputError::Write(a.output.clone(), e))?;
+    println!(
+        "{}: {} samples, {} runout channels -> {}",
+        a.measured.display(),
+        record.time.len(),
+        record.runout.len(),
+        a.output.display()
+    );
+    Ok(())
+}

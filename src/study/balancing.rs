@@ -1,0 +1,399 @@
+//! Influence-coefficient balancing from a study's trial-mass runs (`rotorsweep balance`).
+//!
+//! In: an assembled study results file whose `[analysis] baseline` labels the reference runs
+//! (no trial mass) on a labelled `roll.masses` (or `rotor.masses`) axis, with one trial-mass
+//! run per plane at each speed: a job whose masses are the reference's plus exactly one
+//! (its z [mm] names the plane); the 1× of every job from `/analysis/lines` [µm, phase against
+//! roll angle 0]; optional constraints (hole angles, a maximum mass per plane).
+//! Out: a [`Balance`]: the corrections per plane (z [mm], mass [g], angle [deg] at the trial
+//! mass's radius, scene angle convention), the reference's 1× and the predicted residual per
+//! speed, sensor and direction [µm] (`analysis::balancing`: influence coefficients and least
+//! squares over all planes and speeds at once), and with [`check`] the 1× of the corrected roll
+//! run again: the reference job's scene with the corrections added to its masses, the same
+//! record, 1× by `analysis::lines`.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use hdf5::types::VarLenUnicode;
+use rustfft::num_complex::Complex64;
+use serde::Serialize;
+
+use super::{analysis_of_text, value_text, Study};
+use crate::analysis::balancing::{self, PlaneLimits};
+use crate::error::InputError;
+use crate::model::Model;
+use crate::scene::Scene;
+use crate::store;
+
+/// One correction mass.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Correction {
+    /// Plane [mm] (as the masses axis gives z).
+    pub z_mm: f64,
+    /// Radius [mm] (the plane's trial mass's).
+    pub radius_mm: f64,
+    /// Mass [g].
+    pub mass_g: f64,
+    /// Body angle [deg] in [0, 360), the scene's convention.
+    pub angle_deg: f64,
+}
+
+/// The 1× amplitude before and after at one speed, sensor and direction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Residual {
+    /// Speed [Hz].
+    pub speed_hz: f64,
+    /// Sensor.
+    pub sensor: String,
+    /// Direction.
+    pub direction: String,
+    /// Reference run's 1× [µm].
+    pub before_um: f64,
+    /// After the corrections [µm] (predicted, or the check run's).
+    pub after_um: f64,
+}
+
+/// The outcome (module doc).
+#[derive(Debug, Clone, Serialize)]
+pub struct Balance {
+    /// The corrections.
+    pub corrections: Vec<Correction>,
+    /// Predicted residual 1× per row.
+    pub predicted: Vec<Residual>,
+    /// The check run's 1× per row (with `check`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub check: Option<Vec<Residual>>,
+    /// Planes (z [mm]) in column order.
+    #[serde(skip)]
+    planes: Vec<f64>,
+    /// Per speed, the reference job's id.
+    #[serde(skip)]
+    references: Vec<(f64, String)>,
+    /// The masses axis key and the reference's masses (TOML).
+    #[serde(skip)]
+    masses: (String, Vec<toml::Value>),
+    /// The study file as the run named it, and its text then.
+    #[serde(skip)]
+    study: (PathBuf, String),
+}
+
+/// A row of `/analysis/lines`.
+#[derive(hdf5::H5Type, Clone)]
+#[repr(C)]
+struct LineRow {
+    job_id: VarLenUnicode,
+    channel: VarLenUnicode,
+    order: f64,
+    amplitude_um: f64,
+    phase_deg: f64,
+}
+
+/// A mass of a masses axis value: (z [mm], radius [mm], angle [deg], mass [g]).
+fn mass_of(v: &toml::Value) -> Option<(f64, f64, f64, f64)> {
+    let t = v.as_table()?;
+    let num = |k: &str| {
+        t.get(k)
+            .and_then(|x| x.as_float().or_else(|| x.as_integer().map(|i| i as f64)))
+    };
+    Some((
+        num("z_mm")?,
+        num("radius_mm")?,
+        num("angle_deg")?,
+        num("mass_g")?,
+    ))
+}
+
+/// Computes the corrections from the results file at `path` with `limits` applied to every
+/// plane (module doc).
+pub fn balance(path: &Path, limits: &PlaneLimits) -> Result<Balance, InputError> {
+    let err = |r: String| InputError::new(path, r);
+    let f = store::output::open_results_file(path).map_err(&err)?;
+    let text = store::read_str(&f, "study_text")
+        .map_err(|_| err("not a study results file (no study_text)".into()))?;
+    let sa = analysis_of_text(&text).unwrap_or_default();
+    let baseline = sa.spec.baseline.clone().ok_or_else(|| {
+        err("the study has no [analysis] baseline: the reference runs are not named".into())
+    })?;
+    let axis = sa
+        .labelled
+        .iter()
+        .find(|a| a.labels.contains(&baseline))
+        .ok_or_else(|| err(format!("no labelled axis has the baseline `{baseline}`")))?;
+    let key = axis.keys[0].clone();
+    if !key.ends_with(".masses") {
+        return Err(err(format!(
+            "the baseline's axis `{key}` is not a masses axis (roll.masses or rotor.masses)"
+        )));
+    }
+    let jobs = f
+        .group("jobs")
+        .map_err(|e| err(format!("no jobs group: {e}")))?;
+    // Per job: speed, label, masses.
+    struct J {
+        id: String,
+        speed: f64,
+        label: String,
+        masses: Vec<toml::Value>,
+    }
+    let mut all = Vec::new();
+    for id in jobs.member_names().unwrap_or_default() {
+        let Ok(g) = jobs.group(&id) else { continue };
+        let status = store::read_str(&g, "status").unwrap_or_default();
+        let speed = store::read_num(&g, "speed_hz").unwrap_or(f64::NAN);
+        let label = store::read_str(&g, &format!("label:{key}")).unwrap_or_default();
+        if status != "ok" || !speed.is_finite() {
+            return Err(err(format!(
+                "job {id} ({label}) did not end ok at a constant speed ({status}): balancing \
+                 needs every run"
+            )));
+        }
+        let raw = store::read_param(&g, &key)
+            .map(|p| p.to_string())
+            .map_err(|_| err(format!("job {id} has no `{key}` value")))?;
+        let value: toml::Value = toml::from_str::<toml::Table>(&format!("v = {raw}"))
+            .ok()
+            .and_then(|mut t| t.remove("v"))
+            .ok_or_else(|| err(format!("job {id}: `{key}` = {raw} is not a list of masses")))?;
+        let masses = value.as_array().cloned().unwrap_or_default();
+        all.push(J {
+            id,
+            speed,
+            label,
+            masses,
+        });
+    }
+    // The 1× of each job and channel.
+    let lines: Vec<LineRow> = f
+        .dataset("analysis/lines")
+        .and_then(|d| d.read_raw())
+        .map_err(|e| err(format!("no /analysis/lines table ({e})")))?;
+    let mut one: BTreeMap<(String, String), Complex64> = BTreeMap::new();
+    for l in lines.iter().filter(|l| l.order == 1.0) {
+        one.insert(
+            (l.job_id.as_str().into(), l.channel.as_str().into()),
+            Complex64::from_polar(l.amplitude_um, l.phase_deg.to_radians()),
+        );
+    }
+    let mut speeds: Vec<f64> = all.iter().map(|j| j.speed).collect();
+    speeds.sort_by(f64::total_cmp);
+    speeds.dedup();
+    let mut planes: Vec<(f64, f64)> = Vec::new();
+    // trials[(speed index, plane z bits)] = (job id, U [g e^{iφ}])
+    let mut trials: BTreeMap<(usize, u64), (String, Complex64)> = BTreeMap::new();
+    let mut references = Vec::new();
+    let mut ref_masses = Vec::new();
+    for (si, s) in speeds.iter().enumerate() {
+        let refs: Vec<&J> = all
+            .iter()
+            .filter(|j| j.speed == *s && j.label == baseline)
+            .collect();
+        let [r] = refs[..] else {
+            return Err(err(format!(
+                "{} reference runs (`{baseline}`) at {s} Hz: one is needed",
+                refs.len()
+            )));
+        };
+        references.push((*s, r.id.clone()));
+        ref_masses = r.masses.clone();
+        for j in all.iter().filter(|j| j.speed == *s && j.label != baseline) {
+            let extra: Vec<&toml::Value> =
+                j.masses.iter().filter(|m| !r.masses.contains(m)).collect();
+            let ([m], true) = (&extra[..], j.masses.len() == r.masses.len() + 1) else {
+                return Err(err(format!(
+                    "job {} ({}) is not the reference's masses plus one trial mass",
+                    j.id, j.label
+                )));
+            };
+            let (z, radius, angle, mass) = mass_of(m).ok_or_else(|| {
+                err(format!(
+                    "job {}: a mass lacks z_mm/radius_mm/angle_deg/mass_g",
+                    j.id
+                ))
+            })?;
+            if !planes.iter().any(|p| p.0 == z) {
+                planes.push((z, radius));
+            }
+            let u = Complex64::from_polar(mass, angle.to_radians());
+            if trials
+                .insert((si, z.to_bits()), (j.id.clone(), u))
+                .is_some()
+            {
+                return Err(err(format!("two trial runs at z = {z} mm and {s} Hz")));
+            }
+        }
+    }
+    planes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if planes.is_empty() {
+        return Err(err("no trial-mass runs".into()));
+    }
+    // Rows: per speed, the reference's channels.
+    let mut rows: Vec<(f64, String)> = Vec::new();
+    let mut b = Vec::new();
+    let (mut resp, mut units) = (
+        vec![Vec::new(); planes.len()],
+        vec![Vec::new(); planes.len()],
+    );
+    for (si, (s, rid)) in references.iter().enumerate() {
+        let channels: Vec<String> = one
+            .keys()
+            .filter(|(j, _)| j == rid)
+            .map(|(_, c)| c.clone())
+            .collect();
+        for c in channels {
+            b.push(one[&(rid.clone(), c.clone())]);
+            for (p, (z, _)) in planes.iter().enumerate() {
+                let (tid, u) = trials
+                    .get(&(si, z.to_bits()))
+                    .ok_or_else(|| err(format!("no trial run at z = {z} mm and {s} Hz")))?;
+                let a = one
+                    .get(&(tid.clone(), c.clone()))
+                    .ok_or_else(|| err(format!("job {tid} has no 1× of {c}")))?;
+                resp[p].push(*a);
+                units[p].push(*u);
+            }
+            rows.push((*s, c));
+        }
+    }
+    let alpha = balancing::influence(&b, &resp, &units);
+    let masses = balancing::corrections(&alpha, &b, &vec![limits.clone(); planes.len()]);
+    let w: Vec<Complex64> = masses.iter().map(|m| balancing::unbalance(m)).collect();
+    let after = balancing::predicted(&alpha, &b, &w);
+    let corrections = planes
+        .iter()
+        .zip(&masses)
+        .flat_map(|((z, r), ms)| {
+            ms.iter().map(move |(m, a)| Correction {
+                z_mm: *z,
+                radius_mm: *r,
+                mass_g: *m,
+                angle_deg: a.to_degrees(),
+            })
+        })
+        .collect();
+    let predicted = rows
+        .iter()
+        .zip(b.iter().zip(&after))
+        .map(|((s, c), (bb, aa))| residual(*s, c, bb.norm(), aa.norm()))
+        .collect();
+    let study = (
+        PathBuf::from(store::read_str(&f, "study_path").unwrap_or_default()),
+        text.clone(),
+    );
+    Ok(Balance {
+        corrections,
+        predicted,
+        check: None,
+        planes: planes.iter().map(|p| p.0).collect(),
+        references,
+        masses: (key, ref_masses),
+        study,
+    })
+}
+
+fn residual(speed_hz: f64, channel: &str, before: f64, after: f64) -> Residual {
+    let (sensor, direction) = channel.rsplit_once('/').unwrap_or((channel, ""));
+    Residual {
+        speed_hz,
+        sensor: sensor.into(),
+        direction: direction.into(),
+        before_um: before,
+        after_um: after,
+    }
+}
+
+/// Runs the corrected roll at every speed (module doc) and stores the 1× in `b.check`. The
+/// study file is `study` when given, else the path the run named (relative to the working
+/// directory, as `run` was given it); it must be the text the run used.
+pub fn check(b: &mut Balance, study: Option<&Path>) -> Result<(), InputError> {
+    let path = study.unwrap_or(&b.study.0).to_path_buf();
+    let now = crate::error::read_text(&path).map_err(|e| {
+        InputError::new(
+            &path,
+            format!("cannot read the study file for the check run ({e}): name it with --study"),
+        )
+    })?;
+    if now != b.study.1 {
+        return Err(InputError::new(
+            &path,
+            "is not the study text the results were made from (changed since the run?)",
+        ));
+    }
+    let study = Study::load(&path)?;
+    let scene_text = crate::error::read_text(&study.scene_path)
+        .map_err(|e| InputError::new(&study.scene_path, e.to_string()))?;
+    let (key, ref_masses) = &b.masses;
+    let mut masses = ref_masses.clone();
+    for c in &b.corrections {
+        let mut t = toml::Table::new();
+        t.insert("z_mm".into(), c.z_mm.into());
+        t.insert("radius_mm".into(), c.radius_mm.into());
+        t.insert("angle_deg".into(), c.angle_deg.into());
+        t.insert("mass_g".into(), c.mass_g.into());
+        masses.push(toml::Value::Table(t));
+    }
+    let corrected = format!("{key}={}", value_text(&toml::Value::Array(masses)));
+    let mut out = Vec::new();
+    for (speed, rid) in &b.references {
+        let job = study.jobs.iter().find(|j| &j.id == rid).ok_or_else(|| {
+            InputError::new(
+                &path,
+                format!(
+                    "the study no longer has the reference job {rid}: its scene changed since the run"
+                ),
+            )
+        })?;
+        let mut over: Vec<String> = job
+            .overrides
+            .iter()
+            .filter(|(k, _)| k != key)
+            .map(|(k, v)| format!("{k}={}", value_text(v)))
+            .collect();
+        over.push(corrected.clone());
+        let scene = Scene::from_text(&study.scene_path, &scene_text, &over)?;
+        let model = Model::build(&scene, None)
+            .map_err(|e| InputError::new(&study.scene_path, e.to_string()))?;
+        let r = crate::job::run(&scene, &model);
+        if r.stats.status != crate::integrators::Status::Ok {
+            return Err(InputError::new(
+                &study.scene_path,
+                format!(
+                    "the check run at {speed} Hz ended {}: {}",
+                    r.stats.status.name(),
+                    r.stats.cause
+                ),
+            ));
+        }
+        let sim = &scene.simulation;
+        let (w, delta) = scene
+            .speed
+            .constant_over(sim.settle, sim.t_end)
+            .unwrap_or((std::f64::consts::TAU * speed, 0.0));
+        let f_hz = w / std::f64::consts::TAU;
+        for c in r.channels.iter().filter(|c| c.name.starts_with("runout/")) {
+            let z = crate::analysis::lines(&c.data, &r.time, &[f_hz])[0]
+                * Complex64::from_polar(1.0, -delta);
+            let name = &c.name["runout/".len()..];
+            let before = b
+                .predicted
+                .iter()
+                .find(|p| p.speed_hz == *speed && format!("{}/{}", p.sensor, p.direction) == name)
+                .map_or(f64::NAN, |p| p.before_um);
+            out.push(residual(*speed, name, before, z.norm()));
+        }
+    }
+    out.sort_by(|x, y| {
+        x.speed_hz
+            .total_cmp(&y.speed_hz)
+            .then_with(|| (&x.sensor, &x.direction).cmp(&(&y.sensor, &y.direction)))
+    });
+    b.check = Some(out);
+    Ok(())
+}
+
+impl Balance {
+    /// The planes' z [mm].
+    pub fn planes(&self) -> &[f64] {
+        &self.planes
+    }
+}
