@@ -73,16 +73,7 @@ fn roll_study(name: &str, body: &str) -> (Study, std::path::PathBuf) {
 
 /// Runs a study on two threads into `out`.
 fn run(st: &Study, out: &std::path::Path) -> campaign::Outcome {
-    let opts = campaign::RunOptions {
-        output: out.to_path_buf(),
-        threads: 2,
-        resume: false,
-        overwrite: false,
-        shard: None,
-        command: "test".into(),
-        references: Default::default(),
-    };
-    campaign::run(st, &opts).expect("campaign")
+    campaign::run(st, &common::run_options(out)).expect("campaign")
 }
 
 #[test]

@@ -7,7 +7,7 @@ mod common;
 
 use common::{scratch_dir, study_text, write_file};
 use rotorsweep::report::{self, Cell, Format, Report};
-use rotorsweep::study::campaign::{self, RunOptions};
+use rotorsweep::study::campaign;
 use rotorsweep::study::Study;
 
 /// The study's axes give 3 × 2 = 6 jobs; the explicit job (`max_steps = 5`, status `budget`)
@@ -19,16 +19,7 @@ fn run_study(name: &str, body: &str, ok: usize) -> (std::path::PathBuf, Report) 
     let d = scratch_dir(name);
     let study = Study::load(&write_file(&d, "s.toml", &study_text(body))).unwrap();
     let out = d.join("out.h5");
-    let opts = RunOptions {
-        output: out.clone(),
-        threads: 2,
-        resume: false,
-        overwrite: false,
-        shard: None,
-        command: "test".into(),
-        references: Default::default(),
-    };
-    let outcome = campaign::run(&study, &opts).unwrap();
+    let outcome = campaign::run(&study, &common::run_options(&out)).unwrap();
     assert_eq!(outcome.ok, ok);
     let r = report::read(&out).unwrap();
     (d, r)

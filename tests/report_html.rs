@@ -22,7 +22,7 @@ use std::process::{Command, Output};
 
 use base64::Engine as _;
 use common::{repo, scratch_dir, study_text, write_file};
-use rotorsweep::study::campaign::{self, RunOptions};
+use rotorsweep::study::campaign;
 use rotorsweep::study::Study;
 
 fn rotorsweep(args: &[&str]) -> Output {
@@ -229,16 +229,12 @@ fn html_report_is_self_contained_and_follows_the_output_rules() {
     ))
     .unwrap();
     let results = d.join("out.h5");
-    let opts = RunOptions {
-        output: results.clone(),
-        threads: 2,
-        resume: false,
-        overwrite: false,
-        shard: None,
-        command: "test".into(),
-        references: Default::default(),
-    };
-    assert_eq!(campaign::run(&study, &opts).unwrap().ok, 6);
+    assert_eq!(
+        campaign::run(&study, &common::run_options(&results))
+            .unwrap()
+            .ok,
+        6
+    );
     let html_path = d.join("report.html");
     let (r, h) = (
         results.display().to_string(),
