@@ -53,6 +53,22 @@ several systems have one:
 * ``floquet.png``: −ln max|μ| per revolution over speed (< 0 unstable), the Floquet-unstable
   ranges shaded, the damped modes' stability threshold dashed.
 
+Per ramp job (a job whose speed changed while recording: its ``/jobs/<id>/waterfall``), suffixed
+``-<job_id>`` when several jobs have one, titled by the job's setting:
+
+* ``waterfall.png``: the amplitude [µm, log colour scale] of the Hanning spectra of
+  half-overlapping time blocks (``/jobs/<id>/waterfall``) over frequency [Hz], a row per block
+  at its mid time [s] with the block's mean speed [Hz] on the right axis (a hold or a
+  coast-down reads as well as a run-up), one panel per direction of the chosen sensor, with the
+  tracked orders' lines f = k·speed(t);
+* ``order_map.png``: the tracked amplitude [µm, log] of each order (``/analysis/orders``) over
+  the blocks' mean speed [Hz], one line per order, one panel per direction;
+* ``order_bode.png``: the tracked 1× amplitude [µm, log] and phase [°] over speed per sensor,
+  vertical and horizontal; where the file has the job's ``/linear/<linear_id>`` system with an
+  unbalance response (a study's ``[linear] unbalance_response = true``) that steady-state
+  response dashed over it, each tracked phase moved by whole turns nearest it, and the critical
+  speeds dotted.
+
 Besides study results files, a ``rotorsweep linear -o`` file is accepted: it gets the Campbell
 diagram and the per-system figures; and a ``rotorsweep simulate -o`` file, laid out as a study
 of one job (no sweeps: its timing bar, and its work-precision point when it has an error).
@@ -60,8 +76,9 @@ of one job (no sweeps: its timing bar, and its work-precision point when it has 
 Numbers in labels are written as ``rotorsweep report`` writes them (:func:`number_text`).
 
 The ``-<n>`` suffix (the sweep's number in the file) is added only when the file has several
-sweeps. ``--channel SENSOR/DIR`` picks the sensor of the maps and harmonics and the direction of
-the trial-mass panels. Importable: :func:`render` does the same and returns the paths. The
+sweeps. ``--channel SENSOR/DIR`` picks the sensor of the maps, harmonics, waterfalls and order
+maps and the direction of the trial-mass panels (default centre/vertical; a ramp job without a
+"centre" sensor then shows its first sensor). Importable: :func:`render` does the same and returns the paths. The
 figures are drawn on Agg canvases of their own; matplotlib's global backend is left alone.
 Exit code 1, with a message naming the file, when it is neither.
 """
@@ -801,9 +818,7 @@ def bode(sys_: dict[str, object], title: str) -> Figure | None:
             amp = np.asarray(sys_[f"{key}/amplitude_um"])
             # Without amplitude (at standstill) the phase means nothing: left out, and the rest
             # unwrapped.
-            phase = np.full(amp.shape, np.nan)
-            some = amp > 0
-            phase[some] = np.degrees(np.unwrap(np.radians(sys_[f"{key}/phase_deg"][some])))
+            phase = _unwrap_deg(np.where(amp > 0, np.asarray(sys_[f"{key}/phase_deg"]), np.nan))
             axes[0, c].plot(speed, amp, color=colour, label=d)
             axes[1, c].plot(speed, phase, color=colour, label=d)
         axes[0, c].set_title(sensor)
@@ -1080,8 +1095,8 @@ def order_bode(orders: pd.DataFrame, job: str, linear: dict[str, object] | None,
             if have_linear and f"{key}/amplitude_um" in linear:
                 lin_speed = np.asarray(linear["campbell/speed_hz"])
                 lin_amp = np.asarray(linear[f"{key}/amplitude_um"])
-                lin_phase = np.where(lin_amp > 0, np.asarray(linear[f"{key}/phase_deg"]), np.nan)
-                lin_phase = _unwrap_deg(lin_phase)
+                lin_phase = _unwrap_deg(
+                    np.where(lin_amp > 0, np.asarray(linear[f"{key}/phase_deg"]), np.nan))
                 axes[0, c].plot(lin_speed, lin_amp, color=colour, ls="--", lw=1,
                                 label=f"{d}, steady state (linear)")
                 axes[1, c].plot(lin_speed, lin_phase, color=colour, ls="--", lw=1)
@@ -1224,7 +1239,8 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None) -> list
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(
         description="PNG plots of a rotorsweep study results file (spectral maps, harmonics, "
-        "trial-mass response, work-precision, timing, stability, Campbell) or of a "
+        "trial-mass response, work-precision, timing, stability, Campbell; per ramp job a "
+        "waterfall, order map and order-tracked Bode plot) or of a "
         "`rotorsweep linear -o` file (Campbell, mode shapes, Bode, polar, critical-speed map, "
         "Floquet)."
     )
