@@ -86,6 +86,7 @@ Exit code 1, with a message naming the file, when it is neither.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from pathlib import Path
 
@@ -1160,13 +1161,80 @@ def ramp_figures(path: PathLike, orders: pd.DataFrame, sensor: str | None, names
 
 
 
-def render(path: PathLike, outdir: PathLike, channel: str | None = None) -> list[Path]:
+def read_balance(path: PathLike) -> dict[str, object]:
+    """The output of ``rotorsweep balance OUT.h5 --json`` (``corrections``, ``predicted`` and,
+    with ``--check``, ``check``); :class:`PlotError` naming the file when it is not one."""
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise PlotError(f"{path}: not the JSON of `rotorsweep balance --json`: {e}") from None
+    rows = data.get("predicted") if isinstance(data, dict) else None
+    if not isinstance(rows, list) or not rows or not isinstance(data.get("corrections"), list):
+        raise PlotError(f"{path}: not the JSON of `rotorsweep balance --json` (no 'corrections' "
+                        "and 'predicted' lists)")
+    need = {"speed_hz", "sensor", "direction", "before_um", "after_um"}
+    for key in ("predicted", "check"):
+        for i, row in enumerate(data.get(key) or []):
+            if not isinstance(row, dict) or not need <= set(row):
+                raise PlotError(f"{path}: {key}[{i}] lacks one of {', '.join(sorted(need))}")
+    return data
+
+
+def balancing(data: dict[str, object], study: str) -> Figure:
+    """Balancing before and after per sensor: bars of the 1× amplitude [µm, log] at each sensor
+    and direction, one panel per speed: the reference run (before), the influence coefficients'
+    prediction after the corrections and, when ``data`` has ``check``, the check run of the
+    corrected roll with its reduction [%]; the corrections in the title."""
+    pred = pd.DataFrame(data["predicted"])
+    check = pd.DataFrame(data.get("check") or [])
+    speeds = sorted(pred["speed_hz"].unique())
+    fig = _figure(figsize=(max(4.2 * len(speeds) + 0.8, 7.0), 5.4))
+    axes = fig.subplots(1, len(speeds), sharey=True, squeeze=False)[0]
+    for ax, speed in zip(axes, speeds):
+        rows = pred[pred["speed_hz"] == speed].reset_index(drop=True)
+        names = rows["sensor"] + "\n" + rows["direction"]
+        x = np.arange(len(rows))
+        series = [("before (reference run)", rows["before_um"], "0.55"),
+                  ("after, predicted", rows["after_um"], "tab:blue")]
+        if not check.empty:
+            done = rows.merge(check[check["speed_hz"] == speed], how="left",
+                              on=["speed_hz", "sensor", "direction"], suffixes=("", "_check"))
+            series.append(("after, check run", done["after_um_check"], "tab:green"))
+        width = 0.8 / len(series)
+        for i, (label, values, colour) in enumerate(series):
+            ax.bar(x + (i - (len(series) - 1) / 2) * width, values, width, color=colour,
+                   label=label)
+        if not check.empty:
+            for xi, b, a in zip(x, done["before_um_check"], done["after_um_check"]):
+                if b > 0 and np.isfinite(a):
+                    ax.annotate(f"−{100 * (1 - a / b):.1f} %", (xi, b), xytext=(0, 2),
+                                textcoords="offset points", ha="center", fontsize="x-small")
+        ax.set_xticks(x, names, fontsize="small")
+        ax.set_yscale("log")
+        ax.set_title(f"{number_text(float(speed))} Hz")
+        ax.grid(alpha=0.3, axis="y", which="both")
+    axes[0].set_ylabel("1× runout amplitude [µm], log")
+    axes[0].legend(fontsize="small")
+    masses = "; ".join(f"z {float(c['z_mm']):g} mm: {float(c['mass_g']):.0f} g at "
+                       f"{float(c['angle_deg']):.1f}°" for c in data["corrections"])
+    fig.suptitle(f"{study}: balancing before and after\ncorrections {masses}",
+                 fontsize="medium")
+    return fig
+
+
+def render(path: PathLike, outdir: PathLike, channel: str | None = None,
+           balance: PathLike | None = None) -> list[Path]:
     """Writes the plots the results file ``path`` has data for into ``outdir`` (created if
     needed) and returns their paths, in the order of the module doc. ``channel`` is
     "SENSOR/DIR" (not used for a ``rotorsweep linear -o`` file); None: "centre/vertical", and
-    each ramp job's first sensor where it has no "centre". Raises :class:`PlotError` when
-    ``path`` is neither a study results file nor a ``linear -o`` file, or has no such channel."""
+    each ramp job's first sensor where it has no "centre". ``balance``: the output of
+    ``rotorsweep balance path --json``, drawn as ``balancing.png`` (study files only). Raises
+    :class:`PlotError` when ``path`` is neither a study results file nor a ``linear -o`` file,
+    has no such channel, or ``balance`` is not such output."""
     study_file = check_results_file(path)
+    balanced = None if balance is None else read_balance(balance)
+    if balanced is not None and not study_file:
+        raise PlotError(f"{balance}: balancing needs a study results file, not {path}")
     chosen = channel is not None
     channel = channel if chosen else DEFAULT_CHANNEL
     sensor, _, direction = channel.partition("/")
@@ -1233,6 +1301,8 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None) -> list
     figures += linear_figures(_linear_systems(path))
     figures += ramp_figures(path, orders, sensor if chosen else None,
                             settings(summary, labels, varying), study)
+    if balanced is not None:
+        figures.append(("balancing.png", balancing(balanced, study)))
     return [_save(fig, out / name) for name, fig in figures if fig is not None]
 
 
@@ -1257,10 +1327,17 @@ def main(argv: list[str] | None = None) -> int:
         "and order maps (default: centre/vertical; for a ramp without a centre sensor its "
         "first sensor)",
     )
+    p.add_argument(
+        "--balance",
+        type=Path,
+        metavar="JSON",
+        help="the output of `rotorsweep balance RESULTS --json [--check]`: also draws "
+        "balancing.png (1x before and after per sensor and speed)",
+    )
     a = p.parse_args(argv)
     outdir = a.outdir or a.results.with_name(a.results.stem + "-plots")
     try:
-        written = render(a.results, outdir, a.channel)
+        written = render(a.results, outdir, a.channel, a.balance)
     except PlotError as e:
         print(f"plots.py: error: {e}", file=sys.stderr)
         return 1
