@@ -69,6 +69,13 @@ Per ramp job (a job whose speed changed while recording: its ``/jobs/<id>/waterf
   response dashed over it, each tracked phase moved by whole turns nearest it, and the critical
   speeds dotted.
 
+With ``--balance JSON`` (the output of ``rotorsweep balance OUT.h5 --json [--check]``):
+
+* ``balancing.png``: the 1× amplitude [µm, log] per sensor and direction, one panel per speed,
+  as bars: the reference run (before), the influence coefficients' prediction after the
+  corrections and, with ``--check``, the check run of the corrected roll with its reduction
+  [%]; the corrections (plane z, mass, angle) in the title.
+
 Besides study results files, a ``rotorsweep linear -o`` file is accepted: it gets the Campbell
 diagram and the per-system figures; and a ``rotorsweep simulate -o`` file, laid out as a study
 of one job (no sweeps: its timing bar, and its work-precision point when it has an error).

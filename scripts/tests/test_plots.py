@@ -16,6 +16,7 @@ about 71 Hz, so the chart has a range to shade).
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -529,3 +530,31 @@ def test_ramp_study_waterfall_order_map_and_bode(tmp_path: Path) -> None:
     # A channel asked for by name must exist: the ramps' channels are listed.
     with pytest.raises(plots.PlotError, match="disk/vertical"):
         plots.render(results, tmp_path / "other", "centre/vertical")
+
+
+def test_balancing_before_and_after(tmp_path: Path) -> None:
+    """studies/balancing.toml (8 jobs, about 5 s CPU) and `rotorsweep balance --check --json`:
+    balancing.png with one panel per speed (6 and 10 Hz), and bars that are the JSON's
+    numbers."""
+    study_file = ROOT / "studies" / "balancing.toml"
+    run_ok("run", study_file, "-o", "bal.h5", "--threads", "2", cwd=tmp_path)
+    out = run_ok("balance", "bal.h5", "--check", "--json", "--study", study_file, cwd=tmp_path)
+    (tmp_path / "bal.json").write_text(out.stdout)
+    written = plots.render(tmp_path / "bal.h5", tmp_path / "plots", balance=tmp_path / "bal.json")
+    assert written[-1].name == "balancing.png"
+    check_png(written[-1])
+
+    data = json.loads(out.stdout)
+    fig = plots.balancing(data, "balancing")
+    assert [ax.get_title() for ax in fig.axes] == ["6 Hz", "10 Hz"]
+    heights = sorted(p.get_height() for p in fig.axes[0].patches)
+    at6 = [r for key in ("predicted", "check") for r in data[key] if r["speed_hz"] == 6.0]
+    drawn = sorted([r["before_um"] for r in data["predicted"] if r["speed_hz"] == 6.0]
+                   + [r["after_um"] for r in at6])
+    np.testing.assert_allclose(heights, drawn)
+
+    # Not balance output: an error naming the file, nothing drawn.
+    (tmp_path / "bad.json").write_text('{"corrections": []}')
+    with pytest.raises(plots.PlotError, match="bad.json"):
+        plots.render(tmp_path / "bal.h5", tmp_path / "none", balance=tmp_path / "bad.json")
+    assert not (tmp_path / "none").exists()
