@@ -53,6 +53,29 @@ several systems have one:
 * ``floquet.png``: −ln max|μ| per revolution over speed (< 0 unstable), the Floquet-unstable
   ranges shaded, the damped modes' stability threshold dashed.
 
+Per ramp job (a job whose speed changed while recording: its ``/jobs/<id>/waterfall``), suffixed
+``-<job_id>`` when several jobs have one, titled by the job's setting:
+
+* ``waterfall.png``: the amplitude [µm, log colour scale] of the Hanning spectra of
+  half-overlapping time blocks (``/jobs/<id>/waterfall``) over frequency [Hz], a row per block
+  at its mid time [s] with the block's mean speed [Hz] on the right axis (a hold or a
+  coast-down reads as well as a run-up), one panel per direction of the chosen sensor, with the
+  tracked orders' lines f = k·speed(t);
+* ``order_map.png``: the tracked amplitude [µm, log] of each order (``/analysis/orders``) over
+  the blocks' mean speed [Hz], one line per order, one panel per direction;
+* ``order_bode.png``: the tracked 1× amplitude [µm, log] and phase [°] over speed per sensor,
+  vertical and horizontal; where the file has the job's ``/linear/<linear_id>`` system with an
+  unbalance response (a study's ``[linear] unbalance_response = true``) that steady-state
+  response dashed over it, each tracked phase moved by whole turns nearest it, and the critical
+  speeds dotted.
+
+With ``--balance JSON`` (the output of ``rotorsweep balance OUT.h5 --json [--check]``):
+
+* ``balancing.png``: the 1× amplitude [µm, log] per sensor and direction, one panel per speed,
+  as bars: the reference run (before), the influence coefficients' prediction after the
+  corrections and, with ``--check``, the check run of the corrected roll with its reduction
+  [%]; the corrections (plane z, mass, angle) in the title.
+
 Besides study results files, a ``rotorsweep linear -o`` file is accepted: it gets the Campbell
 diagram and the per-system figures; and a ``rotorsweep simulate -o`` file, laid out as a study
 of one job (no sweeps: its timing bar, and its work-precision point when it has an error).
@@ -60,8 +83,9 @@ of one job (no sweeps: its timing bar, and its work-precision point when it has 
 Numbers in labels are written as ``rotorsweep report`` writes them (:func:`number_text`).
 
 The ``-<n>`` suffix (the sweep's number in the file) is added only when the file has several
-sweeps. ``--channel SENSOR/DIR`` picks the sensor of the maps and harmonics and the direction of
-the trial-mass panels. Importable: :func:`render` does the same and returns the paths. The
+sweeps. ``--channel SENSOR/DIR`` picks the sensor of the maps, harmonics, waterfalls and order
+maps and the direction of the trial-mass panels (default centre/vertical; a ramp job without a
+"centre" sensor then shows its first sensor). Importable: :func:`render` does the same and returns the paths. The
 figures are drawn on Agg canvases of their own; matplotlib's global backend is left alone.
 Exit code 1, with a message naming the file, when it is neither.
 """
@@ -69,6 +93,7 @@ Exit code 1, with a message naming the file, when it is neither.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from pathlib import Path
 
@@ -85,6 +110,8 @@ from matplotlib.ticker import ScalarFormatter
 import rotorsweep as rp
 from rotorsweep import PathLike
 
+#: The channel drawn when none is asked for (``--channel``).
+DEFAULT_CHANNEL = "centre/vertical"
 #: Resolution of the PNG files [dots per inch].
 DPI = 110
 #: Directions of the runout channels, in panel order.
@@ -799,9 +826,7 @@ def bode(sys_: dict[str, object], title: str) -> Figure | None:
             amp = np.asarray(sys_[f"{key}/amplitude_um"])
             # Without amplitude (at standstill) the phase means nothing: left out, and the rest
             # unwrapped.
-            phase = np.full(amp.shape, np.nan)
-            some = amp > 0
-            phase[some] = np.degrees(np.unwrap(np.radians(sys_[f"{key}/phase_deg"][some])))
+            phase = _unwrap_deg(np.where(amp > 0, np.asarray(sys_[f"{key}/phase_deg"]), np.nan))
             axes[0, c].plot(speed, amp, color=colour, label=d)
             axes[1, c].plot(speed, phase, color=colour, label=d)
         axes[0, c].set_title(sensor)
@@ -928,13 +953,297 @@ def linear_figures(systems: dict[str, dict[str, object]]) -> list[tuple[str, Fig
     counts = pd.Series([w for w, _, _ in out]).value_counts()
     return [(f"{w}-{n}.png" if counts[w] > 1 else f"{w}.png", fig) for w, n, fig in out]
 
+#: Colours of the runout directions in the order figures (as in the Bode plots).
+DIRECTION_COLOURS = {"vertical": "tab:orange", "horizontal": "tab:blue"}
 
-def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -> list[Path]:
+
+def ramp_jobs(path: PathLike) -> list[str]:
+    """The jobs with a waterfall (``/jobs/<id>/waterfall``: speed changed while recording), in
+    job-index order."""
+    with h5py.File(path, "r") as f:
+        return [i for i in rp.job_ids(path) if f"jobs/{i}/waterfall/freq_hz" in f]
+
+
+def waterfall_data(path: PathLike, job: str) -> dict[str, np.ndarray]:
+    """A ramp job's waterfall (src/study/orders.rs): ``time_s`` and ``speed_hz`` [blocks],
+    ``freq_hz`` [bins] and ``map/<sensor>/<dir>`` [blocks × bins, µm]."""
+    with h5py.File(path, "r") as f:
+        g = f[f"jobs/{job}/waterfall"]
+        data = {n: g[n][()] for n in ("time_s", "speed_hz", "freq_hz")}
+        for sensor in g.get("map", {}):
+            for d in g["map"][sensor]:
+                data[f"map/{sensor}/{d}"] = g["map"][sensor][d][()]
+    return data
+
+
+def _job_title(study: str, what: str, name: str) -> str:
+    return f"{study}: {what}" + (f"\n{name}" if name else "")
+
+
+def waterfall(data: dict[str, np.ndarray], sensor: str, orders: list[float], study: str,
+              name: str) -> Figure | None:
+    """A ramp's waterfall of ``sensor``: the amplitude [µm, log colour scale spanning
+    :data:`MAP_DECADES`] of Hanning spectra of half-overlapping time blocks over frequency [Hz]
+    (rows: the blocks' mid time [s], the right axis their mean speed [Hz]), one panel per
+    direction, with the order lines f = k·speed(t) of the tracked ``orders``; None without a map
+    of that sensor or when it is zero."""
+    dirs = [d for d in DIRECTIONS if f"map/{sensor}/{d}" in data]
+    if not dirs or len(data["time_s"]) < 2:
+        return None
+    maps = [data[f"map/{sensor}/{d}"] for d in dirs]
+    top = max(np.max(m, initial=0.0) for m in maps)
+    if not top > 0:
+        return None
+    t, speed, freq = data["time_s"], data["speed_hz"], data["freq_hz"]
+    norm = LogNorm(vmin=top / 10**MAP_DECADES, vmax=top, clip=True)
+    fig = _figure(figsize=(5.6 * len(dirs) + 1.4, 6.2))
+    axes = fig.subplots(1, len(dirs), sharey=True, squeeze=False)[0]
+    for ax, d, m in zip(axes, dirs, maps):
+        mesh = ax.pcolormesh(freq, t, m, norm=norm, cmap="viridis", shading="nearest",
+                             rasterized=True)
+        (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+        for k in orders:
+            ax.plot(k * speed, t, color="white", lw=0.8, alpha=0.5)
+            inside = np.flatnonzero(k * speed <= x1)
+            if inside.size:
+                i = inside[np.argmax(t[inside])]
+                ax.text(k * speed[i], t[i], f"{number_text(k)}×", color="white",
+                        fontsize="small", ha="left", va="top")
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
+        ax.set_title(f"{sensor} {d}", pad=8)
+        ax.set_xlabel("frequency [Hz]")
+    axes[0].set_ylabel("time, block middle [s]")
+    # The speed of the blocks at the time ticks, on the right of the last panel.
+    right = axes[-1].twinx()
+    right.set_ylim(axes[-1].get_ylim())
+    ticks = [y for y in axes[-1].get_yticks() if t[0] <= y <= t[-1]]
+    right.set_yticks(ticks, [f"{np.interp(y, t, speed):.4g}" for y in ticks])
+    right.set_ylabel("speed, block mean [Hz]")
+    fig.colorbar(mesh, ax=[*axes, right], label="runout amplitude [µm]")
+    fig.suptitle(_job_title(study, "waterfall (lines: tracked orders k·speed)", name))
+    return fig
+
+
+def _job_orders(orders: pd.DataFrame, job: str, sensor: str, d: str) -> pd.DataFrame:
+    """The tracked blocks of one job and channel, in block (time) order."""
+    rows = orders[(orders["job_id"] == job) & (orders["sensor"] == sensor)
+                  & (orders["direction"] == d)]
+    return rows.sort_values(["order", "block"])
+
+
+def order_map(orders: pd.DataFrame, job: str, sensor: str, study: str,
+              name: str) -> Figure | None:
+    """A ramp's order map of ``sensor``: the tracked amplitude [µm, log] of each order over the
+    blocks' mean speed [Hz], one line per order, one panel per direction; the order resonances
+    of ``/analysis/order_resonances`` are the curves' peaks. None without tracked rows of that
+    sensor."""
+    dirs = [d for d in DIRECTIONS if not _job_orders(orders, job, sensor, d).empty]
+    if not dirs:
+        return None
+    fig = _figure(figsize=(5.4 * len(dirs) + 0.8, 5.2))
+    axes = fig.subplots(1, len(dirs), sharey=True, squeeze=False)[0]
+    for ax, d in zip(axes, dirs):
+        rows = _job_orders(orders, job, sensor, d)
+        for i, (k, g) in enumerate(rows.groupby("order", sort=True)):
+            amp = g["amplitude_um"].to_numpy()
+            ax.plot(g["speed_hz"], np.where(amp > 0, amp, np.nan), color=f"C{i}",
+                    marker=".", ms=2, lw=1, label=f"{number_text(float(k))}×")
+        ax.set_yscale("log")
+        ax.set_title(f"{sensor} {d}")
+        ax.set_xlabel("speed, block mean [Hz]")
+        ax.grid(alpha=0.3, which="both")
+    axes[0].set_ylabel("order amplitude [µm]")
+    axes[0].legend(title="order", fontsize="small")
+    fig.suptitle(_job_title(study, "order map (tracked order amplitudes)", name))
+    return fig
+
+
+def _unwrap_deg(phase: np.ndarray) -> np.ndarray:
+    """Unwrapped phase [°], NaN kept in place."""
+    out = np.full(phase.shape, np.nan)
+    ok = np.isfinite(phase)
+    out[ok] = np.degrees(np.unwrap(np.radians(phase[ok])))
+    return out
+
+
+def _break_jumps(speed: np.ndarray, phase: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Speed and phase [°] with a NaN point after each phase step of more than 180° (a wrap,
+    not drawn as a line)."""
+    at = np.flatnonzero(np.abs(np.diff(phase)) > 180.0) + 1
+    return np.insert(speed.astype(float), at, np.nan), np.insert(phase, at, np.nan)
+
+
+def order_bode(orders: pd.DataFrame, job: str, linear: dict[str, object] | None, study: str,
+               name: str) -> Figure | None:
+    """Bode plot of a ramp's tracked 1× order per sensor (one column each, at most
+    :data:`MAX_SENSORS`): amplitude [µm, log] and phase [°] (against roll angle 0) over the
+    blocks' mean speed [Hz], vertical and horizontal; with ``linear`` (the job's
+    ``/linear/<linear_id>`` system holding an unbalance response) the steady-state 1× unbalance
+    response (phase unwrapped) dashed over it, each block's phase moved by whole turns nearest
+    it, and the critical speeds dotted; without, the tracked phase unwrapped along the blocks
+    and moved by whole turns to a median lag in (−360°, 0]. Steps over 180° are not joined.
+    None without tracked 1× rows."""
+    one = orders[orders["job_id"].eq(job) & np.isclose(orders["order"], 1.0)]
+    sensors = list(dict.fromkeys(one["sensor"]))[:MAX_SENSORS]
+    if not sensors:
+        return None
+    have_linear = linear is not None and bool(_responses(linear))
+    fig = _figure(figsize=(max(4.6 * len(sensors) + 0.6, 7.0), 6.4))
+    axes = fig.subplots(2, len(sensors), sharex=True, squeeze=False)
+    for c, sensor in enumerate(sensors):
+        for d in DIRECTIONS:
+            rows = _job_orders(one, job, sensor, d)
+            if rows.empty:
+                continue
+            colour = DIRECTION_COLOURS[d]
+            speed = rows["speed_hz"].to_numpy()
+            phase = _unwrap_deg(rows["phase_deg"].to_numpy())
+            key = f"unbalance_response/{sensor}/{d}"
+            if have_linear and f"{key}/amplitude_um" in linear:
+                lin_speed = np.asarray(linear["campbell/speed_hz"])
+                lin_amp = np.asarray(linear[f"{key}/amplitude_um"])
+                lin_phase = _unwrap_deg(
+                    np.where(lin_amp > 0, np.asarray(linear[f"{key}/phase_deg"]), np.nan))
+                axes[0, c].plot(lin_speed, lin_amp, color=colour, ls="--", lw=1,
+                                label=f"{d}, steady state (linear)")
+                axes[1, c].plot(lin_speed, lin_phase, color=colour, ls="--", lw=1)
+                # Each block's phase by whole turns nearest the steady state's at its speed.
+                ref = np.interp(speed, lin_speed, lin_phase)
+                phase = np.where(np.isfinite(ref), phase + 360.0 * np.round((ref - phase) / 360.0),
+                                 phase)
+            else:
+                # Whole turns that put the median in (−360°, 0], a phase lag.
+                phase = phase - 360.0 * np.ceil(np.nanmedian(phase) / 360.0)
+            axes[0, c].plot(speed, rows["amplitude_um"], color=colour, lw=1.3,
+                            label=f"{d}, tracked")
+            axes[1, c].plot(*_break_jumps(speed, phase), color=colour, lw=1.0, marker=".", ms=2)
+        axes[0, c].set_title(sensor)
+        axes[1, c].set_xlabel("speed, block mean [Hz]")
+        for ax in axes[:, c]:
+            if have_linear:
+                _mark_criticals(ax, linear)
+            ax.grid(alpha=0.3)
+    for ax in axes[0]:
+        ax.set_yscale("log")
+    axes[0, 0].set_ylabel("1× amplitude [µm], log")
+    axes[1, 0].set_ylabel("1× phase [°] (x = A cos(θ + φ))")
+    if have_linear:
+        axes[0, 0].plot([], [], color="tab:red", lw=0.8, ls=":", label="critical speeds")
+    axes[0, 0].legend(fontsize="small")
+    what = "order-tracked 1× (Bode)" + (" and steady state" if have_linear else "")
+    fig.suptitle(_job_title(study, what, name))
+    return fig
+
+
+def ramp_figures(path: PathLike, orders: pd.DataFrame, sensor: str | None, names: pd.Series,
+                 study: str) -> list[tuple[str, Figure | None]]:
+    """Per ramp job (:func:`ramp_jobs`) its waterfall, order map and order Bode plot, named
+    ``waterfall[-<job>].png``, ``order_map[-<job>].png``, ``order_bode[-<job>].png`` (the
+    suffix only with several ramp jobs), titled by the job's setting ``names``; ``orders`` is
+    the ``/analysis/orders`` table. The waterfall and order map draw ``sensor``; None: "centre"
+    where the job has it, else its first sensor."""
+    jobs = ramp_jobs(path)
+    if not jobs:
+        return []
+    attrs = rp.job_attrs(path)
+    systems = _linear_systems(path)
+    out: list[tuple[str, Figure | None]] = []
+    for job in jobs:
+        suffix = f"-{job}" if len(jobs) > 1 else ""
+        name = str(names.get(job, job))
+        tracked = sorted(set(orders.loc[orders["job_id"] == job, "order"])) if not orders.empty \
+            else []
+        data = waterfall_data(path, job)
+        sensors = list(dict.fromkeys(k.split("/")[1] for k in data if k.startswith("map/")))
+        which = sensor or ("centre" if "centre" in sensors or not sensors else sensors[0])
+        out.append((f"waterfall{suffix}.png", waterfall(data, which, tracked, study, name)))
+        if orders.empty:
+            continue
+        linear_id = attrs.at[job, "linear_id"] if "linear_id" in attrs else None
+        linear = systems.get(linear_id) if isinstance(linear_id, str) else None
+        out.append((f"order_map{suffix}.png", order_map(orders, job, which, study, name)))
+        out.append((f"order_bode{suffix}.png", order_bode(orders, job, linear, study, name)))
+    return out
+
+
+
+def read_balance(path: PathLike) -> dict[str, object]:
+    """The output of ``rotorsweep balance OUT.h5 --json`` (``corrections``, ``predicted`` and,
+    with ``--check``, ``check``); :class:`PlotError` naming the file when it is not one."""
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise PlotError(f"{path}: not the JSON of `rotorsweep balance --json`: {e}") from None
+    rows = data.get("predicted") if isinstance(data, dict) else None
+    if not isinstance(rows, list) or not rows or not isinstance(data.get("corrections"), list):
+        raise PlotError(f"{path}: not the JSON of `rotorsweep balance --json` (no 'corrections' "
+                        "and 'predicted' lists)")
+    need = {"speed_hz", "sensor", "direction", "before_um", "after_um"}
+    for key in ("predicted", "check"):
+        for i, row in enumerate(data.get(key) or []):
+            if not isinstance(row, dict) or not need <= set(row):
+                raise PlotError(f"{path}: {key}[{i}] lacks one of {', '.join(sorted(need))}")
+    return data
+
+
+def balancing(data: dict[str, object], study: str) -> Figure:
+    """Balancing before and after per sensor: bars of the 1× amplitude [µm, log] at each sensor
+    and direction, one panel per speed: the reference run (before), the influence coefficients'
+    prediction after the corrections and, when ``data`` has ``check``, the check run of the
+    corrected roll with its reduction [%]; the corrections in the title."""
+    pred = pd.DataFrame(data["predicted"])
+    check = pd.DataFrame(data.get("check") or [])
+    speeds = sorted(pred["speed_hz"].unique())
+    fig = _figure(figsize=(max(4.2 * len(speeds) + 0.8, 7.0), 5.4))
+    axes = fig.subplots(1, len(speeds), sharey=True, squeeze=False)[0]
+    for ax, speed in zip(axes, speeds):
+        rows = pred[pred["speed_hz"] == speed].reset_index(drop=True)
+        names = rows["sensor"] + "\n" + rows["direction"]
+        x = np.arange(len(rows))
+        series = [("before (reference run)", rows["before_um"], "0.55"),
+                  ("after, predicted", rows["after_um"], "tab:blue")]
+        if not check.empty:
+            done = rows.merge(check[check["speed_hz"] == speed], how="left",
+                              on=["speed_hz", "sensor", "direction"], suffixes=("", "_check"))
+            series.append(("after, check run", done["after_um_check"], "tab:green"))
+        width = 0.8 / len(series)
+        for i, (label, values, colour) in enumerate(series):
+            ax.bar(x + (i - (len(series) - 1) / 2) * width, values, width, color=colour,
+                   label=label)
+        if not check.empty:
+            for xi, b, a in zip(x, done["before_um_check"], done["after_um_check"]):
+                if b > 0 and np.isfinite(a):
+                    ax.annotate(f"−{100 * (1 - a / b):.1f} %", (xi, b), xytext=(0, 2),
+                                textcoords="offset points", ha="center", fontsize="x-small")
+        ax.set_xticks(x, names, fontsize="small")
+        ax.set_yscale("log")
+        ax.set_title(f"{number_text(float(speed))} Hz")
+        ax.grid(alpha=0.3, axis="y", which="both")
+    axes[0].set_ylabel("1× runout amplitude [µm], log")
+    axes[0].legend(fontsize="small")
+    masses = "; ".join(f"z {float(c['z_mm']):g} mm: {float(c['mass_g']):.0f} g at "
+                       f"{float(c['angle_deg']):.1f}°" for c in data["corrections"])
+    fig.suptitle(f"{study}: balancing before and after\ncorrections {masses}",
+                 fontsize="medium")
+    return fig
+
+
+def render(path: PathLike, outdir: PathLike, channel: str | None = None,
+           balance: PathLike | None = None) -> list[Path]:
     """Writes the plots the results file ``path`` has data for into ``outdir`` (created if
     needed) and returns their paths, in the order of the module doc. ``channel`` is
-    "SENSOR/DIR" (not used for a ``rotorsweep linear -o`` file). Raises :class:`PlotError` when
-    ``path`` is neither a study results file nor a ``linear -o`` file, or has no such channel."""
+    "SENSOR/DIR" (not used for a ``rotorsweep linear -o`` file); None: "centre/vertical", and
+    each ramp job's first sensor where it has no "centre". ``balance``: the output of
+    ``rotorsweep balance path --json``, drawn as ``balancing.png`` (study files only). Raises
+    :class:`PlotError` when ``path`` is neither a study results file nor a ``linear -o`` file,
+    has no such channel, or ``balance`` is not such output."""
     study_file = check_results_file(path)
+    balanced = None if balance is None else read_balance(balance)
+    if balanced is not None and not study_file:
+        raise PlotError(f"{balance}: balancing needs a study results file, not {path}")
+    chosen = channel is not None
+    channel = channel if chosen else DEFAULT_CHANNEL
     sensor, _, direction = channel.partition("/")
     if direction not in DIRECTIONS:
         raise PlotError(f"channel {channel!r}: expected SENSOR/DIR, DIR {' or '.join(DIRECTIONS)}")
@@ -953,7 +1262,11 @@ def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -
     study = str(rp.file_attrs(path).get("study_name", Path(path).stem))
     sweeps = rp.sweeps(path)
     trial = rp.analysis_table(path, "trial_mass")
-    have = sorted({c for s in sweeps for c in s["lines"]} | set(trial.get("channel", [])))
+    orders = rp.analysis_table(path, "orders")
+    tracked = set() if not chosen or orders.empty else set(
+        orders["sensor"] + "/" + orders["direction"])
+    have = sorted({c for s in sweeps for c in s["lines"]} | set(trial.get("channel", []))
+                  | tracked)
     if have and channel not in have:
         raise PlotError(f"{path}: no channel {channel!r} (there are: {', '.join(have)})")
     out.mkdir(parents=True, exist_ok=True)
@@ -993,13 +1306,18 @@ def render(path: PathLike, outdir: PathLike, channel: str = "centre/vertical") -
     names = settings(summary, labels, physics)
     figures.append(("campbell.png", campbell(_study_systems(path, names), study)))
     figures += linear_figures(_linear_systems(path))
+    figures += ramp_figures(path, orders, sensor if chosen else None,
+                            settings(summary, labels, varying), study)
+    if balanced is not None:
+        figures.append(("balancing.png", balancing(balanced, study)))
     return [_save(fig, out / name) for name, fig in figures if fig is not None]
 
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(
         description="PNG plots of a rotorsweep study results file (spectral maps, harmonics, "
-        "trial-mass response, work-precision, timing, stability, Campbell) or of a "
+        "trial-mass response, work-precision, timing, stability, Campbell; per ramp job a "
+        "waterfall, order map and order-tracked Bode plot) or of a "
         "`rotorsweep linear -o` file (Campbell, mode shapes, Bode, polar, critical-speed map, "
         "Floquet)."
     )
@@ -1011,14 +1329,22 @@ def main(argv: list[str] | None = None) -> int:
     )
     p.add_argument(
         "--channel",
-        default="centre/vertical",
         help="SENSOR/DIR: the sensor of the spectral maps and harmonics (both directions drawn) "
-        "and the direction of the trial-mass panels (default: centre/vertical)",
+        "and the direction of the trial-mass panels, and the sensor of the ramps' waterfalls "
+        "and order maps (default: centre/vertical; for a ramp without a centre sensor its "
+        "first sensor)",
+    )
+    p.add_argument(
+        "--balance",
+        type=Path,
+        metavar="JSON",
+        help="the output of `rotorsweep balance RESULTS --json [--check]`: also draws "
+        "balancing.png (1x before and after per sensor and speed)",
     )
     a = p.parse_args(argv)
     outdir = a.outdir or a.results.with_name(a.results.stem + "-plots")
     try:
-        written = render(a.results, outdir, a.channel)
+        written = render(a.results, outdir, a.channel, a.balance)
     except PlotError as e:
         print(f"plots.py: error: {e}", file=sys.stderr)
         return 1

@@ -16,6 +16,7 @@ about 71 Hz, so the chart has a range to shade).
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -441,3 +442,119 @@ def test_html_report_with_figures_in_chromium(solver_results: Path, tmp_path: Pa
     inked = (img[..., :3] < 0.92).any(axis=-1).mean()
     assert inked > 0.05, inked
     assert colours(img) > 200, "figures (colour maps) on the page, not text alone"
+
+
+# A run-up 30 → 60 Hz and a coast-down 60 → 30 Hz of the Jeffcott scene at 15 Hz/s (0.5 s held
+# at the start speed, 2 s ramp, 0.5 s held; 2.5 s recorded at 1 kHz), tracked in blocks of 8
+# revolutions, with the linear unbalance response at 31 speeds 30–60 Hz for the overlay: about
+# half a second for the binary, a few seconds to draw.
+RAMP_STUDY = f"""\
+name = "py-ramp"
+scene = "{(ROOT / "studies" / "scenes" / "jeffcott.toml").as_posix()}"
+
+[set]
+"speed.profile" = "ramp"
+"speed.ramp_start_s" = 0.5
+"simulation.settle_s" = 0.5
+"simulation.sample_rate_hz" = 1000.0
+"speed.rate_hz_per_s" = 15.0
+"simulation.t_end_s" = 3.0
+
+[[axes]]
+keys = ["speed.from_hz", "speed.to_hz"]
+values = [[30.0, 60.0], [60.0, 30.0]]
+labels = ["run-up", "coast-down"]
+
+[analysis]
+orders = [1.0, 2.0]
+order_revolutions = 8.0
+
+[linear]
+speeds = "30:60:31"
+unbalance_response = true
+"""
+
+
+def test_ramp_study_waterfall_order_map_and_bode(tmp_path: Path) -> None:
+    results = run_study(tmp_path, RAMP_STUDY)
+    jobs = plots.ramp_jobs(results)
+    assert len(jobs) == 2
+    written = plots.render(results, tmp_path / "plots")
+    names = [p.name for p in written]
+    for job in jobs:
+        for what in ("waterfall", "order_map", "order_bode"):
+            assert f"{what}-{job}.png" in names, names
+    for p in written:
+        check_png(p)
+    # The waterfall is an image, not a blank axes (the Jeffcott's only sensor, "disk", chosen
+    # without --channel since the scene has no "centre").
+    check_map(tmp_path / "plots" / f"waterfall-{jobs[0]}.png")
+
+    orders = rp.analysis_table(results, "orders")
+    attrs = rp.job_attrs(results)
+    linear = plots._linear_systems(results)[attrs.at[jobs[0], "linear_id"]]
+    fig = plots.order_bode(orders, jobs[0], linear, "py-ramp", "run-up")
+    assert fig is not None
+    amp_ax, phase_ax = fig.axes[0], fig.axes[1]
+    lines = {ln.get_label(): ln for ln in amp_ax.get_lines()}
+    # Tracked and steady-state curves in both directions, and the critical speeds.
+    assert {"vertical, tracked", "horizontal, tracked", "vertical, steady state (linear)",
+            "horizontal, steady state (linear)", "critical speeds"} <= set(lines)
+    # The tracked curve is the table's 1× rows of that job and channel, in block order.
+    rows = orders[(orders["job_id"] == jobs[0]) & (orders["order"] == 1.0)
+                  & (orders["sensor"] == "disk") & (orders["direction"] == "vertical")]
+    rows = rows.sort_values("block")
+    np.testing.assert_array_equal(lines["vertical, tracked"].get_xdata(), rows["speed_hz"])
+    np.testing.assert_array_equal(lines["vertical, tracked"].get_ydata(), rows["amplitude_um"])
+    # The steady state is the linear response at its speeds.
+    np.testing.assert_array_equal(lines["vertical, steady state (linear)"].get_ydata(),
+                                  linear["unbalance_response/disk/vertical/amplitude_um"])
+    # Each tracked phase (the solid line of its colour; NaN points only break the line at
+    # wraps) is the table's moved by whole turns, to within half a turn of the steady state's.
+    colour = lines["vertical, tracked"].get_color()
+    (lin_phase,) = [ln for ln in phase_ax.get_lines()
+                    if ln.get_color() == colour and ln.get_linestyle() == "--"]
+    (tracked_phase,) = [ln for ln in phase_ax.get_lines()
+                        if ln.get_color() == colour and ln.get_linestyle() == "-"]
+    x, y = np.asarray(tracked_phase.get_xdata()), np.asarray(tracked_phase.get_ydata())
+    ok = np.isfinite(y)
+    turns = (y[ok] - rows["phase_deg"].to_numpy()) / 360.0
+    np.testing.assert_allclose(turns, np.round(turns), atol=1e-9)
+    ref = np.interp(x[ok], lin_phase.get_xdata(), lin_phase.get_ydata())
+    assert np.all(np.abs(y[ok] - ref) <= 180.0 + 1e-9)
+
+    # Without a linear system no overlay is drawn.
+    bare = plots.order_bode(orders, jobs[0], None, "py-ramp", "run-up")
+    assert bare is not None
+    assert not [ln for ln in bare.axes[0].get_lines() if "steady" in str(ln.get_label())]
+    # A channel asked for by name must exist: the ramps' channels are listed.
+    with pytest.raises(plots.PlotError, match="disk/vertical"):
+        plots.render(results, tmp_path / "other", "centre/vertical")
+
+
+def test_balancing_before_and_after(tmp_path: Path) -> None:
+    """studies/balancing.toml (8 jobs, about 5 s CPU) and `rotorsweep balance --check --json`:
+    balancing.png with one panel per speed (6 and 10 Hz), and bars that are the JSON's
+    numbers."""
+    study_file = ROOT / "studies" / "balancing.toml"
+    run_ok("run", study_file, "-o", "bal.h5", "--threads", "2", cwd=tmp_path)
+    out = run_ok("balance", "bal.h5", "--check", "--json", "--study", study_file, cwd=tmp_path)
+    (tmp_path / "bal.json").write_text(out.stdout)
+    written = plots.render(tmp_path / "bal.h5", tmp_path / "plots", balance=tmp_path / "bal.json")
+    assert written[-1].name == "balancing.png"
+    check_png(written[-1])
+
+    data = json.loads(out.stdout)
+    fig = plots.balancing(data, "balancing")
+    assert [ax.get_title() for ax in fig.axes] == ["6 Hz", "10 Hz"]
+    heights = sorted(p.get_height() for p in fig.axes[0].patches)
+    at6 = [r for key in ("predicted", "check") for r in data[key] if r["speed_hz"] == 6.0]
+    drawn = sorted([r["before_um"] for r in data["predicted"] if r["speed_hz"] == 6.0]
+                   + [r["after_um"] for r in at6])
+    np.testing.assert_allclose(heights, drawn)
+
+    # Not balance output: an error naming the file, nothing drawn.
+    (tmp_path / "bad.json").write_text('{"corrections": []}')
+    with pytest.raises(plots.PlotError, match="bad.json"):
+        plots.render(tmp_path / "bal.h5", tmp_path / "none", balance=tmp_path / "bad.json")
+    assert not (tmp_path / "none").exists()
