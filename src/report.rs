@@ -1319,7 +1319,7 @@ fn esc_code(text: &str) -> String {
 }
 
 /// What each figure of `scripts/plots.py` shows, by the start of its file name.
-const FIGURE_CAPTIONS: [(&str, &str); 13] = [
+const FIGURE_CAPTIONS: [(&str, &str); 17] = [
     ("spectral_map", "Spectral map: amplitude of the runout's fluctuating part (mean removed) over frequency and speed, the roll's orders solid, the rollers' lines dashed"),
     ("harmonics", "Amplitude of each analysed order over speed"),
     ("trial_mass", "1× response to the trial masses against the baseline"),
@@ -1333,6 +1333,10 @@ const FIGURE_CAPTIONS: [(&str, &str); 13] = [
     ("critical_map", "Critical-speed map"),
     ("floquet", "Floquet stability over one revolution"),
     ("mean", "Mean runout (static sag) over speed"),
+    ("waterfall", "Waterfall of a run-up or coast-down: spectrum per time block, the tracked orders' lines k·speed(t)"),
+    ("order_map", "Order map of a run-up or coast-down: amplitude of each tracked order over speed"),
+    ("order_bode", "Tracked 1× amplitude and phase over speed, with the linear steady-state response where stored"),
+    ("balancing", "Balancing: 1× before, predicted after and in the check run, per sensor and speed"),
 ];
 
 /// The caption of a figure file.
