@@ -7,16 +7,23 @@
 
 mod common;
 
+/// Held by each test for its whole run: a child process spawned by one test inherits the HDF5
+/// files the other test has open for writing, and with them its file lock, so an import of such
+/// a file fails with "unable to lock file" while the child runs.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 #[derive(hdf5::H5Type, Clone, Debug)]
 #[repr(C)]
 struct OrderRow {
     order: f64,
     speed_hz: f64,
     amplitude_um: f64,
+    phase_deg: f64,
 }
 
 #[test]
 fn import_of_the_synthetic_run_up_recovers_the_known_orders() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let dir = common::scratch_dir("import");
     let csv = common::repo().join("studies/measured/jeffcott-runup-synthetic.csv");
     let out = dir.join("imp.h5");
@@ -74,5 +81,171 @@ fn import_of_the_synthetic_run_up_recovers_the_known_orders() {
     let msg = String::from_utf8_lossy(&o.stderr);
     assert!(msg.contains("bad.csv:3") && msg.contains("`x`"), "{msg}");
     assert!(!out2.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Imports `measured` into `out` (orders 1, 2, 3) and returns its `/analysis/orders` rows.
+fn import_orders(measured: &std::path::Path, out: &std::path::Path) -> Vec<OrderRow> {
+    common::rotorsweep_ok(&[
+        "import",
+        measured.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--orders",
+        "1,2,3",
+    ]);
+    let f = hdf5::File::open(out).unwrap();
+    f.dataset("analysis/orders").unwrap().read_raw().unwrap()
+}
+
+/// Writes a 1-D dataset with a `units` attribute (none when `units` is empty).
+fn put(f: &hdf5::Group, name: &str, data: &[f64], units: &str) {
+    let ds = f
+        .new_dataset_builder()
+        .with_data(data)
+        .create(name)
+        .unwrap();
+    if !units.is_empty() {
+        let u: hdf5::types::VarLenUnicode = units.parse().unwrap();
+        ds.new_attr::<hdf5::types::VarLenUnicode>()
+            .create("units")
+            .unwrap()
+            .write_scalar(&u)
+            .unwrap();
+    }
+}
+
+/// Runs `import` expecting input error (exit 1) and no output; returns stderr.
+fn import_fails(measured: &std::path::Path, out: &std::path::Path) -> String {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_rotorsweep"))
+        .args([
+            "import",
+            measured.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1), "{o:?}");
+    assert!(!out.exists());
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn hdf5_import_of_the_synthetic_run_up_gives_the_csv_import_orders() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = common::scratch_dir("import-h5");
+    let csv = common::repo().join("studies/measured/jeffcott-runup-synthetic.csv");
+    // The CSV's columns, parsed here (header after the `#` lines, then numbers).
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let names: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let mut cols = vec![Vec::new(); names.len()];
+    for l in lines {
+        for (c, v) in l.split(',').enumerate() {
+            cols[c].push(v.parse::<f64>().unwrap());
+        }
+    }
+    let col = |n: &str| &cols[names.iter().position(|c| *c == n).unwrap()];
+    let h5 = dir.join("synthetic.h5");
+    {
+        let f = hdf5::File::create(&h5).unwrap();
+        put(&f, "time_s", col("time_s"), "s");
+        put(&f, "keyphasor", col("keyphasor"), "V");
+        put(&f, "speed_hz", col("speed_hz"), "");
+        let g = f
+            .create_group("runout")
+            .unwrap()
+            .create_group("disk")
+            .unwrap();
+        // Vertical in mm (the import scales by 1000), horizontal in µm.
+        let v_mm: Vec<f64> = col("runout/disk/vertical")
+            .iter()
+            .map(|x| x * 1e-3)
+            .collect();
+        put(&g, "vertical", &v_mm, "mm");
+        put(&g, "horizontal", col("runout/disk/horizontal"), "um");
+    }
+    let from_csv = import_orders(&csv, &dir.join("csv.h5"));
+    let from_h5 = import_orders(&h5, &dir.join("h5.h5"));
+    assert_eq!(
+        from_csv.len(),
+        2 * 3 * 33,
+        "2 directions × 3 orders × 33 blocks"
+    );
+    assert_eq!(from_csv.len(), from_h5.len());
+    for (a, b) in from_csv.iter().zip(&from_h5) {
+        assert_eq!((a.order, a.speed_hz), (b.order, b.speed_hz), "{a:?} {b:?}");
+        // Same samples up to the ×1e-3 ×1e3 round trip of the vertical channel (~1e-16 relative).
+        assert!(
+            (a.amplitude_um - b.amplitude_um).abs() <= 1e-9 * a.amplitude_um.max(1.0),
+            "{a:?} {b:?}"
+        );
+        assert!((a.phase_deg - b.phase_deg).abs() < 1e-6, "{a:?} {b:?}");
+    }
+    // Hostile HDF5 records: each names the file and the dataset; nothing is written.
+    let t = [0.0, 0.001, 0.002, 0.003];
+    let a = [0.0, 0.1, 0.2, 0.3];
+    let nan = [0.0, f64::NAN, 0.0, 0.0];
+    let wrapped = [0.0, 6.0, 0.1, 0.2];
+    // name, time_s units, roll_angle_rad, runout/a/<dir>, its data, expected message
+    type Case<'a> = (&'a str, &'a str, &'a [f64], &'a str, &'a [f64], &'a str);
+    let cases: [Case; 5] = [
+        (
+            "units",
+            "ms",
+            &a,
+            "vertical",
+            &a,
+            "dataset `time_s`: units `ms` not accepted",
+        ),
+        (
+            "length",
+            "s",
+            &a[..3],
+            "vertical",
+            &a,
+            "dataset `roll_angle_rad`: 3 samples, time_s has 4",
+        ),
+        (
+            "direction",
+            "s",
+            &a,
+            "axial",
+            &a,
+            "dataset `runout/a/axial`: expected",
+        ),
+        (
+            "nan",
+            "s",
+            &a,
+            "vertical",
+            &nan,
+            "dataset `runout/a/vertical`: sample 2: NaN is not finite",
+        ),
+        (
+            "unwrapped",
+            "",
+            &wrapped,
+            "vertical",
+            &a,
+            "roll_angle_rad decreases at sample 3",
+        ),
+    ];
+    for (name, t_units, angle, dir_name, runout, expect) in cases {
+        let p = dir.join(format!("{name}.h5"));
+        {
+            let f = hdf5::File::create(&p).unwrap();
+            put(&f, "time_s", &t, t_units);
+            put(&f, "roll_angle_rad", angle, "");
+            let g = f.create_group("runout").unwrap().create_group("a").unwrap();
+            put(&g, dir_name, runout, "");
+        }
+        let msg = import_fails(&p, &dir.join(format!("{name}-out.h5")));
+        assert!(
+            msg.contains(&format!("{name}.h5")) && msg.contains(expect),
+            "{msg}"
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
