@@ -34,7 +34,9 @@
 //!
 //! Each table appears only when the file holds what it needs.
 
+mod compare;
 mod orders;
+pub use compare::compare;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;

@@ -104,14 +104,14 @@ fn layout(names: &[String], kind: &str) -> Result<Layout, String> {
     })
 }
 
-/// Reads a measured record, CSV or HDF5 by the file's first bytes (the HDF5 signature), else
-/// by nothing: anything that is not HDF5 is read as CSV (module doc).
+/// Reads a measured record: HDF5 when the file starts with the HDF5 signature, else CSV (module
+/// doc).
 pub fn read(path: &Path) -> Result<Record, InputError> {
     let mut sig = [0u8; 8];
     let is_h5 = std::fs::File::open(path)
         .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut sig))
         .is_ok()
-        && sig == *b"\x89HDF\r\n\x1a\n";
+        && sig == store::output::HDF5_SIGNATURE;
     if is_h5 {
         read_hdf5(path)
     } else {
