@@ -33,6 +33,8 @@
 //!   some job's speed changed while it recorded.
 //!
 //! Each table appears only when the file holds what it needs.
+//! `compare` (module `compare`, `report --compare`): a measured file's orders against a
+//! simulated file's, side by side.
 
 mod compare;
 mod orders;

@@ -10,6 +10,8 @@
 //! `PYTHONPATH`. `--no-figures` leaves the figures out (tables only).
 //! With `-o` the page goes through `store::output::write_text` (refuses an existing file unless
 //! `--overwrite`, and then only a page it wrote; tmp + rename).
+//! `--compare SIMULATED.h5` prints instead the one table `compare` of FILE's (the measured
+//! record's) order tracking against SIMULATED's (`report::compare`), in md, csv or json.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
