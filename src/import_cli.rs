@@ -1,4 +1,4 @@
-//! `rotorsweep import MEASURED.csv -o OUT.h5`: a measured record (format in
+//! `rotorsweep import MEASURED.csv|MEASURED.h5 -o OUT.h5`: a measured record (format in
 //! `rotorsweep::study::measured`) into a results file, analysed like a simulated job.
 
 use std::path::PathBuf;
@@ -9,8 +9,8 @@ use rotorsweep::study::measured;
 /// Arguments of `rotorsweep import`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Measured record (CSV: time_s, runout/<sensor>/<dir> [µm], roll_angle_rad or keyphasor,
-    /// optional speed_hz).
+    /// Measured record, CSV or HDF5 (columns or datasets time_s, runout/<sensor>/<dir> [µm],
+    /// roll_angle_rad or keyphasor, optional speed_hz).
     measured: PathBuf,
     /// Results file to write.
     #[arg(short, long)]
@@ -35,7 +35,7 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
             "--orders must be positive".into(),
         )));
     }
-    let record = measured::read_csv(&a.measured)?;
+    let record = measured::read(&a.measured)?;
     let _lock = output::claim(&a.output, a.overwrite)?;
     let name = a
         .measured

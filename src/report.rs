@@ -33,8 +33,12 @@
 //!   some job's speed changed while it recorded.
 //!
 //! Each table appears only when the file holds what it needs.
+//! `compare` (module `compare`, `report --compare`): a measured file's orders against a
+//! simulated file's, side by side.
 
+mod compare;
 mod orders;
+pub use compare::compare;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;

@@ -10,6 +10,8 @@
 //! `PYTHONPATH`. `--no-figures` leaves the figures out (tables only).
 //! With `-o` the page goes through `store::output::write_text` (refuses an existing file unless
 //! `--overwrite`, and then only a page it wrote; tmp + rename).
+//! `--compare SIMULATED.h5` prints instead the one table `compare` of FILE's (the measured
+//! record's) order tracking against SIMULATED's (`report::compare`), in md, csv or json.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -40,6 +42,12 @@ pub struct Args {
     /// HTML without the figures (no Python needed).
     #[arg(long)]
     no_figures: bool,
+    /// Compare FILE's order tracking (the measured one, e.g. of `rotorsweep import`) with this
+    /// simulated results file: one table `compare` (md, csv or json), measured and simulated
+    /// order amplitudes and phases side by side per order, speed, sensor and direction, with
+    /// the differences (`rotorsweep::report::compare`).
+    #[arg(long, value_name = "SIMULATED.h5", conflicts_with_all = ["output", "table"])]
+    compare: Option<PathBuf>,
 }
 
 /// Runs `report`.
@@ -51,6 +59,13 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     }
     if a.no_figures && a.format != Format::Html {
         return Err(clap_usage("--no-figures is for --format html"));
+    }
+    if let Some(sim) = &a.compare {
+        if a.format == Format::Html {
+            return Err(clap_usage("--compare is for md, csv and json"));
+        }
+        print!("{}", report::compare(&a.file, sim)?.render(a.format, None)?);
+        return Ok(());
     }
     let r = report::read(&a.file)?;
     if a.format != Format::Html {

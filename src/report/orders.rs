@@ -9,16 +9,16 @@ use super::{Cell, Table};
 /// A row of `/analysis/orders` (HDF5 converts records member by member by name).
 #[derive(hdf5::H5Type, Clone)]
 #[repr(C)]
-struct OrderRow {
-    job_id: VarLenUnicode,
-    sensor: VarLenUnicode,
-    direction: VarLenUnicode,
-    order: f64,
-    block: u64,
-    time_s: f64,
-    speed_hz: f64,
-    amplitude_um: f64,
-    phase_deg: f64,
+pub(super) struct OrderRow {
+    pub(super) job_id: VarLenUnicode,
+    pub(super) sensor: VarLenUnicode,
+    pub(super) direction: VarLenUnicode,
+    pub(super) order: f64,
+    pub(super) block: u64,
+    pub(super) time_s: f64,
+    pub(super) speed_hz: f64,
+    pub(super) amplitude_um: f64,
+    pub(super) phase_deg: f64,
 }
 
 /// A row of `/analysis/order_resonances`.
@@ -39,7 +39,7 @@ fn text(s: &VarLenUnicode) -> Cell {
 }
 
 /// The records of the table at `path`; `None` when the file has none.
-fn records<T: hdf5::H5Type>(f: &File, path: &str) -> hdf5::Result<Option<Vec<T>>> {
+pub(super) fn records<T: hdf5::H5Type>(f: &File, path: &str) -> hdf5::Result<Option<Vec<T>>> {
     let Ok(ds) = f.dataset(path) else {
         return Ok(None);
     };

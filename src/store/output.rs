@@ -87,7 +87,7 @@ fn describe(path: &Path) -> Result<Option<(std::fs::Metadata, &'static str)>, Ou
 }
 
 /// The HDF5 file signature (its first 8 bytes).
-const HDF5_SIGNATURE: [u8; 8] = [0x89, b'H', b'D', b'F', b'\r', b'\n', 0x1a, b'\n'];
+pub const HDF5_SIGNATURE: [u8; 8] = [0x89, b'H', b'D', b'F', b'\r', b'\n', 0x1a, b'\n'];
 
 /// Whether a regular file is a rotorsweep results file; the reason when it is not.
 pub fn is_results_file(path: &Path) -> Result<(), String> {

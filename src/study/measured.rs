@@ -1,8 +1,8 @@
-//! Measured runout in (`rotorsweep import`): a CSV record turned into a results file that the
-//! analysis, `report` and the plots read like a simulated job's.
+//! Measured runout in (`rotorsweep import`): a CSV or HDF5 record turned into a results file
+//! that the analysis, `report` and the plots read like a simulated job's.
 //!
-//! In: a CSV file (UTF-8; lines starting with `#` are comments; the first other line is the
-//! header; comma-separated numbers, one line per sample). Columns:
+//! In, the same columns in either format (the format is told by the file's first bytes: the
+//! HDF5 signature, else CSV); one rule set (`layout`, `assemble`) checks both:
 //! - `time_s`: sample times [s], strictly ascending (uniform sampling expected by the spectra);
 //! - `runout/<sensor>/<vertical|horizontal>`: runout [µm], one column per sensor and direction
 //!   (at least one);
@@ -12,12 +12,23 @@
 //! - optional `speed_hz` [Hz] (stored as a channel; the speed the analysis uses comes from the
 //!   roll angle).
 //!
+//! CSV: UTF-8; lines starting with `#` are comments; the first other line is the header (the
+//! names above); comma-separated numbers, one line per sample.
+//!
+//! HDF5: 1-D numeric datasets (any float or integer type) at the file's root named `time_s`,
+//! `roll_angle_rad` or `keyphasor`, optional `speed_hz`, and `runout/<sensor>/<direction>` in
+//! groups; nothing else at the root; all of one length. An optional string attribute `units`
+//! per dataset: `s` for `time_s`, `rad` for `roll_angle_rad`, `Hz` for `speed_hz`, anything for
+//! `keyphasor`, and `um` (also `µm`, `micrometre`, `micrometer`), `mm` or `m` for runout (scaled
+//! to µm); without it the units above are taken; any other value is an error.
+//!
 //! Out: a results file with `study_name` = `import:<file stem>`, `study_text` holding an
 //! `[analysis]` table with the orders asked for, and one job `/jobs/<stem>` (status `ok`,
 //! `time`, `runout/...`, `speed/roll_angle`, `speed/hz` when given; `speed_hz` attribute the
 //! mean speed when it varies by less than 0.1 % over the record, else NaN), then the
 //! post-processing (`post::analyse`: lines and spectra at a constant speed, order tracking and
-//! a waterfall otherwise). Errors name the file, line and column.
+//! a waterfall otherwise). Errors name the file and the line and column (CSV) or the dataset
+//! (HDF5).
 
 use std::path::Path;
 
@@ -39,14 +50,79 @@ pub struct Record {
     pub runout: Vec<(String, Vec<f64>)>,
 }
 
+/// Which columns (CSV) or datasets (HDF5) hold what, by index into the list of names.
+struct Layout {
+    time: usize,
+    angle: Option<usize>,
+    keyphasor: Option<usize>,
+    speed: Option<usize>,
+    runout: Vec<usize>,
+}
+
+/// Sorts the names of a record's columns or datasets (`kind`: "column" or "dataset") into a
+/// [`Layout`]; the same rules for both formats (module doc).
+fn layout(names: &[String], kind: &str) -> Result<Layout, String> {
+    let find = |n: &str| names.iter().position(|c| c == n);
+    let time = find("time_s").ok_or_else(|| format!("no `time_s` {kind}"))?;
+    let angle = find("roll_angle_rad");
+    let keyphasor = find("keyphasor");
+    if angle.is_some() == keyphasor.is_some() {
+        return Err(format!(
+            "needs exactly one of the {kind}s `roll_angle_rad` and `keyphasor`"
+        ));
+    }
+    let speed = find("speed_hz");
+    let mut runout = Vec::new();
+    for (i, n) in names.iter().enumerate() {
+        if [Some(time), angle, keyphasor, speed].contains(&Some(i)) {
+            continue;
+        }
+        let ok = n
+            .strip_prefix("runout/")
+            .and_then(|r| r.split_once('/'))
+            .is_some_and(|(s, d)| !s.is_empty() && (d == "vertical" || d == "horizontal"));
+        if !ok {
+            return Err(format!(
+                "{kind} `{n}`: expected time_s, roll_angle_rad or keyphasor, speed_hz, or \
+                 runout/<sensor>/<vertical|horizontal>"
+            ));
+        }
+        if names[..i].contains(n) {
+            return Err(format!("{kind} `{n}` appears twice"));
+        }
+        runout.push(i);
+    }
+    if runout.is_empty() {
+        return Err(format!("no runout/<sensor>/<direction> {kind}"));
+    }
+    Ok(Layout {
+        time,
+        angle,
+        keyphasor,
+        speed,
+        runout,
+    })
+}
+
+/// Reads a measured record: HDF5 when the file starts with the HDF5 signature, else CSV (module
+/// doc).
+pub fn read(path: &Path) -> Result<Record, InputError> {
+    let mut sig = [0u8; 8];
+    let is_h5 = std::fs::File::open(path)
+        .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut sig))
+        .is_ok()
+        && sig == store::output::HDF5_SIGNATURE;
+    if is_h5 {
+        read_hdf5(path)
+    } else {
+        read_csv(path)
+    }
+}
+
 /// Reads a measured CSV record (module doc).
 pub fn read_csv(path: &Path) -> Result<Record, InputError> {
     let text = crate::error::read_text(path).map_err(|e| InputError::new(path, e.to_string()))?;
-    let at = |line: usize, reason: String| {
-        let mut e = InputError::new(path, reason);
-        e.line = Some(line);
-        e
-    };
+    let at = |line: usize, reason: String| InputError::new(path, reason).at_line(line);
     let mut lines = text
         .lines()
         .enumerate()
@@ -56,47 +132,7 @@ pub fn read_csv(path: &Path) -> Result<Record, InputError> {
         .next()
         .ok_or_else(|| InputError::new(path, "no header line"))?;
     let names: Vec<String> = header.split(',').map(|s| s.trim().to_string()).collect();
-    let find = |n: &str| names.iter().position(|c| c == n);
-    let t_col = find("time_s").ok_or_else(|| at(hline, "no `time_s` column".into()))?;
-    let angle_col = find("roll_angle_rad");
-    let key_col = find("keyphasor");
-    if angle_col.is_some() == key_col.is_some() {
-        return Err(at(
-            hline,
-            "needs exactly one of the columns `roll_angle_rad` and `keyphasor`".into(),
-        ));
-    }
-    let speed_col = find("speed_hz");
-    let mut runout_cols = Vec::new();
-    for (i, n) in names.iter().enumerate() {
-        if Some(i) == Some(t_col)
-            || Some(i) == angle_col
-            || Some(i) == key_col
-            || Some(i) == speed_col
-        {
-            continue;
-        }
-        let ok = n
-            .strip_prefix("runout/")
-            .and_then(|r| r.split_once('/'))
-            .is_some_and(|(s, d)| !s.is_empty() && (d == "vertical" || d == "horizontal"));
-        if !ok {
-            return Err(at(
-                hline,
-                format!(
-                    "column `{n}`: expected time_s, roll_angle_rad or keyphasor, speed_hz, or \
-                     runout/<sensor>/<vertical|horizontal>"
-                ),
-            ));
-        }
-        if names[..i].contains(n) {
-            return Err(at(hline, format!("column `{n}` appears twice")));
-        }
-        runout_cols.push(i);
-    }
-    if runout_cols.is_empty() {
-        return Err(at(hline, "no runout/<sensor>/<direction> column".into()));
-    }
+    let lay = layout(&names, "column").map_err(|e| at(hline, e))?;
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
     for (ln, l) in lines {
         let cells: Vec<&str> = l.split(',').collect();
@@ -119,7 +155,90 @@ pub fn read_csv(path: &Path) -> Result<Record, InputError> {
             cols[c].push(v);
         }
     }
-    let time = std::mem::take(&mut cols[t_col]);
+    assemble(path, &names, cols, &lay)
+}
+
+/// The `units` attributes an HDF5 record may carry per dataset, with the factor to the
+/// record's own units (s, µm, rad, Hz); a dataset without `units` is taken in those units.
+fn unit_factor(name: &str, units: &str) -> Option<f64> {
+    match (name, units) {
+        ("time_s", "s") | ("roll_angle_rad", "rad") | ("speed_hz", "Hz") => Some(1.0),
+        ("keyphasor", _) => Some(1.0),
+        (n, "um" | "µm" | "micrometre" | "micrometer") if n.starts_with("runout/") => Some(1.0),
+        (n, "mm") if n.starts_with("runout/") => Some(1e3),
+        (n, "m") if n.starts_with("runout/") => Some(1e6),
+        _ => None,
+    }
+}
+
+/// Reads a measured HDF5 record (module doc): the datasets at the file's root, runout under
+/// `runout/<sensor>/<direction>`.
+pub fn read_hdf5(path: &Path) -> Result<Record, InputError> {
+    let err = |reason: String| InputError::new(path, reason);
+    let f = hdf5::File::open(path).map_err(|e| err(format!("not a readable HDF5 file: {e}")))?;
+    let h5 = |e: hdf5::Error| err(e.to_string());
+    let mut names = Vec::new();
+    for n in f.member_names().map_err(h5)? {
+        if n == "runout" {
+            let g = f
+                .group("runout")
+                .map_err(|_| err("`runout` must be a group of <sensor> groups".into()))?;
+            for s in g.member_names().map_err(h5)? {
+                let sg = g.group(&s).map_err(|_| {
+                    err(format!(
+                        "`runout/{s}` must be a group of vertical/horizontal datasets"
+                    ))
+                })?;
+                for d in sg.member_names().map_err(h5)? {
+                    names.push(format!("runout/{s}/{d}"));
+                }
+            }
+        } else {
+            names.push(n);
+        }
+    }
+    let lay = layout(&names, "dataset").map_err(err)?;
+    let mut cols = Vec::with_capacity(names.len());
+    for n in &names {
+        let at = |reason: String| err(format!("dataset `{n}`: {reason}"));
+        let ds = f.dataset(n).map_err(|_| at("not a dataset".into()))?;
+        if ds.ndim() != 1 {
+            return Err(at(format!("{} dimensions, expected 1", ds.ndim())));
+        }
+        let factor = match store::read_str(&ds, "units") {
+            Ok(u) => unit_factor(n, &u).ok_or_else(|| at(format!("units `{u}` not accepted")))?,
+            Err(_) if ds.attr("units").is_ok() => {
+                return Err(at("the `units` attribute is not a string".into()))
+            }
+            Err(_) => 1.0,
+        };
+        let mut v: Vec<f64> = ds.read_raw().map_err(|e| at(format!("not numbers: {e}")))?;
+        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            return Err(at(format!("sample {}: {} is not finite", i + 1, v[i])));
+        }
+        v.iter_mut().for_each(|x| *x *= factor);
+        cols.push(v);
+    }
+    let nt = cols[lay.time].len();
+    if let Some(i) = cols.iter().position(|c| c.len() != nt) {
+        return Err(err(format!(
+            "dataset `{}`: {} samples, time_s has {nt}",
+            names[i],
+            cols[i].len()
+        )));
+    }
+    assemble(path, &names, cols, &lay)
+}
+
+/// The checks both formats share, then the record: times ascending, roll angle from the angle or
+/// the keyphasor, unwrapped.
+fn assemble(
+    path: &Path,
+    names: &[String],
+    mut cols: Vec<Vec<f64>>,
+    lay: &Layout,
+) -> Result<Record, InputError> {
+    let time = std::mem::take(&mut cols[lay.time]);
     if time.len() < 3 {
         return Err(InputError::new(path, "fewer than three samples"));
     }
@@ -129,14 +248,14 @@ pub fn read_csv(path: &Path) -> Result<Record, InputError> {
             format!("time_s not strictly ascending at sample {}", i + 2),
         ));
     }
-    let roll_angle = match (angle_col, key_col) {
+    let roll_angle = match (lay.angle, lay.keyphasor) {
         (Some(c), _) => std::mem::take(&mut cols[c]),
         (_, Some(c)) => {
             let pulses = orders::pulse_times(&time, &cols[c]);
             orders::angle_from_pulses(&time, &pulses)
                 .map_err(|e| InputError::new(path, format!("keyphasor: {e}")))?
         }
-        _ => unreachable!("one of the two columns is there (checked above)"),
+        _ => unreachable!("one of the two is there (checked by `layout`)"),
     };
     if let Some(i) = roll_angle.windows(2).position(|w| w[1] < w[0]) {
         return Err(InputError::new(
@@ -148,8 +267,9 @@ pub fn read_csv(path: &Path) -> Result<Record, InputError> {
         ));
     }
     Ok(Record {
-        speed_hz: speed_col.map(|c| std::mem::take(&mut cols[c])),
-        runout: runout_cols
+        speed_hz: lay.speed.map(|c| std::mem::take(&mut cols[c])),
+        runout: lay
+            .runout
             .iter()
             .map(|&c| {
                 let n = names[c]["runout/".len()..].to_string();

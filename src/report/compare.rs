@@ -1,0 +1,186 @@
+//! `rotorsweep report MEASURED.h5 --compare SIMULATED.h5`: measured against simulated order
+//! amplitudes and phases side by side, with differences.
+//!
+//! In: two results files with `/analysis/orders` (written by `study::orders`): the measured one
+//! (`rotorsweep import`, or any results file) and the simulated one (a run-up of the model, or
+//! a constant-speed sweep: one row per job). Out: one [`Table`] `compare`, one row per measured
+//! row (job, order, block, sensor, direction) with the measured amplitude [µm] and phase [deg],
+//! the simulated ones at the same order, sensor, direction and speed, and the differences
+//! measured − simulated (phase wrapped to (−180, 180]).
+//!
+//! Method: the simulated rows of one order, sensor and direction, sorted by speed, are
+//! interpolated linearly in speed — the amplitude as such, the phase through the complex
+//! amplitude A e^{iφ} (so that it does not jump across ±180°). A measured speed outside the
+//! simulated rows' range, or a sensor/direction/order the simulation lacks, has no simulated
+//! value (NaN: empty in CSV, `–` in markdown, null in JSON). Two simulated rows at one speed
+//! (several jobs at one speed: pick one job with the study's own filters first) are an error.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use rustfft::num_complex::Complex64;
+
+use super::orders::{records, OrderRow};
+use super::{Cell, Report, Table};
+use crate::error::InputError;
+
+/// Simulated points of one (order, sensor, direction): (speed [Hz], complex amplitude [µm]).
+type Curve = Vec<(f64, Complex64)>;
+
+/// The order rows of the results file at `path`; an error naming it when it has none.
+fn order_rows(path: &Path) -> Result<Vec<OrderRow>, InputError> {
+    let f = crate::store::output::open_results_file(path).map_err(|e| InputError::new(path, e))?;
+    let none = || {
+        InputError::new(
+            path,
+            "no `/analysis/orders` table (no job with a roll angle)",
+        )
+    };
+    records::<OrderRow>(&f, "analysis/orders")
+        .map_err(|e| InputError::new(path, e.to_string()))?
+        .ok_or_else(none)
+}
+
+/// `c` interpolated linearly at speed `s`; None outside its range.
+fn at_speed(c: &Curve, s: f64) -> Option<Complex64> {
+    let i = c.partition_point(|(x, _)| *x < s);
+    if i < c.len() && c[i].0 == s {
+        return Some(c[i].1);
+    }
+    if i == 0 || i == c.len() {
+        return None;
+    }
+    let ((x0, y0), (x1, y1)) = (c[i - 1], c[i]);
+    let w = (s - x0) / (x1 - x0);
+    Some(y0 * (1.0 - w) + y1 * w)
+}
+
+/// The angle `d` [deg] wrapped to (−180, 180].
+fn wrap_deg(d: f64) -> f64 {
+    let w = d.rem_euclid(360.0);
+    if w > 180.0 {
+        w - 360.0
+    } else {
+        w
+    }
+}
+
+/// The comparison report of `measured` against `simulated` (module doc).
+pub fn compare(measured: &Path, simulated: &Path) -> Result<Report, InputError> {
+    let meas = order_rows(measured)?;
+    let sim = order_rows(simulated)?;
+    let mut curves: BTreeMap<(String, String, u64), Curve> = BTreeMap::new();
+    for r in &sim {
+        let key = (
+            r.sensor.to_string(),
+            r.direction.to_string(),
+            r.order.to_bits(),
+        );
+        let v = Complex64::from_polar(r.amplitude_um, r.phase_deg.to_radians());
+        curves.entry(key).or_default().push((r.speed_hz, v));
+    }
+    for ((sensor, dir, order), c) in curves.iter_mut() {
+        c.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some(w) = c.windows(2).find(|w| w[0].0 == w[1].0) {
+            return Err(InputError::new(
+                simulated,
+                format!(
+                    "two rows of order {} at {sensor}/{dir} at {} Hz (several jobs at one \
+                     speed): compare against one run-up or one speed sweep",
+                    f64::from_bits(*order),
+                    w[0].0
+                ),
+            ));
+        }
+    }
+    let rows = meas
+        .iter()
+        .map(|r| {
+            let key = (
+                r.sensor.to_string(),
+                r.direction.to_string(),
+                r.order.to_bits(),
+            );
+            let s = curves.get(&key).and_then(|c| at_speed(c, r.speed_hz));
+            let (sa, sp) = s.map_or((f64::NAN, f64::NAN), |v| (v.norm(), v.arg().to_degrees()));
+            vec![
+                Cell::Text(r.job_id.to_string()),
+                Cell::Number(r.order),
+                Cell::Count(r.block),
+                Cell::Number(r.speed_hz),
+                Cell::Text(r.sensor.to_string()),
+                Cell::Text(r.direction.to_string()),
+                Cell::Number(r.amplitude_um),
+                Cell::Number(sa),
+                Cell::Number(r.amplitude_um - sa),
+                Cell::Number(r.phase_deg),
+                Cell::Number(sp),
+                Cell::Number(wrap_deg(r.phase_deg - sp)),
+            ]
+        })
+        .collect();
+    let table = Table {
+        name: "compare".into(),
+        title: "Measured vs simulated orders".into(),
+        legend: format!(
+            "Per measured job, order k, block (mean speed [Hz]), sensor and direction: the \
+             amplitude [µm] and phase [deg] of A cos(kθ + φ) measured (`{}`) and simulated \
+             (`{}`, interpolated linearly in speed; none outside its speeds), and measured − \
+             simulated",
+            measured.display(),
+            simulated.display()
+        ),
+        columns: [
+            "job_id",
+            "order",
+            "block",
+            "speed_hz",
+            "sensor",
+            "direction",
+            "measured_um",
+            "simulated_um",
+            "difference_um",
+            "measured_phase_deg",
+            "simulated_phase_deg",
+            "phase_difference_deg",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+        markdown: None,
+    };
+    Ok(Report {
+        file: measured.to_path_buf(),
+        study: format!("{} vs {}", measured.display(), simulated.display()),
+        overview: format!(
+            "{} measured order rows against {} simulated",
+            meas.len(),
+            sim.len()
+        ),
+        tables: vec![table],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interpolation_and_phase_wrap() {
+        // Two points 1 µm at 0° (10 Hz) and 1 µm at 90° (20 Hz): at 15 Hz the chord's midpoint,
+        // |(1 + i)/2| = √2/2 at 45°; outside 10..20 Hz nothing.
+        let c: Curve = vec![
+            (10.0, Complex64::new(1.0, 0.0)),
+            (20.0, Complex64::new(0.0, 1.0)),
+        ];
+        let m = at_speed(&c, 15.0).unwrap();
+        assert!((m.norm() - 0.5f64.sqrt()).abs() < 1e-15);
+        assert!((m.arg().to_degrees() - 45.0).abs() < 1e-12);
+        assert_eq!(at_speed(&c, 20.0), Some(Complex64::new(0.0, 1.0)));
+        assert_eq!(at_speed(&c, 9.9), None);
+        assert_eq!(at_speed(&c, 20.1), None);
+        assert_eq!(wrap_deg(190.0), -170.0);
+        assert_eq!(wrap_deg(-190.0), 170.0);
+        assert_eq!(wrap_deg(180.0), 180.0);
+    }
+}
