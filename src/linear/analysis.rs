@@ -414,12 +414,13 @@ impl Results {
     /// lists of `unbalance_response` and `floquet.unstable_ranges_hz` empty, with the reason).
     pub fn to_json(&self, with_times: bool) -> Value {
         let c = &self.campbell;
+        // Once for every speed: the lateral modes index the shapes.
+        let (lateral, nb) = lateral_modes(c);
         let modes: Vec<Vec<Value>> = c
             .sets
             .iter()
             .enumerate()
             .map(|(s, set)| {
-                let (lateral, nb) = lateral_modes(c);
                 let shape_of = |j: usize| -> Option<Value> {
                     let shapes = self.shapes.as_ref()?;
                     let k = lateral[s][..nb].iter().position(|(i, _)| *i == j)?;
