@@ -126,8 +126,10 @@ MAP_DECADES = 4
 MAX_CAMPBELL_PANELS = 4
 #: Up to this many jobs the timing chart has vertical bars; above, one horizontal bar a job.
 MAX_TIMING_JOBS = 12
+#: Statuses of a run that reached its end time (its records are complete).
+COMPLETED = ("ok", "untrusted")
 #: Fill colour of each job status.
-STATUS_COLOURS = {"ok": "#9ccc65", "diverged": "#ef5350", "budget": "#ffb74d"}
+STATUS_COLOURS = {"ok": "#9ccc65", "untrusted": "#fff176", "diverged": "#ef5350", "budget": "#ffb74d"}
 #: Fill colour of each error class of :func:`error_class` (src/report.rs: CLASS_COLOURS).
 CLASS_COLOURS = {
     "< 1 µm": "#a5d6a7",
@@ -135,6 +137,7 @@ CLASS_COLOURS = {
     "10–100 µm": "#ffcc80",
     "≥ 100 µm": "#ef9a9a",
     "no reference": "#b3e5fc",
+    "untrusted": "#80cbc4",
     "diverged": "#ce93d8",
     "budget": "#bdbdbd",
 }
@@ -435,7 +438,7 @@ def work_precision(
         title = " / ".join(p for p in dict.fromkeys(jobs_here["physics"]) if p)
         if group is not None and title:
             ax.set_title(title, fontsize="medium")
-        drawn = (jobs_here["status"] == "ok") & (jobs_here["error_max_um"] > 0)
+        drawn = jobs_here["status"].isin(COMPLETED) & (jobs_here["error_max_um"] > 0)
         if not drawn.any():
             failed = ", ".join(f"{i}: {s}" for i, s in zip(jobs_here["integrator"],
                                                            jobs_here["status"]))
@@ -446,9 +449,12 @@ def work_precision(
             continue
         for integrator, jobs in jobs_here.groupby("integrator", sort=False):
             i = integrators.index(integrator)
-            shown = jobs[(jobs["status"] == "ok") & (jobs["error_max_um"] > 0)]
-            failed = int((jobs["status"] != "ok").sum())
-            note = f"{len(shown)} of {len(jobs)} jobs" + (f", {failed} failed" if failed else "")
+            shown = jobs[jobs["status"].isin(COMPLETED) & (jobs["error_max_um"] > 0)]
+            failed = int((~jobs["status"].isin(COMPLETED)).sum())
+            untrusted = int((jobs["status"] == "untrusted").sum())
+            note = (f"{len(shown)} of {len(jobs)} jobs"
+                    + (f", {untrusted} untrusted" if untrusted else "")
+                    + (f", {failed} failed" if failed else ""))
             style = {"color": f"C{i}", "marker": MARKERS[i % len(MARKERS)]}
             ax.plot([], [], label=f"{integrator} ({note})", **style)
             for _, run in shown.groupby("reference", sort=False):
@@ -1284,7 +1290,7 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
         names = settings(summary, labels, [k for k in varying if k != "speed.hz"])
         figures.append(("trial_mass.png", trial_mass(trial, names, direction, study)))
     physics = [k for k in varying if k != "speed.hz" and not k.startswith("solver.")]
-    if ((summary["status"] == "ok") & (summary["error_max_um"] > 0)).any():
+    if (summary["status"].isin(COMPLETED) & (summary["error_max_um"] > 0)).any():
         reference = attrs["reference_id"]
         solver_keys = [k for k in varying if k.startswith(("solver.", "reduction."))]
         physics_keys = [k for k in varying if k not in solver_keys]

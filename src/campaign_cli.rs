@@ -252,10 +252,18 @@ pub fn run(a: &RunArgs) -> Result<bool, Box<dyn std::error::Error>> {
         return Ok(out.references_failed == 0);
     }
     eprintln!(
-        "{}: {} jobs, {} ok, {} failed{}{} in {:.1} s -> {}",
+        "{}: {} jobs, {} ok, {}{} failed{}{} in {:.1} s -> {}",
         st.name,
         out.jobs,
         out.ok,
+        if out.untrusted > 0 {
+            format!(
+                "{} untrusted (status and cause in the summary), ",
+                out.untrusted
+            )
+        } else {
+            String::new()
+        },
         out.failed,
         if out.resumed > 0 {
             format!(" ({} resumed)", out.resumed)

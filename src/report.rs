@@ -51,6 +51,7 @@ use serde::Serialize;
 
 use crate::analysis;
 use crate::error::InputError;
+use crate::integrators::Status;
 use crate::store::{self, Param};
 use crate::study::{analysis_of_text, LabelledAxis, StudyAnalysis};
 
@@ -111,12 +112,13 @@ pub const HTML_MARKER: &str = "<meta name=\"generator\" content=\"rotorsweep rep
 
 /// Background colour of each class of [`error_class`] in the HTML stability matrix (the same as
 /// `scripts/plots.py`'s).
-const CLASS_COLOURS: [(&str, &str); 7] = [
+const CLASS_COLOURS: [(&str, &str); 8] = [
     ("< 1 µm", "#a5d6a7"),
     ("1–10 µm", "#fff59d"),
     ("10–100 µm", "#ffcc80"),
     ("≥ 100 µm", "#ef9a9a"),
     ("no reference", "#b3e5fc"),
+    ("untrusted", "#80cbc4"),
     ("diverged", "#ce93d8"),
     ("budget", "#bdbdbd"),
 ];
@@ -346,7 +348,7 @@ fn job_columns(jobs: &[Job], varying: &[String], skip: &str) -> (Vec<String>, Ve
 fn solver_table(jobs: &[Job], varying: &[String]) -> Table {
     let cheapest = jobs
         .iter()
-        .filter(|j| j.status == "ok" && j.cpu_time_s > 0.0)
+        .filter(|j| Status::name_completed(&j.status) && j.cpu_time_s > 0.0)
         .map(|j| j.cpu_time_s)
         .fold(f64::NAN, f64::min);
     let measured = [
@@ -461,7 +463,7 @@ fn cut(text: &str, n: usize) -> String {
 }
 
 /// The class of a job's outcome, by which the stability matrix is coloured: its status when it
-/// did not end ok, `no reference` without an error against one, else the decade of its max
+/// did not end ok (`untrusted`, `diverged`, `budget`), `no reference` without an error against one, else the decade of its max
 /// runout error: `< 1 µm`, `1–10 µm`, `10–100 µm`, `≥ 100 µm` (a runout of a paper roll is
 /// specified to a few µm: from 10 µm on a solver's error is as large as what is measured, from
 /// 100 µm the run is wrong whatever its status). `scripts/plots.py` uses the same classes.
@@ -485,6 +487,11 @@ fn outcome(j: &Job) -> String {
             significant(j.cpu_time_s, 2)
         ),
         "ok" => format!("ok {} s", significant(j.cpu_time_s, 2)),
+        "untrusted" => format!(
+            "untrusted {} µm {} s",
+            significant(j.error_max_um, 2),
+            significant(j.cpu_time_s, 2)
+        ),
         "budget" => format!("budget {} s", significant(j.cpu_time_s, 2)),
         s => format!("{s}: {}", cut(&j.cause, SHORT_CAUSE)),
     }

@@ -164,5 +164,5 @@ pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
             return Err(OutputError::Write(path.clone(), e).into());
         }
     }
-    Ok(s.status == rotorsweep::integrators::Status::Ok)
+    Ok(s.status.completed())
 }

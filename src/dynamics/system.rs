@@ -681,4 +681,10 @@ impl crate::integrators::SecondOrder for RollSystem {
     fn weights(&self) -> &[f64] {
         &self.weights
     }
+
+    fn linear_in_state(&self) -> bool {
+        self.supports
+            .iter()
+            .all(|s| matches!(s.law, Law::Linear(_)))
+    }
 }

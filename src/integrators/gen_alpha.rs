@@ -91,7 +91,7 @@ pub(super) fn run(
                 pb.newton_matrix(tn, &q1, &v1, coef, &mut nm);
                 st.jacobian_evals += 1;
                 st.factorizations += 1;
-                lu = Some(Newton::new(&nm));
+                lu = Some(Newton::new(&nm, h, pb));
                 h_lu = h;
                 fresh = true;
             }
@@ -103,6 +103,7 @@ pub(super) fn run(
                 &mut a1,
                 &mut r,
                 1.0,
+                h,
                 beta * h * h,
                 w,
                 s.tolerance,

@@ -142,7 +142,7 @@ pub fn balance(path: &Path, limits: &PlaneLimits) -> Result<Balance, InputError>
         let status = store::read_str(&g, "status").unwrap_or_default();
         let speed = store::read_num(&g, "speed_hz").unwrap_or(f64::NAN);
         let label = store::read_str(&g, &format!("label:{key}")).unwrap_or_default();
-        if status != "ok" || !speed.is_finite() {
+        if !crate::integrators::Status::name_completed(&status) || !speed.is_finite() {
             return Err(err(format!(
                 "job {id} ({label}) did not end ok at a constant speed ({status}): balancing \
                  needs every run"
@@ -354,7 +354,7 @@ pub fn check(b: &mut Balance, study: Option<&Path>) -> Result<(), InputError> {
         let model = Model::build(&scene, None)
             .map_err(|e| InputError::new(&study.scene_path, e.to_string()))?;
         let r = crate::job::run(&scene, &model);
-        if r.stats.status != crate::integrators::Status::Ok {
+        if !r.stats.status.completed() {
             return Err(InputError::new(
                 &study.scene_path,
                 format!(

@@ -94,6 +94,9 @@ pub struct Outcome {
     pub jobs: usize,
     /// Jobs that ended ok.
     pub ok: usize,
+    /// Jobs that reached their end time with an error estimate that did not control the step
+    /// (`integrators::review_trust`): their records are complete.
+    pub untrusted: usize,
     /// Jobs that ended otherwise.
     pub failed: usize,
     /// Jobs found already done (resume).
@@ -501,11 +504,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             }
             let n = jobs.len();
             let statuses = read_statuses(&opts.output)?;
-            let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
+            let (ok, untrusted) = count_statuses(&statuses);
             return Ok(Outcome {
                 jobs: n,
                 ok,
-                failed: n - ok,
+                untrusted,
+                failed: n - ok - untrusted,
                 resumed: n,
                 stale: 0,
                 references_failed: failed_references(&opts.output)?,
@@ -796,14 +800,15 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     assemble(study, opts, &identity, &jobs, &refs, &sources)?;
     drop(shared);
     let statuses = read_statuses(&opts.output)?;
-    let ok = statuses.iter().filter(|s| s.as_str() == "ok").count();
+    let (ok, untrusted) = count_statuses(&statuses);
     let references_failed = failed_references(&opts.output)?;
     // Every part of this run's jobs was checked (saved_parts) or written by it.
     remove_parts(&dir, &wanted)?;
     Ok(Outcome {
         jobs: jobs.len(),
         ok,
-        failed: jobs.len() - ok,
+        untrusted,
+        failed: jobs.len() - ok - untrusted,
         resumed,
         stale,
         references_failed,
@@ -833,10 +838,16 @@ fn pilot_run(
     over.push("outputs.modal=true".into());
     let scene = Scene::load(&study.scene_path, &over).map_err(|e| e.to_string())?;
     let r = run_one(&scene, &model);
-    if r.stats.status != Status::Ok {
+    if !r.stats.status.completed() {
         return Err(format!("{}: {}", r.stats.status.name(), r.stats.cause));
     }
     Ok(strain_energy_shares(&model, &r))
+}
+
+/// How many of `statuses` are ok and how many untrusted.
+fn count_statuses(statuses: &[String]) -> (usize, usize) {
+    let n = |name: &str| statuses.iter().filter(|s| s.as_str() == name).count();
+    (n("ok"), n("untrusted"))
 }
 
 fn read_statuses(path: &Path) -> Result<Vec<String>, CampaignError> {
@@ -847,7 +858,7 @@ fn read_statuses(path: &Path) -> Result<Vec<String>, CampaignError> {
 fn failed_references(path: &Path) -> Result<usize, CampaignError> {
     Ok(read_statuses_in(path, "references")?
         .iter()
-        .filter(|s| s.as_str() != "ok")
+        .filter(|s| !Status::name_completed(s))
         .count())
 }
 
@@ -1137,7 +1148,7 @@ fn assemble(
             let (err, per) = match rg.group(&j.reference_id) {
                 Ok(rgp) if study.has_reference => {
                     let status = store::read_str(&rgp, "status").unwrap_or_default();
-                    if status == "ok" {
+                    if Status::name_completed(&status) {
                         errors_against(&g, &rgp)
                     } else {
                         let cause = store::read_str(&rgp, "cause").unwrap_or_default();

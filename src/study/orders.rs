@@ -22,6 +22,7 @@ use rustfft::num_complex::Complex64;
 
 use super::AnalysisSpec;
 use crate::analysis::{self, orders as track};
+use crate::integrators::Status;
 use crate::store::{self, Column};
 
 /// Peaks kept per job, order and channel in the order-resonance table.
@@ -149,7 +150,7 @@ pub fn write(f: &hdf5::File, analysis: &hdf5::Group, spec: &AnalysisSpec) -> hdf
     let mut peaks = Peaks::default();
     for id in jobs.member_names()? {
         let g = jobs.group(&id)?;
-        if store::read_str(&g, "status").ok().as_deref() != Some("ok") {
+        if !store::read_str(&g, "status").is_ok_and(|s| Status::name_completed(&s)) {
             continue;
         }
         let channels = store::runout_channels(&g);

@@ -40,6 +40,7 @@ use rustfft::num_complex::Complex64;
 
 use super::{self as study, analysis_of_text, AnalysisSpec, LabelledAxis};
 use crate::analysis;
+use crate::integrators::Status;
 use crate::report::number_text;
 use crate::scene::{RollerPhase, Scene, SupportModel};
 use crate::store::{self, Column, Param};
@@ -127,7 +128,7 @@ struct JobData {
 /// The constant speed [Hz] of a job that ended ok, if it has one.
 fn analysable_speed(g: &hdf5::Group) -> Option<f64> {
     let speed_hz = store::read_num(g, "speed_hz").ok()?;
-    let ok = store::read_str(g, "status").ok()? == "ok";
+    let ok = Status::name_completed(&store::read_str(g, "status").ok()?);
     (ok && speed_hz > 0.0 && speed_hz.is_finite()).then_some(speed_hz)
 }
 

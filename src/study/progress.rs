@@ -14,7 +14,7 @@ use std::fs::File;
 use std::io::{IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 
-use crate::integrators::{Stats, Status};
+use crate::integrators::Stats;
 use crate::store;
 use crate::store::output::OutputError;
 
@@ -157,7 +157,7 @@ impl Progress {
         not_saved: Option<&dyn std::fmt::Display>,
     ) {
         self.done.set(self.done.get() + 1);
-        if stats.status != Status::Ok || not_saved.is_some() {
+        if !stats.status.completed() || not_saved.is_some() {
             self.failed.set(self.failed.get() + 1);
         }
         let (done, total) = (self.done.get(), self.total);
