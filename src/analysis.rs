@@ -98,10 +98,18 @@ pub fn lines(x: &[f64], t: &[f64], freqs_hz: &[f64]) -> Vec<Complex64> {
 /// f_k in Hz it is [`lines`]; with s the roll angle in revolutions and f_k orders it fits orders
 /// in the angle domain (`orders`). Zeros for fewer than two samples.
 pub fn weighted_lines(x: &[f64], s: &[f64], w: &[f64], freqs: &[f64]) -> Vec<Complex64> {
+    weighted_fit(x, s, w, freqs).1
+}
+
+/// The fit of [`weighted_lines`] with its mean: (m, [A_k e^{iφ_k}]). The mean fitted together
+/// with the lines is the record's static part even over a few periods of a line, where the plain
+/// mean (or the window-weighted one) still holds a share of the line: up to A/(π d) for a line of
+/// d periods in the record. Zeros for fewer than two samples.
+pub fn weighted_fit(x: &[f64], s: &[f64], w: &[f64], freqs: &[f64]) -> (f64, Vec<Complex64>) {
     let n = x.len().min(s.len()).min(w.len());
     let k = freqs.len();
     if n < 2 {
-        return vec![Complex64::new(0.0, 0.0); k];
+        return (0.0, vec![Complex64::new(0.0, 0.0); k]);
     }
     let m = 2 * k + 1;
     let tau = std::f64::consts::TAU;
@@ -133,9 +141,10 @@ pub fn weighted_lines(x: &[f64], s: &[f64], w: &[f64], freqs: &[f64]) -> Vec<Com
         .solve(&b, eps)
         .unwrap_or_else(|_| DVector::zeros(m));
     // c cos ωt + s sin ωt = A cos(ωt + φ) with A cos φ = c, A sin φ = −s.
-    (0..k)
+    let lines = (0..k)
         .map(|j| Complex64::new(sol[1 + 2 * j], -sol[2 + 2 * j]))
-        .collect()
+        .collect();
+    (sol[0], lines)
 }
 
 /// A peak of an amplitude curve over speed.
