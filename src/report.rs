@@ -33,7 +33,7 @@
 //!   some job's speed changed while it recorded.
 //!
 //! Each table appears only when the file holds what it needs.
-//! `compare` (module `compare`, `report --compare`): a measured file's orders against a
+//! `compare` and `compare_resonances` (module `compare`, `report --compare`): a measured file's orders and resonances against a
 //! simulated file's, side by side.
 
 mod compare;

@@ -10,8 +10,9 @@
 //! `PYTHONPATH`. `--no-figures` leaves the figures out (tables only).
 //! With `-o` the page goes through `store::output::write_text` (refuses an existing file unless
 //! `--overwrite`, and then only a page it wrote; tmp + rename).
-//! `--compare SIMULATED.h5` prints instead the one table `compare` of FILE's (the measured
-//! record's) order tracking against SIMULATED's (`report::compare`), in md, csv or json.
+//! `--compare SIMULATED.h5` prints instead the tables `compare` and `compare_resonances` of
+//! FILE's (the measured record's) order tracking against SIMULATED's (`report::compare`), in
+//! md, csv or json (`--table` picks one).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -30,7 +31,8 @@ pub struct Args {
     #[arg(long, default_value = "md", value_name = "md|csv|json|html")]
     format: Format,
     /// Only this table: solver, resonances, trial_mass, stability, linear, orders or
-    /// order_resonances (in CSV without the title lines, so that pandas.read_csv reads it).
+    /// order_resonances; with --compare, compare or compare_resonances (in CSV without the
+    /// title lines, so that pandas.read_csv reads it).
     #[arg(long, value_name = "NAME")]
     table: Option<String>,
     /// Write the HTML page to this file (with --format html) instead of standard output.
@@ -43,10 +45,11 @@ pub struct Args {
     #[arg(long)]
     no_figures: bool,
     /// Compare FILE's order tracking (the measured one, e.g. of `rotorsweep import`) with this
-    /// simulated results file: one table `compare` (md, csv or json), measured and simulated
+    /// simulated results file (md, csv or json): the table `compare`, measured and simulated
     /// order amplitudes and phases side by side per order, speed, sensor and direction, with
-    /// the differences (`rotorsweep::report::compare`).
-    #[arg(long, value_name = "SIMULATED.h5", conflicts_with_all = ["output", "table"])]
+    /// the differences, and `compare_resonances`, the resonance speeds and amplitudes side by
+    /// side (`rotorsweep::report::compare`).
+    #[arg(long, value_name = "SIMULATED.h5", conflicts_with = "output")]
     compare: Option<PathBuf>,
 }
 
@@ -64,7 +67,10 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
         if a.format == Format::Html {
             return Err(clap_usage("--compare is for md, csv and json"));
         }
-        print!("{}", report::compare(&a.file, sim)?.render(a.format, None)?);
+        print!(
+            "{}",
+            report::compare(&a.file, sim)?.render(a.format, a.table.as_deref())?
+        );
         return Ok(());
     }
     let r = report::read(&a.file)?;

@@ -242,24 +242,16 @@ pub fn write(f: &hdf5::File, analysis: &hdf5::Group, spec: &AnalysisSpec) -> hdf
                 if blocks.len() < 3 {
                     continue;
                 }
-                // Peaks over speed: blocks in speed order (a coast-down runs backward).
-                let mut by_speed: Vec<(f64, f64)> = blocks
+                // Peaks over speed (a coast-down runs backward; a hold counts once).
+                let points = blocks
                     .iter()
                     .map(|b| (b.speed_hz, b.amplitudes[c][k].norm()))
-                    .filter(|(_, a)| a.is_finite())
                     .collect();
-                by_speed.sort_by(|a, b| a.0.total_cmp(&b.0));
-                // Blocks at one speed (a hold before or after the ramp) count once, at their
-                // highest amplitude: a peak lies between distinct speeds.
-                by_speed.dedup_by(|later, kept| {
-                    let same = (later.0 - kept.0).abs() <= 1e-9 * kept.0.abs().max(1.0);
-                    if same {
-                        kept.1 = kept.1.max(later.1);
-                    }
-                    same
-                });
-                let (s, a): (Vec<f64>, Vec<f64>) = by_speed.into_iter().unzip();
-                for (r, p) in analysis::peaks(&s, &a).into_iter().take(RANKS).enumerate() {
+                for (r, p) in analysis::curve_peaks(points)
+                    .into_iter()
+                    .take(RANKS)
+                    .enumerate()
+                {
                     peaks.job.push(id.clone());
                     peaks.sensor.push(sensor.clone());
                     peaks.direction.push(direction.clone());
