@@ -23,6 +23,7 @@ from pathlib import Path
 
 import h5py
 import matplotlib.image
+from matplotlib.collections import QuadMesh
 import numpy as np
 import pandas as pd
 import pytest
@@ -558,3 +559,53 @@ def test_balancing_before_and_after(tmp_path: Path) -> None:
     with pytest.raises(plots.PlotError, match="bad.json"):
         plots.render(tmp_path / "bal.h5", tmp_path / "none", balance=tmp_path / "bad.json")
     assert not (tmp_path / "none").exists()
+
+
+def test_compare_measured_with_simulated(tmp_path: Path) -> None:
+    """The shipped synthetic crossing of the Jeffcott critical (studies/measured/
+    jeffcott-critical-synthetic.csv, scripts/make-synthetic.py 40 50) against the model's run-up
+    it was made from: compare_waterfall.png (measured | simulated on one colour scale) and
+    compare_orders.png (the orders tables' amplitudes in block order); about a second of
+    binary."""
+    csv = ROOT / "studies" / "measured" / "jeffcott-critical-synthetic.csv"
+    run_ok("import", csv, "-o", "meas.h5", "--orders", "1,2,3", cwd=tmp_path)
+    run_ok("simulate", ROOT / "studies" / "scenes" / "jeffcott.toml",
+           "--set", 'speed.profile="ramp"', "--set", "speed.from_hz=40.0",
+           "--set", "speed.to_hz=50.0", "--set", "speed.ramp_start_s=10.0",
+           "--set", "speed.rate_hz_per_s=2.0", "--set", "simulation.settle_s=10.0",
+           "--set", "simulation.t_end_s=15.0", "-o", "sim.h5", cwd=tmp_path)
+    meas, sim = tmp_path / "meas.h5", tmp_path / "sim.h5"
+    assert plots.main([str(meas), "--compare", str(sim), "-o", str(tmp_path / "p")]) == 0
+    written = sorted(p.name for p in (tmp_path / "p").iterdir())
+    assert written == ["compare_orders.png", "compare_waterfall.png"]
+    for p in (tmp_path / "p").iterdir():
+        check_png(p)
+    check_map(tmp_path / "p" / "compare_waterfall.png")
+
+    figs = dict(plots.compare_figures(meas, sim, None))
+    wf = figs["compare_waterfall.png"]
+    # The four panels (measured and simulated, vertical and horizontal) before the colour bar.
+    meshes = [c for a in wf.axes[:4] for c in a.collections if isinstance(c, QuadMesh)]
+    assert len(meshes) == 4, meshes
+    assert len({(m.norm.vmin, m.norm.vmax) for m in meshes}) == 1, "one colour scale"
+    # The measured 1× curve is the measured orders table's 1× rows of disk/vertical in block
+    # order; the measured 2× is make-synthetic.py's 3 µm out-of-roundness (median within the
+    # import test's 0.35 µm), the simulated one, the model's own, stays below 1 µm.
+    orders = rp.analysis_table(meas, "orders")
+    rows = orders[(orders["order"] == 1.0) & (orders["sensor"] == "disk")
+                  & (orders["direction"] == "vertical")].sort_values("block")
+    ax = figs["compare_orders.png"].axes[0]
+    solid = [ln for ln in ax.get_lines() if ln.get_linestyle() == "-" and len(ln.get_xdata())]
+    dashed = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--" and len(ln.get_xdata())]
+    assert len(solid) == len(dashed) == 3
+    np.testing.assert_array_equal(solid[0].get_xdata(), rows["speed_hz"])
+    np.testing.assert_array_equal(solid[0].get_ydata(), rows["amplitude_um"])
+    assert abs(np.nanmedian(solid[1].get_ydata()) - 3.0) < 0.35
+    assert np.nanmax(dashed[1].get_ydata()) < 1.0
+    # Not one run-up each: an error naming the file.
+    (tmp_path / "two").mkdir()
+    two = run_study(tmp_path / "two", RAMP_STUDY)
+    with pytest.raises(plots.PlotError, match="2 jobs whose speed changes"):
+        plots.compare_figures(meas, two, None)
+    with pytest.raises(plots.PlotError, match="no sensor 'centre'"):
+        plots.compare_figures(meas, sim, "centre")
