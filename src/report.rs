@@ -30,12 +30,16 @@
 //!   [Hz] with their whirl and log decrement, the stability threshold [Hz] and the
 //!   Floquet-unstable ranges [Hz] (in markdown a grid of speeds × lowest modes);
 //! - `orders`, `order_resonances`: order tracking (`/analysis/orders`, module `orders`), when
-//!   some job's speed changed while it recorded.
+//!   some job's speed changed while it recorded;
+//! - `balancing`, `balancing_residual`: for trial-mass runs on a masses axis, the influence
+//!   coefficients' correction masses and the model-based ("ideal") reference, and the 1×
+//!   predicted after each (module `balancing`).
 //!
 //! Each table appears only when the file holds what it needs.
 //! `compare` and `compare_resonances` (module `compare`, `report --compare`): a measured file's orders and resonances against a
 //! simulated file's, side by side.
 
+mod balancing;
 mod compare;
 mod orders;
 pub use compare::compare;
@@ -1148,6 +1152,9 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
     }
     tables.extend(resonance_table(&f).map_err(failed)?);
     tables.extend(trial_mass_table(&f, label_key).map_err(failed)?);
+    if label_key.is_some_and(|k| k.ends_with(".masses")) {
+        tables.extend(balancing::tables(path).into_iter().flatten());
+    }
     tables.extend(orders::orders_table(&f).map_err(failed)?);
     tables.extend(orders::order_resonance_table(&f).map_err(failed)?);
     if varying.iter().any(|k| k == INTEGRATOR_KEY) && varying.len() >= 2 {

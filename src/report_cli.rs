@@ -30,8 +30,9 @@ pub struct Args {
     /// json, or html (one self-contained page with the figures; give -o).
     #[arg(long, default_value = "md", value_name = "md|csv|json|html")]
     format: Format,
-    /// Only this table: solver, resonances, trial_mass, stability, linear, orders or
-    /// order_resonances; with --compare, compare or compare_resonances (in CSV without the
+    /// Only this table: solver, resonances, trial_mass, balancing, balancing_residual,
+    /// stability, linear, orders or order_resonances; with --compare, compare or
+    /// compare_resonances (in CSV without the
     /// title lines, so that pandas.read_csv reads it).
     #[arg(long, value_name = "NAME")]
     table: Option<String>,

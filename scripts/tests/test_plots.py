@@ -554,6 +554,32 @@ def test_balancing_before_and_after(tmp_path: Path) -> None:
                    + [r["after_um"] for r in at6])
     np.testing.assert_allclose(heights, drawn)
 
+    # The report's balancing tables: the influence rows are the balance command's corrections;
+    # the ideal rows the model's own balancing in the trial planes at their radius, as
+    # `rotorsweep modes` prints it for roll.balancing in those planes (angles there in
+    # (-180, 180]); their predicted residual is below 5 % of the reference's 1× everywhere (the
+    # static, moment and first-mode shares of the model's unbalance cancelled, 6 and 10 Hz far
+    # below the first bending mode at 32 Hz).
+    rep = json.loads(run_ok("report", "bal.h5", "--table", "balancing", "--format", "json",
+                            cwd=tmp_path).stdout)["tables"][0]
+    rows = pd.DataFrame(rep["rows"], columns=rep["columns"])
+    infl = rows[rows["method"] == "influence"]
+    np.testing.assert_allclose(infl["mass_g"], [c["mass_g"] for c in data["corrections"]])
+    np.testing.assert_allclose(infl["angle_deg"], [c["angle_deg"] for c in data["corrections"]])
+    planes = infl["z_mm"].tolist()
+    modes = json.loads(run_ok("modes", ROOT / "studies" / "scenes" / "reference-roll.toml",
+                              "--set", f"roll.balancing.planes_mm={planes}",
+                              "--set", "roll.balancing.radius_mm=160.0", "--json",
+                              cwd=tmp_path).stdout)["balancing_masses"]
+    ideal = rows[rows["method"] == "ideal"]
+    np.testing.assert_allclose(ideal["mass_g"], [m["mass_g"] for m in modes], rtol=1e-9)
+    np.testing.assert_allclose(ideal["angle_deg"], [m["angle_deg"] % 360.0 for m in modes],
+                               atol=1e-9)
+    res = json.loads(run_ok("report", "bal.h5", "--table", "balancing_residual", "--format",
+                            "json", cwd=tmp_path).stdout)["tables"][0]
+    res = pd.DataFrame(res["rows"], columns=res["columns"])
+    assert len(res) == 12 and (res["ideal_um"] < 0.05 * res["before_um"]).all(), res
+
     # Not balance output: an error naming the file, nothing drawn.
     (tmp_path / "bad.json").write_text('{"corrections": []}')
     with pytest.raises(plots.PlotError, match="bad.json"):
