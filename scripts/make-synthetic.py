@@ -24,8 +24,12 @@ import tempfile
 import h5py
 import numpy as np
 
+if len(sys.argv) not in (3, 5):
+    sys.exit("usage: make-synthetic.py ROTORSWEEP_BINARY OUT.csv [FROM_HZ TO_HZ]")
 binary, out = sys.argv[1], sys.argv[2]
-f0, f1 = (float(v) for v in sys.argv[3:5]) if len(sys.argv) > 3 else (30.0, 38.0)
+f0, f1 = (float(v) for v in sys.argv[3:5]) if len(sys.argv) == 5 else (30.0, 38.0)
+if not 0.0 < f0 < f1:
+    sys.exit(f"make-synthetic.py: a run-up needs 0 < FROM_HZ < TO_HZ, not {f0} {f1}")
 t_end = 10.0 + (f1 - f0) / 2.0
 with tempfile.TemporaryDirectory() as d:
     h5 = f"{d}/sim.h5"
