@@ -1330,7 +1330,7 @@ fn esc_code(text: &str) -> String {
 }
 
 /// What each figure of `scripts/plots.py` shows, by the start of its file name.
-const FIGURE_CAPTIONS: [(&str, &str); 17] = [
+const FIGURE_CAPTIONS: [(&str, &str); 19] = [
     ("spectral_map", "Spectral map: amplitude of the runout's fluctuating part (mean removed) over frequency and speed, the roll's orders solid, the rollers' lines dashed"),
     ("harmonics", "Amplitude of each analysed order over speed"),
     ("trial_mass", "1× response to the trial masses against the baseline"),
@@ -1348,6 +1348,8 @@ const FIGURE_CAPTIONS: [(&str, &str); 17] = [
     ("order_map", "Order map of a run-up or coast-down: amplitude of each tracked order over speed"),
     ("order_bode", "Tracked 1× amplitude and phase over speed, with the linear steady-state response where stored"),
     ("balancing", "Balancing: 1× before, predicted after and in the check run, per sensor and speed"),
+    ("compare_waterfall", "Measured and simulated waterfalls side by side over frequency and speed, on one colour scale"),
+    ("compare_orders", "Tracked order amplitudes over speed, measured solid, simulated dashed"),
 ];
 
 /// The caption of a figure file.

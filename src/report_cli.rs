@@ -10,9 +10,10 @@
 //! `PYTHONPATH`. `--no-figures` leaves the figures out (tables only).
 //! With `-o` the page goes through `store::output::write_text` (refuses an existing file unless
 //! `--overwrite`, and then only a page it wrote; tmp + rename).
-//! `--compare SIMULATED.h5` prints instead the tables `compare` and `compare_resonances` of
+//! `--compare SIMULATED.h5` reports instead the tables `compare` and `compare_resonances` of
 //! FILE's (the measured record's) order tracking against SIMULATED's (`report::compare`), in
-//! md, csv or json (`--table` picks one).
+//! md, csv or json (`--table` picks one), or as the HTML page with the figures of
+//! `scripts/plots.py FILE --compare SIMULATED.h5` (waterfalls side by side, order amplitudes).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -49,8 +50,8 @@ pub struct Args {
     /// simulated results file (md, csv or json): the table `compare`, measured and simulated
     /// order amplitudes and phases side by side per order, speed, sensor and direction, with
     /// the differences, and `compare_resonances`, the resonance speeds and amplitudes side by
-    /// side (`rotorsweep::report::compare`).
-    #[arg(long, value_name = "SIMULATED.h5", conflicts_with = "output")]
+    /// side (`rotorsweep::report::compare`); with --format html also the comparison's figures.
+    #[arg(long, value_name = "SIMULATED.h5")]
     compare: Option<PathBuf>,
 }
 
@@ -64,17 +65,10 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     if a.no_figures && a.format != Format::Html {
         return Err(clap_usage("--no-figures is for --format html"));
     }
-    if let Some(sim) = &a.compare {
-        if a.format == Format::Html {
-            return Err(clap_usage("--compare is for md, csv and json"));
-        }
-        print!(
-            "{}",
-            report::compare(&a.file, sim)?.render(a.format, a.table.as_deref())?
-        );
-        return Ok(());
-    }
-    let r = report::read(&a.file)?;
+    let r = match &a.compare {
+        Some(sim) => report::compare(&a.file, sim)?,
+        None => report::read(&a.file)?,
+    };
     if a.format != Format::Html {
         print!("{}", r.render(a.format, a.table.as_deref())?);
         return Ok(());
@@ -93,7 +87,7 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let figures = if a.no_figures {
         Vec::new()
     } else {
-        figures(&a.file)?
+        figures(&a.file, a.compare.as_deref())?
     };
     let html = r.render_html(&figures);
     match &a.output {
@@ -168,7 +162,7 @@ fn scratch() -> std::io::Result<PathBuf> {
 }
 
 /// The figures of `file`, drawn by `scripts/plots.py` in the order it prints them.
-fn figures(file: &Path) -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
+fn figures(file: &Path, compare: Option<&Path>) -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
     let (script, python) = plotter()?;
     let dir = scratch()?;
     let result = (|| -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
@@ -192,6 +186,7 @@ fn figures(file: &Path) -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
         let run = cmd
             .arg(&script)
             .arg(file)
+            .args(compare.iter().flat_map(|c| [Path::new("--compare"), c]))
             .arg("-o")
             .arg(&dir)
             .output()

@@ -17,6 +17,7 @@ about 71 Hz, so the chart has a range to shade).
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -30,7 +31,7 @@ import pytest
 
 import plots
 import rotorsweep as rp
-from test_results import ROOT, rotorsweep, run_ok
+from test_results import ROOT, binary, rotorsweep, run_ok
 
 
 def study(name: str, scene: str, rest: str) -> str:
@@ -635,3 +636,13 @@ def test_compare_measured_with_simulated(tmp_path: Path) -> None:
         plots.compare_figures(meas, two, None)
     with pytest.raises(plots.PlotError, match="no sensor 'centre'"):
         plots.compare_figures(meas, sim, "centre")
+    # The HTML page of the comparison: both tables and both figures.
+    env = dict(os.environ, ROTORSWEEP_PYTHON=sys.executable)
+    subprocess.run([str(binary()), "report", str(meas), "--compare", str(sim), "--format", "html",
+                    "-o", str(tmp_path / "cmp.html")], check=True, env=env, timeout=300)
+    page = (tmp_path / "cmp.html").read_text()
+    for name in ("compare", "compare_resonances"):
+        assert f'<section id="{name}">' in page
+    for name in ("compare_waterfall.png", "compare_orders.png"):
+        assert f"<code>{name}</code>" in page
+    assert page.count("<img") == 2
