@@ -12,7 +12,10 @@ channels) plus what a laser stand adds:
     by that much;
   - the keyphasor as a 0/5 V pulse 0.1 revolution wide (3 samples at 38 Hz), and the speed channel rounded to
     0.01 Hz (a tachometer's resolution).
-Usage: python3 scripts/make-synthetic.py ROTORSWEEP_BINARY OUT.csv
+Usage: python3 scripts/make-synthetic.py ROTORSWEEP_BINARY OUT.csv [FROM_HZ TO_HZ]
+FROM_HZ TO_HZ (default 30 38) move the ramp, still at 2 Hz/s after 10 s at FROM_HZ, recorded to
+its end: 40 50 makes studies/measured/jeffcott-critical-synthetic.csv, the run-up through the
+critical speeds (44.4 Hz horizontal, 44.6 Hz vertical) for the comparison's resonance table.
 """
 import subprocess
 import sys
@@ -21,14 +24,20 @@ import tempfile
 import h5py
 import numpy as np
 
+if len(sys.argv) not in (3, 5):
+    sys.exit("usage: make-synthetic.py ROTORSWEEP_BINARY OUT.csv [FROM_HZ TO_HZ]")
 binary, out = sys.argv[1], sys.argv[2]
+f0, f1 = (float(v) for v in sys.argv[3:5]) if len(sys.argv) == 5 else (30.0, 38.0)
+if not 0.0 < f0 < f1:
+    sys.exit(f"make-synthetic.py: a run-up needs 0 < FROM_HZ < TO_HZ, not {f0} {f1}")
+t_end = 10.0 + (f1 - f0) / 2.0
 with tempfile.TemporaryDirectory() as d:
     h5 = f"{d}/sim.h5"
     subprocess.run(
         [binary, "simulate", "studies/scenes/jeffcott.toml",
-         "--set", 'speed.profile="ramp"', "--set", "speed.from_hz=30.0", "--set", "speed.to_hz=38.0",
+         "--set", 'speed.profile="ramp"', "--set", f"speed.from_hz={f0}", "--set", f"speed.to_hz={f1}",
          "--set", "speed.ramp_start_s=10.0", "--set", "speed.rate_hz_per_s=2.0",
-         "--set", "simulation.settle_s=10.0", "--set", "simulation.t_end_s=14.0",
+         "--set", "simulation.settle_s=10.0", "--set", f"simulation.t_end_s={t_end}",
          "-o", h5], check=True, stdout=subprocess.DEVNULL)
     with h5py.File(h5) as f:
         g = f["jobs/jeffcott"]
@@ -47,7 +56,7 @@ for n, x in chans.items():
     cols[n] = x + oor + rng.normal(0.0, 1.0, x.size)
 with open(out, "w") as fh:
     fh.write("# SYNTHETIC data, not a measurement: made by scripts/make-synthetic.py (see there:\n")
-    fh.write("# the Jeffcott model's run-up 30 -> 38 Hz at 2 Hz/s + 1 um noise + track out-of-roundness\n")
+    fh.write(f"# the Jeffcott model's run-up {f0:g} -> {f1:g} Hz at 2 Hz/s + 1 um noise + track out-of-roundness\n")
     fh.write("# 3 um at 2x, 1 um at 3x + keyphasor jitter 0.002 rad/rev). Runout in um.\n")
     fh.write(",".join(cols) + "\n")
     for i in range(t.size):

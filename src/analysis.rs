@@ -98,10 +98,18 @@ pub fn lines(x: &[f64], t: &[f64], freqs_hz: &[f64]) -> Vec<Complex64> {
 /// f_k in Hz it is [`lines`]; with s the roll angle in revolutions and f_k orders it fits orders
 /// in the angle domain (`orders`). Zeros for fewer than two samples.
 pub fn weighted_lines(x: &[f64], s: &[f64], w: &[f64], freqs: &[f64]) -> Vec<Complex64> {
+    weighted_fit(x, s, w, freqs).1
+}
+
+/// The fit of [`weighted_lines`] with its mean: (m, [A_k e^{iφ_k}]). The mean fitted together
+/// with the lines is the record's static part even over a few periods of a line, where the plain
+/// mean (or the window-weighted one) still holds a share of the line: up to A/(π d) for a line of
+/// d periods in the record. Zeros for fewer than two samples.
+pub fn weighted_fit(x: &[f64], s: &[f64], w: &[f64], freqs: &[f64]) -> (f64, Vec<Complex64>) {
     let n = x.len().min(s.len()).min(w.len());
     let k = freqs.len();
     if n < 2 {
-        return vec![Complex64::new(0.0, 0.0); k];
+        return (0.0, vec![Complex64::new(0.0, 0.0); k]);
     }
     let m = 2 * k + 1;
     let tau = std::f64::consts::TAU;
@@ -133,9 +141,10 @@ pub fn weighted_lines(x: &[f64], s: &[f64], w: &[f64], freqs: &[f64]) -> Vec<Com
         .solve(&b, eps)
         .unwrap_or_else(|_| DVector::zeros(m));
     // c cos ωt + s sin ωt = A cos(ωt + φ) with A cos φ = c, A sin φ = −s.
-    (0..k)
+    let lines = (0..k)
         .map(|j| Complex64::new(sol[1 + 2 * j], -sol[2 + 2 * j]))
-        .collect()
+        .collect();
+    (sol[0], lines)
 }
 
 /// A peak of an amplitude curve over speed.
@@ -249,9 +258,14 @@ fn refine(speeds: &[f64], amp: &[f64], i: usize) -> Peak {
     let (mut s, mut v) = (x1, b);
     if curv < 0.0 {
         let xv = 0.5 * (x0 + x1) - d1 / (2.0 * curv);
-        if (x0..=x2).contains(&xv) {
+        // On evenly spaced samples the vertex lies within half a step of the highest sample and
+        // at most max(b − a, b − c)/8 above it; unevenly spaced ones (a tracked record's block
+        // speeds, noisy from the keyphasor's timing) can put a steep parabola's vertex far
+        // above every sample: it is kept within those bounds.
+        if (0.5 * (x0 + x1)..=0.5 * (x1 + x2)).contains(&xv) {
             s = xv;
-            v = a + d1 * (xv - x0) + curv * (xv - x0) * (xv - x1);
+            let rise = (b - a).max(b - c) / 8.0;
+            v = (a + d1 * (xv - x0) + curv * (xv - x0) * (xv - x1)).min(b + rise);
         }
     }
     Peak {
@@ -259,6 +273,24 @@ fn refine(speeds: &[f64], amp: &[f64], i: usize) -> Peak {
         amplitude: v.max(b),
         index: i,
     }
+}
+
+/// The peaks ([`peaks`]) of a curve given as (speed [Hz], amplitude) points in any order, e.g.
+/// a run-up's or coast-down's tracked blocks: sorted by speed, non-finite amplitudes left out,
+/// and points at one speed (a hold before or after a ramp) counted once at their highest
+/// amplitude, since a peak lies between distinct speeds.
+pub fn curve_peaks(mut points: Vec<(f64, f64)>) -> Vec<Peak> {
+    points.retain(|(_, a)| a.is_finite());
+    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    points.dedup_by(|later, kept| {
+        let same = (later.0 - kept.0).abs() <= 1e-9 * kept.0.abs().max(1.0);
+        if same {
+            kept.1 = kept.1.max(later.1);
+        }
+        same
+    });
+    let (s, a): (Vec<f64>, Vec<f64>) = points.into_iter().unzip();
+    peaks(&s, &a)
 }
 
 /// The 1× trial-mass response of one channel: the change of a job's complex 1× amplitude
@@ -388,6 +420,35 @@ mod tests {
         let exact = fnat * (1.0 - 2.0 * z * z).sqrt();
         assert!((p.speed_hz - exact).abs() < 0.05, "{}", p.speed_hz);
         assert!(p.amplitude >= amp[p.index]);
+    }
+
+    #[test]
+    fn uneven_samples_keep_the_vertex_near_the_highest_one() {
+        // Three tracked blocks of a synthetic run-up (tracked 1× [µm] at block speeds [Hz]
+        // that the keyphasor's 1 ms timing put 0.01 and 0.58 Hz apart): the parabola through
+        // them peaks at 48.78 Hz with 4020 µm, four times every sample. Kept within half a step
+        // of 48.49 Hz and max(158, 132)/8 µm above 918 µm, the bounds on even samples.
+        let p = peaks(
+            &[48.0, 48.48, 48.49, 49.07, 49.5],
+            &[700.0, 760.0, 918.0, 786.0, 700.0],
+        );
+        assert_eq!(p.len(), 1);
+        assert!((48.485..=48.78).contains(&p[0].speed_hz), "{:?}", p[0]);
+        assert!(
+            (918.0..=918.0 + 158.0 / 8.0).contains(&p[0].amplitude),
+            "{:?}",
+            p[0]
+        );
+        // Points in any order, a repeated speed counted once at its highest value.
+        let c = curve_peaks(vec![
+            (3.0, 1.0),
+            (1.0, 1.0),
+            (2.0, 5.0),
+            (2.0, 4.0),
+            (4.0, f64::NAN),
+        ]);
+        assert_eq!(c.len(), 1);
+        assert_eq!((c[0].speed_hz, c[0].amplitude), (2.0, 5.0));
     }
 
     #[test]

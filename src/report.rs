@@ -30,12 +30,16 @@
 //!   [Hz] with their whirl and log decrement, the stability threshold [Hz] and the
 //!   Floquet-unstable ranges [Hz] (in markdown a grid of speeds × lowest modes);
 //! - `orders`, `order_resonances`: order tracking (`/analysis/orders`, module `orders`), when
-//!   some job's speed changed while it recorded.
+//!   some job's speed changed while it recorded;
+//! - `balancing`, `balancing_residual`: for trial-mass runs on a masses axis, the influence
+//!   coefficients' correction masses and the model-based ("ideal") reference, and the 1×
+//!   predicted after each (module `balancing`).
 //!
 //! Each table appears only when the file holds what it needs.
-//! `compare` (module `compare`, `report --compare`): a measured file's orders against a
+//! `compare` and `compare_resonances` (module `compare`, `report --compare`): a measured file's orders and resonances against a
 //! simulated file's, side by side.
 
+mod balancing;
 mod compare;
 mod orders;
 pub use compare::compare;
@@ -1155,6 +1159,9 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
     }
     tables.extend(resonance_table(&f).map_err(failed)?);
     tables.extend(trial_mass_table(&f, label_key).map_err(failed)?);
+    if label_key.is_some_and(|k| k.ends_with(".masses")) {
+        tables.extend(balancing::tables(path).into_iter().flatten());
+    }
     tables.extend(orders::orders_table(&f).map_err(failed)?);
     tables.extend(orders::order_resonance_table(&f).map_err(failed)?);
     if varying.iter().any(|k| k == INTEGRATOR_KEY) && varying.len() >= 2 {
@@ -1330,7 +1337,7 @@ fn esc_code(text: &str) -> String {
 }
 
 /// What each figure of `scripts/plots.py` shows, by the start of its file name.
-const FIGURE_CAPTIONS: [(&str, &str); 17] = [
+const FIGURE_CAPTIONS: [(&str, &str); 19] = [
     ("spectral_map", "Spectral map: amplitude of the runout's fluctuating part (mean removed) over frequency and speed, the roll's orders solid, the rollers' lines dashed"),
     ("harmonics", "Amplitude of each analysed order over speed"),
     ("trial_mass", "1× response to the trial masses against the baseline"),
@@ -1348,6 +1355,8 @@ const FIGURE_CAPTIONS: [(&str, &str); 17] = [
     ("order_map", "Order map of a run-up or coast-down: amplitude of each tracked order over speed"),
     ("order_bode", "Tracked 1× amplitude and phase over speed, with the linear steady-state response where stored"),
     ("balancing", "Balancing: 1× before, predicted after and in the check run, per sensor and speed"),
+    ("compare_waterfall", "Measured and simulated waterfalls side by side over frequency and speed, on one colour scale"),
+    ("compare_orders", "Tracked order amplitudes over speed, measured solid, simulated dashed"),
 ];
 
 /// The caption of a figure file.

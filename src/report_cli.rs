@@ -10,8 +10,10 @@
 //! `PYTHONPATH`. `--no-figures` leaves the figures out (tables only).
 //! With `-o` the page goes through `store::output::write_text` (refuses an existing file unless
 //! `--overwrite`, and then only a page it wrote; tmp + rename).
-//! `--compare SIMULATED.h5` prints instead the one table `compare` of FILE's (the measured
-//! record's) order tracking against SIMULATED's (`report::compare`), in md, csv or json.
+//! `--compare SIMULATED.h5` reports instead the tables `compare` and `compare_resonances` of
+//! FILE's (the measured record's) order tracking against SIMULATED's (`report::compare`), in
+//! md, csv or json (`--table` picks one), or as the HTML page with the figures of
+//! `scripts/plots.py FILE --compare SIMULATED.h5` (waterfalls side by side, order amplitudes).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -29,8 +31,10 @@ pub struct Args {
     /// json, or html (one self-contained page with the figures; give -o).
     #[arg(long, default_value = "md", value_name = "md|csv|json|html")]
     format: Format,
-    /// Only this table: solver, resonances, trial_mass, stability, linear, orders or
-    /// order_resonances (in CSV without the title lines, so that pandas.read_csv reads it).
+    /// Only this table: solver, resonances, trial_mass, balancing, balancing_residual,
+    /// stability, linear, orders or order_resonances; with --compare, compare or
+    /// compare_resonances (in CSV without the
+    /// title lines, so that pandas.read_csv reads it).
     #[arg(long, value_name = "NAME")]
     table: Option<String>,
     /// Write the HTML page to this file (with --format html) instead of standard output.
@@ -43,10 +47,11 @@ pub struct Args {
     #[arg(long)]
     no_figures: bool,
     /// Compare FILE's order tracking (the measured one, e.g. of `rotorsweep import`) with this
-    /// simulated results file: one table `compare` (md, csv or json), measured and simulated
+    /// simulated results file (md, csv or json): the table `compare`, measured and simulated
     /// order amplitudes and phases side by side per order, speed, sensor and direction, with
-    /// the differences (`rotorsweep::report::compare`).
-    #[arg(long, value_name = "SIMULATED.h5", conflicts_with_all = ["output", "table"])]
+    /// the differences, and `compare_resonances`, the resonance speeds and amplitudes side by
+    /// side (`rotorsweep::report::compare`); with --format html also the comparison's figures.
+    #[arg(long, value_name = "SIMULATED.h5")]
     compare: Option<PathBuf>,
 }
 
@@ -60,14 +65,10 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     if a.no_figures && a.format != Format::Html {
         return Err(clap_usage("--no-figures is for --format html"));
     }
-    if let Some(sim) = &a.compare {
-        if a.format == Format::Html {
-            return Err(clap_usage("--compare is for md, csv and json"));
-        }
-        print!("{}", report::compare(&a.file, sim)?.render(a.format, None)?);
-        return Ok(());
-    }
-    let r = report::read(&a.file)?;
+    let r = match &a.compare {
+        Some(sim) => report::compare(&a.file, sim)?,
+        None => report::read(&a.file)?,
+    };
     if a.format != Format::Html {
         print!("{}", r.render(a.format, a.table.as_deref())?);
         return Ok(());
@@ -86,7 +87,7 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let figures = if a.no_figures {
         Vec::new()
     } else {
-        figures(&a.file)?
+        figures(&a.file, a.compare.as_deref())?
     };
     let html = r.render_html(&figures);
     match &a.output {
@@ -161,7 +162,7 @@ fn scratch() -> std::io::Result<PathBuf> {
 }
 
 /// The figures of `file`, drawn by `scripts/plots.py` in the order it prints them.
-fn figures(file: &Path) -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
+fn figures(file: &Path, compare: Option<&Path>) -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
     let (script, python) = plotter()?;
     let dir = scratch()?;
     let result = (|| -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
@@ -185,6 +186,7 @@ fn figures(file: &Path) -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
         let run = cmd
             .arg(&script)
             .arg(file)
+            .args(compare.iter().flat_map(|c| [Path::new("--compare"), c]))
             .arg("-o")
             .arg(&dir)
             .output()

@@ -145,5 +145,29 @@ fn balance_command_computes_and_checks_corrections_from_a_study() {
             assert!(a < 0.05 * b, "{key}: {r}");
         }
     }
+    // The report's balancing table has the same closed-form corrections; no model-based
+    // (`ideal`) rows for a [rotor] scene, whose unbalance is its point masses, and the legend
+    // says so.
+    let rep = common::rotorsweep_ok(&[
+        "report",
+        out.to_str().unwrap(),
+        "--table",
+        "balancing",
+        "--format",
+        "json",
+    ]);
+    let doc: serde_json::Value = serde_json::from_slice(&rep).unwrap();
+    let t = &doc["tables"][0];
+    let rows = t["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 2, "{t}");
+    for r in rows {
+        assert_eq!(r[0], "influence");
+        let (m, a) = (r[3].as_f64().unwrap(), r[4].as_f64().unwrap());
+        assert!((m - 5.0).abs() < 0.05 && (a - 210.0).abs() < 0.5, "{r}");
+    }
+    assert!(
+        t["legend"].as_str().unwrap().contains("rotor.masses"),
+        "{t}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

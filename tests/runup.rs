@@ -293,6 +293,57 @@ fn a_study_stores_tracked_orders_and_the_report_lists_them() {
     let map = wf.dataset("map/centre/vertical").unwrap().shape();
     let n_speeds = wf.dataset("speed_hz").unwrap().shape()[0];
     assert_eq!(map[0], n_speeds);
+    // The static part is removed per block (stored apart, one per block): 0 Hz holds only the
+    // fluctuation's Hann leakage, at most A·|sinc d/(1 − d²)| ≤ 2.7 % of a line d ≥ 1.9 bins
+    // away (the window's highest sidelobe), so below 5 % of the block's peak (the 1×, read
+    // within the Hann scalloping loss of 15 %) from 1.9 / 0.512 s = 3.7 Hz on; below that the
+    // 1× lies inside the window's ±2-bin main lobe around 0 Hz (src/study/orders.rs).
+    let means = wf.dataset("mean/centre/vertical").unwrap().shape();
+    assert_eq!(means, vec![n_speeds]);
+    let freq: Vec<f64> = wf.dataset("freq_hz").unwrap().read_raw().unwrap();
+    let block_s = 1.0 / freq[1];
+    assert!((block_s - 0.512).abs() < 1e-9, "{block_s}");
+    let wf_speeds: Vec<f64> = wf.dataset("speed_hz").unwrap().read_raw().unwrap();
+    let rows: Vec<f64> = wf
+        .dataset("map/centre/vertical")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    let mean_v: Vec<f64> = wf
+        .dataset("mean/centre/vertical")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    // Nothing static here (no gravity, no offset): each stored mean is the fit's error alone
+    // (the 1× changes in amplitude and speed within a block), below 2 % of the block's peak,
+    // where the plain mean would hold up to |sin πd|/(πd) of the 1× (21 % at d = 1.5, the
+    // first blocks; 5 % at d = 1.9).
+    for (b, row) in rows.chunks(map[1]).enumerate() {
+        let peak = row[1..].iter().copied().fold(0.0, f64::max);
+        assert!(
+            mean_v[b].abs() < 0.02 * peak,
+            "block {b}: {} {peak}",
+            mean_v[b]
+        );
+    }
+    let mut checked = 0;
+    for (b, row) in rows.chunks(map[1]).enumerate() {
+        if wf_speeds[b] * block_s < 1.9 {
+            continue;
+        }
+        let peak = row[1..].iter().copied().fold(0.0, f64::max);
+        assert!(
+            row[0] < 0.05 * peak,
+            "block {b} at {} Hz: {row:?}",
+            wf_speeds[b]
+        );
+        checked += 1;
+    }
+    assert!(checked + 3 >= n_speeds, "{checked} of {n_speeds}");
+    // The default range: 1.25 × the highest order (2) × the highest block speed.
+    let cap = 2.5 * wf_speeds.iter().copied().fold(0.0, f64::max);
+    let top = *freq.last().unwrap();
+    assert!(top <= cap && top > cap - freq[1], "{top} {cap}");
     assert!(f.group(&format!("jobs/{constant}/waterfall")).is_err());
     let _ = std::fs::remove_dir_all(&dir);
 }

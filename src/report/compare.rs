@@ -14,6 +14,15 @@
 //! simulated rows' range, or a sensor/direction/order the simulation lacks, has no simulated
 //! value (NaN: empty in CSV, `–` in markdown, null in JSON). Two simulated rows at one speed
 //! (several jobs at one speed: pick one job with the study's own filters first) are an error.
+//!
+//! A second table `compare_resonances` (the thesis's Table 5.1 side by side): per measured job,
+//! order, sensor and direction whose curve over speed has a resonance — its highest interior
+//! peak (`analysis::curve_peaks`, parabola-refined) at least [`PROMINENCE`] × the curve's
+//! median — the measured resonance speed [Hz] and amplitude [µm], the simulated curve's peak
+//! nearest to it within 10 % of its speed (the `resonances` table's window; none: empty), and
+//! the differences measured − simulated in Hz, in % of the simulated speed and in µm. A flat
+//! order (an out-of-roundness line, noise) has no resonance and no row. Left out when no
+//! measured curve has one.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -22,10 +31,112 @@ use rustfft::num_complex::Complex64;
 
 use super::orders::{records, OrderRow};
 use super::{Cell, Report, Table};
+use crate::analysis;
 use crate::error::InputError;
 
 /// Simulated points of one (order, sensor, direction): (speed [Hz], complex amplitude [µm]).
 type Curve = Vec<(f64, Complex64)>;
+
+/// How far a resonance's peak must rise above its curve's median amplitude to count (module
+/// doc): a resonance of light damping rises many times over its skirts (the Jeffcott's 1× run
+/// through its critical: 4×; the reference roll's half-critical 2×: 8×), a flat line and its
+/// noise peaks stay within tens of percent.
+pub const PROMINENCE: f64 = 2.0;
+
+/// A (job, sensor, direction, order) key of the order rows.
+type Channel = (String, String, String, u64);
+
+/// (speed, amplitude) points per job, sensor, direction and order, in the rows' order.
+fn amplitude_curves(rows: &[OrderRow], by_job: bool) -> BTreeMap<Channel, Vec<(f64, f64)>> {
+    let mut out: BTreeMap<Channel, Vec<(f64, f64)>> = BTreeMap::new();
+    for r in rows {
+        let job = if by_job {
+            r.job_id.to_string()
+        } else {
+            String::new()
+        };
+        let key = (
+            job,
+            r.sensor.to_string(),
+            r.direction.to_string(),
+            r.order.to_bits(),
+        );
+        out.entry(key)
+            .or_default()
+            .push((r.speed_hz, r.amplitude_um));
+    }
+    out
+}
+
+/// The median of the finite values of `v` (NaN for none).
+fn median(v: impl Iterator<Item = f64>) -> f64 {
+    let mut v: Vec<f64> = v.filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// The `compare_resonances` table (module doc); None when no measured curve has a resonance.
+fn resonance_table(meas: &[OrderRow], sim: &[OrderRow], legend: String) -> Option<Table> {
+    let simulated = amplitude_curves(sim, false);
+    let mut rows = Vec::new();
+    for ((job, sensor, dir, order), points) in amplitude_curves(meas, true) {
+        let med = median(points.iter().map(|p| p.1));
+        let Some(m) = analysis::curve_peaks(points)
+            .into_iter()
+            .next()
+            .filter(|p| p.amplitude >= PROMINENCE * med)
+        else {
+            continue;
+        };
+        let s = simulated
+            .get(&(String::new(), sensor.clone(), dir.clone(), order))
+            .and_then(|c| super::pick(analysis::curve_peaks(c.clone()), Some(m.speed_hz)));
+        let (ss, sa) = s.map_or((f64::NAN, f64::NAN), |p| (p.speed_hz, p.amplitude));
+        rows.push(vec![
+            Cell::Text(job),
+            Cell::Number(f64::from_bits(order)),
+            Cell::Text(sensor),
+            Cell::Text(dir),
+            Cell::Number(m.speed_hz),
+            Cell::Number(ss),
+            Cell::Number(m.speed_hz - ss),
+            Cell::Number(100.0 * (m.speed_hz - ss) / ss),
+            Cell::Number(m.amplitude),
+            Cell::Number(sa),
+            Cell::Number(m.amplitude - sa),
+        ]);
+    }
+    (!rows.is_empty()).then(|| Table {
+        name: "compare_resonances".into(),
+        title: "Measured vs simulated resonances".into(),
+        legend,
+        columns: [
+            "job_id",
+            "order",
+            "sensor",
+            "direction",
+            "measured_hz",
+            "simulated_hz",
+            "difference_hz",
+            "difference_pct",
+            "measured_um",
+            "simulated_um",
+            "difference_um",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+        markdown: None,
+    })
+}
 
 /// The order rows of the results file at `path`; an error naming it when it has none.
 fn order_rows(path: &Path) -> Result<Vec<OrderRow>, InputError> {
@@ -149,6 +260,19 @@ pub fn compare(measured: &Path, simulated: &Path) -> Result<Report, InputError> 
         rows,
         markdown: None,
     };
+    let resonances = resonance_table(
+        &meas,
+        &sim,
+        format!(
+            "Per measured job, order k, sensor and direction with a resonance (the highest peak \
+             of order k's amplitude over speed, at least {PROMINENCE} × its median): its speed \
+             [Hz] and amplitude [µm] measured (`{}`) and at the simulated peak nearest to it \
+             within 10 % (`{}`; none: empty), and measured − simulated [Hz, % of the simulated \
+             speed, µm]",
+            measured.display(),
+            simulated.display()
+        ),
+    );
     Ok(Report {
         file: measured.to_path_buf(),
         study: format!("{} vs {}", measured.display(), simulated.display()),
@@ -157,7 +281,7 @@ pub fn compare(measured: &Path, simulated: &Path) -> Result<Report, InputError> 
             meas.len(),
             sim.len()
         ),
-        tables: vec![table],
+        tables: std::iter::once(table).chain(resonances).collect(),
     })
 }
 

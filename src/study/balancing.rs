@@ -19,6 +19,8 @@ use hdf5::types::VarLenUnicode;
 use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
+use nalgebra::DMatrix;
+
 use super::{analysis_of_text, value_text, Study};
 use crate::analysis::balancing::{self, PlaneLimits};
 use crate::error::InputError;
@@ -76,6 +78,24 @@ pub struct Balance {
     /// The study file as the run named it, and its text then.
     #[serde(skip)]
     study: (PathBuf, String),
+    /// The influence matrix [rows × planes], the reference 1× per row and the planes' radii
+    /// [mm] (for the model-based reference, [`ideal`]).
+    #[serde(skip)]
+    influence: (DMatrix<Complex64>, Vec<Complex64>, Vec<f64>),
+}
+
+/// The model's own ("ideal") balancing of the reference roll in the trial planes, for
+/// comparison with the influence coefficients' corrections: the masses the scene's
+/// `roll.balancing` computes from the model's unbalance (its sections' centroid offsets, the
+/// thickness map's eccentric bore; not point masses: static, moment and, with three planes,
+/// the first bending mode's share cancelled, `fe`), at the trial masses' radii, and their
+/// predicted residual 1× through the same influence coefficients. Two or three planes.
+#[derive(Debug, Clone, Serialize)]
+pub struct Ideal {
+    /// The model-based masses per plane.
+    pub corrections: Vec<Correction>,
+    /// Their predicted residual 1× per row (the same rows as [`Balance::predicted`]).
+    pub predicted: Vec<Residual>,
 }
 
 /// A row of `/analysis/lines`.
@@ -256,6 +276,7 @@ pub fn balance(path: &Path, limits: &PlaneLimits) -> Result<Balance, InputError>
         }
     }
     let alpha = balancing::influence(&b, &resp, &units);
+    let radii: Vec<f64> = planes.iter().map(|p| p.1).collect();
     let masses = balancing::corrections(&alpha, &b, &vec![limits.clone(); planes.len()]);
     let w: Vec<Complex64> = masses.iter().map(|m| balancing::unbalance(m)).collect();
     let after = balancing::predicted(&alpha, &b, &w);
@@ -288,6 +309,7 @@ pub fn balance(path: &Path, limits: &PlaneLimits) -> Result<Balance, InputError>
         references,
         masses: (key, ref_masses),
         study,
+        influence: (alpha, b, radii),
     })
 }
 
@@ -302,15 +324,19 @@ fn residual(speed_hz: f64, channel: &str, before: f64, after: f64) -> Residual {
     }
 }
 
-/// Runs the corrected roll at every speed (module doc) and stores the 1× in `b.check`. The
-/// study file is `study` when given, else the path the run named (relative to the working
-/// directory, as `run` was given it); it must be the text the run used.
-pub fn check(b: &mut Balance, study: Option<&Path>) -> Result<(), InputError> {
+/// The study the results were made from, its scene's text and the file's path: `study` when
+/// given, else the path the run named (relative to the working directory, as `run` was given
+/// it); it must be the text the run used. `what` names the use in the error.
+fn run_study(
+    b: &Balance,
+    study: Option<&Path>,
+    what: &str,
+) -> Result<(Study, String, PathBuf), InputError> {
     let path = study.unwrap_or(&b.study.0).to_path_buf();
     let now = crate::error::read_text(&path).map_err(|e| {
         InputError::new(
             &path,
-            format!("cannot read the study file for the check run ({e}): name it with --study"),
+            format!("cannot read the study file for {what} ({e}): name it with --study"),
         )
     })?;
     if now != b.study.1 {
@@ -322,6 +348,111 @@ pub fn check(b: &mut Balance, study: Option<&Path>) -> Result<(), InputError> {
     let study = Study::load(&path)?;
     let scene_text = crate::error::read_text(&study.scene_path)
         .map_err(|e| InputError::new(&study.scene_path, e.to_string()))?;
+    Ok((study, scene_text, path))
+}
+
+/// The overrides of the reference job `rid` without the masses key `key`.
+fn reference_overrides(
+    study: &Study,
+    path: &Path,
+    rid: &str,
+    key: &str,
+) -> Result<Vec<String>, InputError> {
+    let job = study.jobs.iter().find(|j| j.id == rid).ok_or_else(|| {
+        InputError::new(
+            path,
+            format!(
+                "the study no longer has the reference job {rid}: its scene changed since the run"
+            ),
+        )
+    })?;
+    Ok(job
+        .overrides
+        .iter()
+        .filter(|(k, _)| k != key)
+        .map(|(k, v)| format!("{k}={}", value_text(v)))
+        .collect())
+}
+
+/// The model-based balancing of the reference roll in the trial planes ([`Ideal`]); the study
+/// file as for [`check`].
+pub fn ideal(b: &Balance, study: Option<&Path>) -> Result<Ideal, InputError> {
+    let (key, ref_masses) = &b.masses;
+    if key != "roll.masses" {
+        return Err(InputError::new(
+            &b.study.0,
+            format!(
+                "the model-based balancing is a roll's (roll.balancing, from its sections' \
+                 unbalance); the trial masses here are on `{key}`"
+            ),
+        ));
+    }
+    let (study, scene_text, path) = run_study(b, study, "the model-based balancing")?;
+    let (alpha, reference, radii) = &b.influence;
+    let rid = &b.references[0].1;
+    let mut over = reference_overrides(&study, &path, rid, key)?;
+    let planes: Vec<toml::Value> = b.planes.iter().map(|z| toml::Value::from(*z)).collect();
+    over.push(format!(
+        "roll.balancing.planes_mm={}",
+        value_text(&toml::Value::Array(planes))
+    ));
+    over.push(format!("roll.balancing.radius_mm={}", radii[0]));
+    over.push(format!(
+        "{key}={}",
+        value_text(&toml::Value::Array(ref_masses.clone()))
+    ));
+    let scene = Scene::from_text(&study.scene_path, &scene_text, &over)?;
+    let rotor = crate::fe::Rotor::mesh(&scene.rotor)
+        .map_err(|e| InputError::new(&study.scene_path, e.to_string()))?;
+    let masses = &rotor.balancing_masses;
+    if masses.len() != b.planes.len() {
+        return Err(InputError::new(
+            &study.scene_path,
+            format!(
+                "the model's balancing gives {} masses for {} trial planes (a plane needs none)",
+                masses.len(),
+                b.planes.len()
+            ),
+        ));
+    }
+    // At each plane's own trial radius: the same unbalance m·r.
+    let corrections: Vec<Correction> = b
+        .planes
+        .iter()
+        .zip(radii)
+        .zip(masses)
+        .map(|((z, r), m)| Correction {
+            z_mm: *z,
+            radius_mm: *r,
+            mass_g: 1e3 * m.mass * radii[0] / r,
+            angle_deg: m.angle.to_degrees().rem_euclid(360.0),
+        })
+        .collect();
+    let w: Vec<Complex64> = corrections
+        .iter()
+        .map(|c| Complex64::from_polar(c.mass_g, c.angle_deg.to_radians()))
+        .collect();
+    let after = balancing::predicted(alpha, reference, &w);
+    let predicted = b
+        .predicted
+        .iter()
+        .zip(&after)
+        .map(|(p, a)| Residual {
+            after_um: a.norm(),
+            ..p.clone()
+        })
+        .collect();
+    Ok(Ideal {
+        corrections,
+        predicted,
+    })
+}
+
+/// Runs the corrected roll at every speed (module doc) and stores the 1× in `b.check`. The
+/// study file is `study` when given, else the path the run named (relative to the working
+/// directory, as `run` was given it); it must be the text the run used.
+pub fn check(b: &mut Balance, study: Option<&Path>) -> Result<(), InputError> {
+    let (study, scene_text, path) = run_study(b, study, "the check run")?;
     let (key, ref_masses) = &b.masses;
     let mut masses = ref_masses.clone();
     for c in &b.corrections {
@@ -335,20 +466,7 @@ pub fn check(b: &mut Balance, study: Option<&Path>) -> Result<(), InputError> {
     let corrected = format!("{key}={}", value_text(&toml::Value::Array(masses)));
     let mut out = Vec::new();
     for (speed, rid) in &b.references {
-        let job = study.jobs.iter().find(|j| &j.id == rid).ok_or_else(|| {
-            InputError::new(
-                &path,
-                format!(
-                    "the study no longer has the reference job {rid}: its scene changed since the run"
-                ),
-            )
-        })?;
-        let mut over: Vec<String> = job
-            .overrides
-            .iter()
-            .filter(|(k, _)| k != key)
-            .map(|(k, v)| format!("{k}={}", value_text(v)))
-            .collect();
+        let mut over = reference_overrides(&study, &path, rid, key)?;
         over.push(corrected.clone());
         let scene = Scene::from_text(&study.scene_path, &scene_text, &over)?;
         let model = Model::build(&scene, None)

@@ -14,9 +14,23 @@
 //!   amplitude_um — the three highest interior peaks of each order's amplitude over the blocks'
 //!   speeds of one job (the resonance speeds of a run-up or coast-down; jobs of ≥ 3 blocks);
 //! - `/jobs/<id>/waterfall` for a job whose speed changes: `time_s`, `speed_hz` (mean over each
-//!   block), `freq_hz` and `map/<sensor>/<dir>` [blocks × frequencies, µm]: amplitude-correct
-//!   Hanning spectra of time blocks of 2^⌊log₂ fs⌋ samples (about 1 s), half overlapping, up to
-//!   `max_freq_hz` (default 8 × the highest speed).
+//!   block), `freq_hz`, `map/<sensor>/<dir>` [blocks × frequencies, µm]: amplitude-correct
+//!   Hanning spectra of the fluctuating part of time blocks of 2^⌊log₂ fs⌋ samples (about 1 s),
+//!   half overlapping, up to `max_freq_hz` (default [`super::post::ORDER_MARGIN`] × the highest
+//!   order × the highest speed, as the constant-speed spectra), and `mean/<sensor>/<dir>`
+//!   [blocks, µm]: the static part (sag, offset) removed from each block before its spectrum.
+//!
+//! The static part of a block is the mean m of the Hann-weighted least-squares fit x ≈ m +
+//! Σ_k A_k cos(kθ + φ_k) over the block with the tracked orders k (`analysis::weighted_fit`).
+//! The plain mean is not it at low speed: a block of T seconds holds d = f·T periods of a line
+//! at f, and its plain mean keeps A·sin(πd)/(πd)·cos(πd + φ) of it (up to A/(πd): 21 % of the
+//! 1× amplitude at d = 1.5, the 3 Hz start of a run-up in 0.512 s blocks, which a static part
+//! removed that way leaves at 0 Hz: the 17 % that failed a "0 Hz below 5 % of the peak" check
+//! in such blocks).
+//! The fitted mean leaves the 0 Hz bin with the fluctuation's own window leakage only, a line
+//! d bins away reading A·|sinc d/(1 − d²)|·|cos φ| there: below 5 % of A from d = 1.9 bins on,
+//! up to A inside the Hann main lobe (d < 2: speeds below 2/T, the lowest block or two of a
+//! run-up from a few Hz), a resolution limit of the block length, not a static part.
 
 use rustfft::num_complex::Complex64;
 
@@ -78,12 +92,32 @@ fn roll_angle(g: &hdf5::Group, time: &[f64]) -> Option<(Vec<f64>, bool)> {
     })
 }
 
+/// The static part of the block `x` (samples at roll angles `theta` [rad], the Hann weight `w`
+/// in time) and its fluctuation: the mean of the fit with the `orders` below the block's
+/// angle-domain Nyquist order (module doc).
+fn fluctuation(x: &[f64], theta: &[f64], w: &[f64], orders: &[f64]) -> (f64, Vec<f64>) {
+    let tau = std::f64::consts::TAU;
+    let n = x.len().min(theta.len());
+    let per_rev = match (theta.first(), theta.last()) {
+        (Some(a), Some(b)) if b > a => (n.saturating_sub(1)) as f64 * tau / (b - a),
+        _ => 0.0,
+    };
+    let fitted: Vec<f64> = orders
+        .iter()
+        .copied()
+        .filter(|k| *k < 0.5 * per_rev)
+        .collect();
+    let revs: Vec<f64> = theta[..n].iter().map(|a| a / tau).collect();
+    let m = analysis::weighted_fit(&x[..n], &revs, w, &fitted).0;
+    (m, x[..n].iter().map(|v| v - m).collect())
+}
+
 /// The waterfall of one job (module doc).
 fn waterfall(
     g: &hdf5::Group,
-    time: &[f64],
-    theta: &[f64],
+    (time, theta): (&[f64], &[f64]),
     channels: &[(String, Vec<f64>)],
+    orders: &[f64],
     max_freq_hz: Option<f64>,
 ) -> hdf5::Result<()> {
     let n = time.len();
@@ -109,7 +143,11 @@ fn waterfall(
         .iter()
         .map(|&s| 0.5 * (time[s] + time[s + len - 1]))
         .collect();
-    let cap = max_freq_hz.unwrap_or(8.0 * speeds.iter().copied().fold(0.0, f64::max));
+    let top_order = orders.iter().copied().fold(1.0, f64::max);
+    let cap = max_freq_hz.unwrap_or(
+        super::post::ORDER_MARGIN * top_order * speeds.iter().copied().fold(0.0, f64::max),
+    );
+    let w = analysis::hanning(len);
     if g.link_exists("waterfall") {
         g.unlink("waterfall")?;
     }
@@ -119,8 +157,11 @@ fn waterfall(
     let mut bins = 0;
     for (c, (name, x)) in channels.iter().enumerate() {
         let mut map = Vec::new();
+        let mut means = Vec::with_capacity(starts.len());
         for &s in &starts {
-            let sp = analysis::spectrum(&x[s..s + len], fs);
+            let (m, fluct) = fluctuation(&x[s..s + len], &theta[s..s + len], &w, orders);
+            means.push(m);
+            let sp = analysis::spectrum(&fluct, fs);
             if bins == 0 {
                 bins = sp.freq_hz.iter().take_while(|f| **f <= cap + 1e-9).count();
             }
@@ -136,6 +177,7 @@ fn waterfall(
             &map,
             "um",
         )?;
+        store::dataset(&wg, &format!("mean/{name}"), &means, "um")?;
     }
     Ok(())
 }
@@ -174,7 +216,13 @@ pub fn write(f: &hdf5::File, analysis: &hdf5::Group, spec: &AnalysisSpec) -> hdf
         // is checked at import) is left out of the tables.
         let Ok(blocks) = blocks else { continue };
         if !constant {
-            waterfall(&g, &time, &theta, &channels, spec.max_freq_hz)?;
+            waterfall(
+                &g,
+                (&time, &theta),
+                &channels,
+                &spec.orders,
+                spec.max_freq_hz,
+            )?;
         }
         for (c, (name, _)) in channels.iter().enumerate() {
             let (sensor, direction) = split(name);
@@ -195,24 +243,16 @@ pub fn write(f: &hdf5::File, analysis: &hdf5::Group, spec: &AnalysisSpec) -> hdf
                 if blocks.len() < 3 {
                     continue;
                 }
-                // Peaks over speed: blocks in speed order (a coast-down runs backward).
-                let mut by_speed: Vec<(f64, f64)> = blocks
+                // Peaks over speed (a coast-down runs backward; a hold counts once).
+                let points = blocks
                     .iter()
                     .map(|b| (b.speed_hz, b.amplitudes[c][k].norm()))
-                    .filter(|(_, a)| a.is_finite())
                     .collect();
-                by_speed.sort_by(|a, b| a.0.total_cmp(&b.0));
-                // Blocks at one speed (a hold before or after the ramp) count once, at their
-                // highest amplitude: a peak lies between distinct speeds.
-                by_speed.dedup_by(|later, kept| {
-                    let same = (later.0 - kept.0).abs() <= 1e-9 * kept.0.abs().max(1.0);
-                    if same {
-                        kept.1 = kept.1.max(later.1);
-                    }
-                    same
-                });
-                let (s, a): (Vec<f64>, Vec<f64>) = by_speed.into_iter().unzip();
-                for (r, p) in analysis::peaks(&s, &a).into_iter().take(RANKS).enumerate() {
+                for (r, p) in analysis::curve_peaks(points)
+                    .into_iter()
+                    .take(RANKS)
+                    .enumerate()
+                {
                     peaks.job.push(id.clone());
                     peaks.sensor.push(sensor.clone());
                     peaks.direction.push(direction.clone());
@@ -253,4 +293,55 @@ pub fn write(f: &hdf5::File, analysis: &hdf5::Group, spec: &AnalysisSpec) -> hdf
             Column::number("amplitude_um", "um", peaks.amp),
         ],
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_static_part_of_a_short_block_is_the_fitted_mean() {
+        // A 0.512 s block (256 samples at 500 Hz, the waterfall's block at that rate) at a
+        // constant 3.3 Hz, d = 1.69 periods: 306 µm of sag, 30 µm at 1× and 4 µm at 2×.
+        let (n, fs, f, a, phi) = (256usize, 500.0, 3.3, 30.0, 0.4);
+        let tau = std::f64::consts::TAU;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 / fs).collect();
+        let theta: Vec<f64> = t.iter().map(|t| tau * f * t).collect();
+        let line: Vec<f64> = theta
+            .iter()
+            .map(|q| a * (q + phi).cos() + 4.0 * (2.0 * q - 1.0).cos())
+            .collect();
+        let x: Vec<f64> = line.iter().map(|v| v + 306.0).collect();
+        let w = analysis::hanning(n);
+        let (m, fluct) = fluctuation(&x, &theta, &w, &[1.0, 2.0]);
+        // The fit models the block exactly: the sag to rounding.
+        assert!((m - 306.0).abs() < 1e-9, "{m}");
+        // The plain mean keeps the closed-form share of the lines, A sin(πd)/(πd) cos(πd + φ)
+        // per line of d periods (the mean of A cos(2πd s + φ) over s in [0, 1), sampled at
+        // n points: the sum of the geometric series, exact for the sampled record).
+        let d = f * n as f64 / fs;
+        let sampled_mean = |amp: f64, d: f64, p: f64| {
+            let z: rustfft::num_complex::Complex64 = (0..n)
+                .map(|i| Complex64::from_polar(1.0, tau * d * i as f64 / n as f64 + p))
+                .sum();
+            amp * z.re / n as f64
+        };
+        let share = sampled_mean(a, d, phi) + sampled_mean(4.0, 2.0 * d, -1.0);
+        let plain = x.iter().sum::<f64>() / n as f64;
+        assert!((plain - 306.0 - share).abs() < 1e-9, "{plain} {share}");
+        // −3.5 µm here, 12 % of A, left at 0 Hz by a plain-mean removal.
+        assert!(share.abs() > 0.05 * a, "{share}");
+        // After the fitted mean the bins are those of the lines alone (the sag is gone), and
+        // 0 Hz reads only their Hann leakage, at most A |sinc d / (1 − d²)| per line.
+        let s = analysis::spectrum(&fluct, fs);
+        let lone = analysis::spectrum(&line, fs);
+        for (u, v) in s.amplitude.iter().zip(&lone.amplitude).skip(1) {
+            assert!((u - v).abs() < 1e-9, "{u} {v}");
+        }
+        let hann = |d: f64| {
+            ((std::f64::consts::PI * d).sin() / (std::f64::consts::PI * d) / (1.0 - d * d)).abs()
+        };
+        let bound = a * hann(d) + 4.0 * hann(2.0 * d);
+        assert!(s.amplitude[0] <= bound + 1e-9, "{} {bound}", s.amplitude[0]);
+    }
 }
