@@ -2,6 +2,9 @@
 # Makes sure the build's system pieces are there, on a fresh machine with only Rust, Python 3 and
 # pip: cmake >= 3.26 for the bundled static HDF5 build (Debian's apt cmake 3.25 is too old), taken
 # from PyPI into the project-local tool environment .tools/. Source this file; it extends PATH.
+# With BOOTSTRAP_CVODE=1 it also makes sure of libclang (Debian's libclang-dev, by apt-get as
+# root), which bindgen needs to build the optional `cvode` feature (sundials-sys); without it
+# nothing of that is checked or installed.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 tools="$root/.tools"
@@ -28,4 +31,16 @@ if ! cmake_ok; then
     chmod +x "$tools/bin/cmake"
   fi
   cmake_ok || { echo "bootstrap: could not get cmake >= 3.26" >&2; exit 1; }
+fi
+
+if [ "${BOOTSTRAP_CVODE:-0}" = 1 ]; then
+  libclang_ok() {
+    ls /usr/lib/llvm-*/lib/libclang.so* /usr/lib/x86_64-linux-gnu/libclang-*.so* >/dev/null 2>&1 &&
+      ls /usr/lib/llvm-*/lib/clang/*/include/stddef.h >/dev/null 2>&1
+  }
+  if ! libclang_ok; then
+    echo "bootstrap: installing libclang-dev (apt) for the cvode feature's bindgen" >&2
+    apt-get update -qq >&2 && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libclang-dev >&2
+    libclang_ok || { echo "bootstrap: could not get libclang (the cvode feature needs it)" >&2; exit 1; }
+  fi
 fi

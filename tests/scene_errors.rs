@@ -914,3 +914,21 @@ fn spin_speed_beyond_the_bound() {
     }
     Scene::from_text(&path, &text, &["speed.hz=1e5".into()]).expect("at the bound");
 }
+
+/// A binary built without the `cvode` feature names the key and the way to get CVODE.
+#[cfg(not(feature = "cvode"))]
+#[test]
+fn cvode_without_the_feature() {
+    let text = reference_text() + "\n[solver]\nintegrator = \"cvode\"\n";
+    let line = line_number(&text, "integrator = \"cvode\"");
+    case(
+        "cvode-without-feature",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("solver.integrator"),
+            says: &["built without CVODE", "--features cvode"],
+        },
+    );
+}

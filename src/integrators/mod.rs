@@ -27,6 +27,8 @@
 //! costs one n³ LU-based inversion per factorisation, which many steps share.
 
 mod bdf;
+#[cfg(feature = "cvode")]
+mod cvode;
 mod gen_alpha;
 mod rk45;
 pub mod stability;
@@ -487,6 +489,8 @@ pub fn integrate(
         IntegratorKind::Bdf => bdf::run(problem, settings, t0, t_end, q0, v0, observer),
         IntegratorKind::GenAlpha => gen_alpha::run(problem, settings, t0, t_end, q0, v0, observer),
         IntegratorKind::Rk45 => rk45::run(problem, settings, t0, t_end, q0, v0, observer),
+        #[cfg(feature = "cvode")]
+        IntegratorKind::Cvode => cvode::run(problem, settings, t0, t_end, q0, v0, observer),
     };
     review_trust(settings, &mut st);
     (q, v, st)

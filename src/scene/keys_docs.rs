@@ -1188,8 +1188,8 @@ pub const DOCS: &[KeyDoc] = &[
         key: "solver.integrator",
         units: "",
         default: "bdf",
-        range: "bdf, gen-alpha, rk45",
-        meaning: "Variable-order BDF (1–5), generalized-α, or Dormand–Prince 5(4).",
+        range: "bdf, gen-alpha, rk45, cvode",
+        meaning: "Variable-order BDF (1–5), generalized-α, Dormand–Prince 5(4), or SUNDIALS CVODE's BDF (cvode: a build with --features cvode only).",
     },
     KeyDoc {
         key: "solver.tolerance",

@@ -194,6 +194,9 @@ pub enum IntegratorKind {
     GenAlpha,
     /// Explicit Dormand–Prince 5(4).
     Rk45,
+    /// SUNDIALS CVODE's BDF (built with the `cvode` feature only).
+    #[cfg(feature = "cvode")]
+    Cvode,
 }
 
 impl IntegratorKind {
@@ -203,6 +206,8 @@ impl IntegratorKind {
             Self::Bdf => "bdf",
             Self::GenAlpha => "gen-alpha",
             Self::Rk45 => "rk45",
+            #[cfg(feature = "cvode")]
+            Self::Cvode => "cvode",
         }
     }
 }
@@ -433,10 +438,20 @@ pub(super) fn solver(c: &Check, s: &SolverFile) -> Result<SolverSettings, InputE
         "bdf" => IntegratorKind::Bdf,
         "gen-alpha" => IntegratorKind::GenAlpha,
         "rk45" => IntegratorKind::Rk45,
+        #[cfg(feature = "cvode")]
+        "cvode" => IntegratorKind::Cvode,
+        #[cfg(not(feature = "cvode"))]
+        "cvode" => {
+            return Err(c.err(
+                "solver.integrator",
+                "`cvode`: this rotorsweep was built without CVODE \
+                 (cargo build --release --features cvode; README, solvers, CVODE)",
+            ))
+        }
         other => {
             return Err(c.err(
                 "solver.integrator",
-                format!("`{other}`: expected bdf, gen-alpha or rk45"),
+                format!("`{other}`: expected bdf, gen-alpha, rk45 or cvode"),
             ))
         }
     };
