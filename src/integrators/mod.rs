@@ -18,9 +18,10 @@
 //! a M − b ∂F/∂q − c ∂F/∂q̇ (n × n, not 2n × 2n), factorised once and reused over steps while the
 //! corrector converges (modified Newton), refactorised when the step coefficient moves by more
 //! than 30 % or the corrector fails. The factorisation is kept as the explicit inverse
-//! ([`Newton`]): each corrector iteration is then one matrix-vector product on faer's SIMD
+//! ([`Newton`]): each corrector iteration is then one matrix-vector product on the run-time dispatched SIMD
 //! kernels (`crate::dense`) instead of nalgebra's two scalar triangular solves; the inverse
-//! costs one n³ LU-based inversion per factorisation, which many steps share.
+//! costs one n³ LU-based inversion per factorisation (faer's), which many steps share. The mass
+//! matrix is applied elementwise when it is diagonal (`crate::dense::MassOp`).
 
 mod bdf;
 mod gen_alpha;
@@ -247,14 +248,14 @@ impl Guard {
 
 /// A factorised Newton matrix N, kept as N⁻¹ (module doc); no inverse when N is singular.
 struct Newton {
-    inv: Option<DMatrix<f64>>,
+    inv: Option<crate::dense::Padded>,
     scratch: DVector<f64>,
 }
 
 impl Newton {
     fn new(nm: &DMatrix<f64>) -> Self {
         Self {
-            inv: nm.clone().try_inverse(),
+            inv: crate::dense::inverse(nm).map(|i| crate::dense::Padded::from_matrix(&i)),
             scratch: DVector::zeros(nm.nrows()),
         }
     }
@@ -264,14 +265,8 @@ impl Newton {
         let Some(inv) = &self.inv else {
             return false;
         };
-        crate::dense::matvec(
-            self.scratch.as_mut_slice(),
-            false,
-            inv.as_slice(),
-            r.as_slice(),
-            1.0,
-        );
-        r.copy_from(&self.scratch);
+        inv.matvec(self.scratch.as_mut_slice(), false, r.as_slice(), &[], 1.0);
+        std::mem::swap(r, &mut self.scratch);
         true
     }
 }
@@ -312,7 +307,7 @@ fn corrector(
         if !lu.solve_mut(r) {
             break;
         }
-        x.axpy(-scale, r, 1.0);
+        crate::dense::axpy(x.as_mut_slice(), -scale, r.as_slice());
         let d = scale * size * wnorm(r, w, tol);
         if !d.is_finite() {
             break;
@@ -338,7 +333,7 @@ fn corrector(
 
 /// Weighted max norm of a position-like vector, relative to `tol`.
 fn wnorm(e: &DVector<f64>, w: &[f64], tol: f64) -> f64 {
-    e.iter()
+    (e.as_slice().iter())
         .zip(w)
         .map(|(x, w)| (x * w).abs())
         .fold(0.0, f64::max)
@@ -346,7 +341,7 @@ fn wnorm(e: &DVector<f64>, w: &[f64], tol: f64) -> f64 {
 }
 
 fn finite(q: &DVector<f64>) -> bool {
-    q.iter().all(|x| x.is_finite())
+    q.as_slice().iter().all(|x| x.is_finite())
 }
 
 /// Integrates from (t0, q0, v0) to `t_end`; returns the final state and the statistics.
