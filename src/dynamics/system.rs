@@ -542,14 +542,19 @@ impl RollSystem {
         out: &mut DMatrix<f64>,
     ) {
         let n = self.n;
-        out.copy_from(&self.m);
-        *out *= a;
         match &self.lin {
             Some(lin) if alpha == 0.0 && Some(omega) == self.constant_speed() => {
-                *out += b * lin.columns(0, n);
-                *out += c * lin.columns(n, n);
+                // a M + b (K − Ω²E) + c (D + 2ΩG) in one pass (nalgebra's scaled sums make an
+                // n × n temporary each).
+                let (kq, cv) = lin.as_slice().split_at(n * n);
+                let terms = self.m.as_slice().iter().zip(kq).zip(cv);
+                for (o, ((m, k), d)) in out.as_mut_slice().iter_mut().zip(terms) {
+                    *o = a * m + b * k + c * d;
+                }
             }
             _ => {
+                out.copy_from(&self.m);
+                *out *= a;
                 *out += b * &self.k;
                 *out -= (b * omega * omega) * &self.e;
                 if alpha != 0.0 {
@@ -571,7 +576,17 @@ impl RollSystem {
             tw.view_mut((0, 0), (2, self.nm)).copy_from(&(s_mat * rp));
             let kk = b * loc.kc + c * loc.cc;
             let inner = kk * &tq + (b * loc.cc) * tw;
-            out.gemm(1.0, &tq.transpose(), &inner, 1.0);
+            // out += T_qᵀ inner, a rank-2 update (nalgebra's gemm packs for a general product).
+            let (tq, inner) = (tq.as_slice(), inner.as_slice());
+            for (col, ij) in out
+                .as_mut_slice()
+                .chunks_exact_mut(n)
+                .zip(inner.chunks_exact(2))
+            {
+                for (o, ti) in col.iter_mut().zip(tq.chunks_exact(2)) {
+                    *o += ti[0] * ij[0] + ti[1] * ij[1];
+                }
+            }
         }
         if let Some((row, ka, ca)) = &self.drive {
             out.ger(b * ka + c * ca, row, row, 1.0);
