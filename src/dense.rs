@@ -11,8 +11,9 @@
 //! multiple of four SIMD vectors, so its matrix–vector product can keep blocks of four vectors
 //! of the result in registers while it runs over all columns (one broadcast and four fused
 //! multiply-adds per column and block, no load or store of the result inside the loop). For the
-//! 45 × 45 products of the timing case that is about a fifth of the instructions of faer's
-//! general `matmul` (which loads and stores the result once per column). [`MassOp`] applies a
+//! products of the timing case (callgrind, AVX2) that is 1.4 k instructions for 45 × 45 and
+//! 2.4 k for 45 × 90, against 4.7 k and 9.5 k for faer's general `matmul` (which loads and
+//! stores the result once per column). [`MassOp`] applies a
 //! mass matrix, elementwise when it is diagonal.
 
 use nalgebra::DMatrix;
