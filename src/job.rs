@@ -228,7 +228,10 @@ pub fn run(scene: &Scene, model: &Model) -> JobResult {
     let bound = scene.simulation.runout_bound;
     let weights = sys.weights.clone();
     let mut observer = |s: &StepView| -> Result<(), String> {
-        let size: f64 = s.q1.iter().zip(&weights).map(|(q, w)| (q * w).abs()).sum();
+        let size: f64 = (s.q1.as_slice().iter())
+            .zip(&weights)
+            .map(|(q, w)| (q * w).abs())
+            .sum();
         if size > bound {
             let worst = sys
                 .sensor_displacements(s.t1, s.q1)

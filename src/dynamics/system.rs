@@ -15,8 +15,15 @@
 //! Journal roundness seen by roller i at angle a_i: H_j(θ − a_i); roller roundness either of the
 //! roll angle (the source's choice) or of the roller's own angle −θ R_j/R_r.
 //! A scene pays for what it uses: a constant speed pre-combines the linear matrices.
+//!
+//! Per-evaluation cost (the integrators call the force once per corrector iteration): the
+//! linear part is one SIMD product [K − Ω²E | D + 2ΩG] [q; q̇] (`crate::dense::Padded`); the
+//! modal mass, the identity to round-off for mass-normalised modes, is made exactly diagonal so
+//! that M q̈ is elementwise; one `sin_cos` of θ serves R(θ) and every roundness profile (angle
+//! addition for θ − a_i, recurrences for the harmonics) unless a roller's roundness turns with
+//! its own angle; the Hertz power δ^1.5 is δ √δ.
 
-use crate::dense::matvec;
+use crate::dense::Padded;
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use crate::model::Model;
@@ -29,13 +36,13 @@ use crate::scene::{
 struct RollerSys {
     /// Unit vector from the journal centre toward the roller centre (inertial).
     e: Vector2<f64>,
-    /// Roller angle from straight below [rad].
-    angle: f64,
+    /// Sine and cosine of the roller angle a_i from straight below.
+    sin_cos: (f64, f64),
     /// R_j + R_r [m].
     l: f64,
     /// Roller roundness.
     roundness: Profile,
-    /// Roller angle per roll angle (−R_j/R_r), or 0 for the source's roll-angle drive.
+    /// Roller angle per roll angle (−R_j/R_r), or 1 for the source's roll-angle drive.
     ratio: f64,
 }
 
@@ -96,6 +103,8 @@ pub struct RollSystem {
     pub speed: SpeedProfile,
     /// For a constant speed: [K − Ω²E | D + 2ΩG] pre-combined (n × 2n).
     lin: Option<DMatrix<f64>>,
+    /// `lin` for the SIMD product of the force.
+    lin_padded: Option<Padded>,
     /// Sensor names and their lateral rows of Φ (2 × nm).
     pub sensors: Vec<(String, DMatrix<f64>)>,
     /// Displacement [m] per unit of each coordinate: max lateral translation of a mode over the
@@ -114,9 +123,24 @@ fn rows_times(rows: &DMatrix<f64>, p: &[f64]) -> Vector2<f64> {
     Vector2::new(x, y)
 }
 
-fn rot(theta: f64) -> Matrix2<f64> {
-    let (s, c) = theta.sin_cos();
+/// R(θ) from (sin θ, cos θ).
+fn rot((s, c): (f64, f64)) -> Matrix2<f64> {
     Matrix2::new(c, -s, s, c)
+}
+
+/// k δ^e, with the Hertz exponent 3/2 as δ √δ and 1 and 2 as products (no `pow`).
+fn elastic(law: &ContactLaw, delta: f64) -> f64 {
+    let e = law.exponent;
+    law.k
+        * if e == 1.5 {
+            delta * delta.sqrt()
+        } else if e == 1.0 {
+            delta
+        } else if e == 2.0 {
+            delta * delta
+        } else {
+            delta.powf(e)
+        }
 }
 
 /// A roundness profile Σ c_k cos(k x + φ_k), with the phases' sines and cosines precomputed.
@@ -142,13 +166,12 @@ impl Profile {
         Self { terms }
     }
 
-    /// The profile and its derivative with respect to x, with one sin_cos and the angle-addition
-    /// recurrence for the multiples of x.
-    fn eval(&self, x: f64) -> (f64, f64) {
+    /// The profile and its derivative with respect to x, given (sin x, cos x), with the
+    /// angle-addition recurrence for the multiples of x.
+    fn eval(&self, (s1, c1): (f64, f64)) -> (f64, f64) {
         if self.terms.is_empty() {
             return (0.0, 0.0);
         }
-        let (s1, c1) = x.sin_cos();
         let (mut sk, mut ck) = (0.0, 1.0);
         let mut k = 0;
         let (mut v, mut dv) = (0.0, 0.0);
@@ -202,6 +225,19 @@ impl RollSystem {
             out
         };
         let mut m = pad(&r.m);
+        // Mass-normalised modes: ΦᵀMΦ is the identity to round-off. Its round-off is dropped so
+        // that M is exactly diagonal and the integrators apply it elementwise (`dense::MassOp`);
+        // a basis that is not orthonormal (an entry above 1e-10 of the diagonal) keeps its M.
+        let orthonormal = (0..nm).all(|j| {
+            (0..nm).all(|i| i == j || m[(i, j)].abs() <= 1e-10 * (m[(i, i)] * m[(j, j)]).sqrt())
+        });
+        if orthonormal {
+            for j in 0..nm {
+                for i in (0..nm).filter(|&i| i != j) {
+                    m[(i, j)] = 0.0;
+                }
+            }
+        }
         let mut k = pad(&r.k);
         let mut d = DMatrix::zeros(n, n);
         for i in 0..nm {
@@ -243,7 +279,7 @@ impl RollSystem {
                                 .iter()
                                 .map(|ro| RollerSys {
                                     e: Vector2::new(ro.angle.sin(), -ro.angle.cos()),
-                                    angle: ro.angle,
+                                    sin_cos: ro.angle.sin_cos(),
                                     l: rj + 0.5 * ro.diameter,
                                     roundness: Profile::new(&ro.roundness),
                                     ratio: match rs.roller_phase {
@@ -310,6 +346,7 @@ impl RollSystem {
             drive,
             speed: scene.speed.clone(),
             lin: None,
+            lin_padded: None,
             sensors,
             weights,
         };
@@ -319,6 +356,7 @@ impl RollSystem {
                 .copy_from(&(&sys.k - w * w * &sys.e));
             lin.view_mut((0, n), (n, n))
                 .copy_from(&(&sys.d + 2.0 * w * &sys.g));
+            sys.lin_padded = Some(Padded::from_matrix(&lin));
             sys.lin = Some(lin);
         }
         sys
@@ -329,10 +367,11 @@ impl RollSystem {
         &self.m
     }
 
+    /// The support's force law at roll angle θ, given as (θ, sin θ, cos θ).
     fn local(
         &self,
         s: &SupportSys,
-        theta: f64,
+        (theta, st, ct): (f64, f64, f64),
         omega: f64,
         w: Vector2<f64>,
         wd: Vector2<f64>,
@@ -358,8 +397,17 @@ impl RollSystem {
                 let mut cc = Matrix2::zeros();
                 let mut forces = out;
                 for r in rollers {
-                    let (hj, dhj) = journal.eval(theta - r.angle);
-                    let (hr, dhr) = r.roundness.eval(r.ratio * theta);
+                    // sin and cos of θ − a by angle addition; of the roller's angle ratio·θ by
+                    // its own sin_cos unless the roller turns with the roll angle (ratio 1).
+                    let (sa, ca) = r.sin_cos;
+                    let (hj, dhj) = journal.eval((st * ca - ct * sa, ct * ca + st * sa));
+                    let (hr, dhr) = if r.roundness.terms.is_empty() {
+                        (0.0, 0.0)
+                    } else if r.ratio == 1.0 {
+                        r.roundness.eval((st, ct))
+                    } else {
+                        r.roundness.eval((r.ratio * theta).sin_cos())
+                    };
                     let dvec = w - r.l * r.e;
                     let dist = dvec.norm();
                     // L − |d| without cancellation: (2L w·e − |w|²)/(L + |d|).
@@ -371,7 +419,7 @@ impl RollSystem {
                     if delta > 0.0 {
                         let (st, dst) = step(delta / law.d);
                         let cdamp = law.c_max * st;
-                        let elastic = law.k * delta.powf(law.exponent);
+                        let elastic = elastic(law, delta);
                         fmag = elastic + cdamp * ddelta;
                         if fmag > 0.0 {
                             let kd =
@@ -397,12 +445,12 @@ impl RollSystem {
     fn relative(
         &self,
         s: &SupportSys,
-        theta: f64,
+        sc: (f64, f64),
         omega: f64,
         q: &DVector<f64>,
         v: &DVector<f64>,
     ) -> (Vector2<f64>, Vector2<f64>, Matrix2<f64>) {
-        let r = rot(theta);
+        let r = rot(sc);
         let u = rows_times(&s.rows, &q.as_slice()[..self.nm]);
         let ub = rows_times(&s.rows, &v.as_slice()[..self.nm]);
         let wj = r * u;
@@ -423,14 +471,11 @@ impl RollSystem {
         v: &DVector<f64>,
         out: &mut DVector<f64>,
     ) {
-        let n = self.n;
-        match &self.lin {
+        match &self.lin_padded {
             Some(lin) if alpha == 0.0 && Some(omega) == self.constant_speed() => {
-                let (kq, cv) = lin.as_slice().split_at(n * n);
-                // nalgebra's gemv runs scalar here; these two 45 × 45 products are the force's
+                // [K − Ω²E | D + 2ΩG] [q; v] in one SIMD product (`crate::dense`): the force's
                 // largest cost in the timing case.
-                matvec(out.as_mut_slice(), false, kq, q.as_slice(), -1.0);
-                matvec(out.as_mut_slice(), true, cv, v.as_slice(), -1.0);
+                lin.matvec(out.as_mut_slice(), false, q.as_slice(), v.as_slice(), -1.0);
             }
             _ => {
                 out.gemv(-1.0, &self.k, q, 0.0);
@@ -442,17 +487,22 @@ impl RollSystem {
                 }
             }
         }
+        // The one transcendental call of the force (with roller roundness on the roll angle).
         let (s, c) = theta.sin_cos();
-        out.axpy(omega * omega, &self.fc, 1.0);
+        let (w2, gs, gc) = (omega * omega, -self.gravity * s, -self.gravity * c);
+        let loads = (self.fc.as_slice().iter())
+            .zip(self.gx.as_slice())
+            .zip(self.gy.as_slice())
+            .zip(self.f_stand.as_slice());
+        for (o, (((fc, gx), gy), fs)) in out.as_mut_slice().iter_mut().zip(loads) {
+            *o += w2 * fc + gs * gx + gc * gy + fs;
+        }
         if alpha != 0.0 {
             out.axpy(-alpha, &self.ft, 1.0);
         }
-        out.axpy(-self.gravity * s, &self.gx, 1.0);
-        out.axpy(-self.gravity * c, &self.gy, 1.0);
-        *out += &self.f_stand;
         for sup in &self.supports {
-            let (w, wd, r) = self.relative(sup, theta, omega, q, v);
-            let loc = self.local(sup, theta, omega, w, wd, None);
+            let (w, wd, r) = self.relative(sup, (s, c), omega, q, v);
+            let loc = self.local(sup, (theta, s, c), omega, w, wd, None);
             let fb = r.transpose() * loc.f;
             let rows = sup.rows.as_slice().chunks_exact(2);
             for (o, rj) in out.as_mut_slice()[..self.nm].iter_mut().zip(rows) {
@@ -492,14 +542,19 @@ impl RollSystem {
         out: &mut DMatrix<f64>,
     ) {
         let n = self.n;
-        out.copy_from(&self.m);
-        *out *= a;
         match &self.lin {
             Some(lin) if alpha == 0.0 && Some(omega) == self.constant_speed() => {
-                *out += b * lin.columns(0, n);
-                *out += c * lin.columns(n, n);
+                // a M + b (K − Ω²E) + c (D + 2ΩG) in one pass (nalgebra's scaled sums make an
+                // n × n temporary each).
+                let (kq, cv) = lin.as_slice().split_at(n * n);
+                let terms = self.m.as_slice().iter().zip(kq).zip(cv);
+                for (o, ((m, k), d)) in out.as_mut_slice().iter_mut().zip(terms) {
+                    *o = a * m + b * k + c * d;
+                }
             }
             _ => {
+                out.copy_from(&self.m);
+                *out *= a;
                 *out += b * &self.k;
                 *out -= (b * omega * omega) * &self.e;
                 if alpha != 0.0 {
@@ -509,9 +564,10 @@ impl RollSystem {
                 *out += (2.0 * c * omega) * &self.g;
             }
         }
+        let (st, ct) = theta.sin_cos();
         for sup in &self.supports {
-            let (w, wd, r) = self.relative(sup, theta, omega, q, v);
-            let loc = self.local(sup, theta, omega, w, wd, None);
+            let (w, wd, r) = self.relative(sup, (st, ct), omega, q, v);
+            let loc = self.local(sup, (theta, st, ct), omega, w, wd, None);
             // T_q (2 × n): w = R Φ_j p − s; T_Ω = Ω S R Φ_j (the rotation of the journal velocity).
             let rp = DMatrix::from_column_slice(2, self.nm, (r * &sup.rows).as_slice());
             let tq = self.connection(sup, &rp);
@@ -520,7 +576,17 @@ impl RollSystem {
             tw.view_mut((0, 0), (2, self.nm)).copy_from(&(s_mat * rp));
             let kk = b * loc.kc + c * loc.cc;
             let inner = kk * &tq + (b * loc.cc) * tw;
-            out.gemm(1.0, &tq.transpose(), &inner, 1.0);
+            // out += T_qᵀ inner, a rank-2 update (nalgebra's gemm packs for a general product).
+            let (tq, inner) = (tq.as_slice(), inner.as_slice());
+            for (col, ij) in out
+                .as_mut_slice()
+                .chunks_exact_mut(n)
+                .zip(inner.chunks_exact(2))
+            {
+                for (o, ti) in col.iter_mut().zip(tq.chunks_exact(2)) {
+                    *o += ti[0] * ij[0] + ti[1] * ij[1];
+                }
+            }
         }
         if let Some((row, ka, ca)) = &self.drive {
             out.ger(b * ka + c * ca, row, row, 1.0);
@@ -554,16 +620,17 @@ impl RollSystem {
     /// Journal, support-mass and contact state of every support at time t.
     pub fn support_states(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>) -> Vec<SupportState> {
         let (theta, omega, _) = self.speed.at(t);
+        let (st, ct) = theta.sin_cos();
         self.supports
             .iter()
             .map(|s| {
-                let (w, wd, _) = self.relative(s, theta, omega, q, v);
+                let (w, wd, _) = self.relative(s, (st, ct), omega, q, v);
                 let stand = s
                     .stand
                     .map(|i| Vector2::new(q[i], q[i + 1]))
                     .unwrap_or_default();
                 let mut contact = Vec::new();
-                self.local(s, theta, omega, w, wd, Some(&mut contact));
+                self.local(s, (theta, st, ct), omega, w, wd, Some(&mut contact));
                 SupportState {
                     journal: w + stand,
                     stand,
@@ -575,7 +642,7 @@ impl RollSystem {
 
     /// Inertial lateral displacement [m] of each sensor plane's centre at time t.
     pub fn sensor_displacements(&self, t: f64, q: &DVector<f64>) -> Vec<Vector2<f64>> {
-        let r = rot(self.speed.at(t).0);
+        let r = rot(self.speed.at(t).0.sin_cos());
         let p = &q.as_slice()[..self.nm];
         self.sensors
             .iter()

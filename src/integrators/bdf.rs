@@ -29,13 +29,12 @@
 
 use std::collections::VecDeque;
 
-use crate::dense::matvec;
+use crate::dense::{axpy, sum_scaled, MassOp};
 use nalgebra::{DMatrix, DVector};
 
 use super::stability::Modes;
 use super::{
-    corrector, finite, same_key, wnorm, Guard, Newton, Observer, SecondOrder, Stats, Status,
-    StepView,
+    corrector, finite, same_key, Guard, Newton, Observer, SecondOrder, Stats, Status, StepView,
 };
 use crate::scene::SolverSettings;
 
@@ -87,6 +86,23 @@ fn extrapolation(tau: &[f64], t: f64, out: &mut [f64]) {
     }
 }
 
+/// q ← Σⱼ wⱼ qⱼ and v ← Σⱼ wⱼ vⱼ over the first `w.len()` (≥ 1) history points, one slice loop
+/// per point and vector (nalgebra's axpy runs scalar here).
+fn combine(hist: &VecDeque<Point>, w: &[f64], q: &mut DVector<f64>, v: &mut DVector<f64>) {
+    let add = |out: &mut DVector<f64>, wj: f64, x: &DVector<f64>, first: bool| {
+        let it = out.as_mut_slice().iter_mut().zip(x.as_slice());
+        if first {
+            it.for_each(|(o, x)| *o = wj * x);
+        } else {
+            it.for_each(|(o, x)| *o += wj * x);
+        }
+    };
+    for (j, (p, &wj)) in hist.iter().zip(w).enumerate() {
+        add(q, wj, &p.q, j == 0);
+        add(v, wj, &p.v, j == 0);
+    }
+}
+
 fn predict(
     hist: &VecDeque<Point>,
     order: usize,
@@ -95,15 +111,23 @@ fn predict(
     v: &mut DVector<f64>,
 ) {
     let n = order + 1;
-    let tau: Vec<f64> = hist.iter().take(n).map(|p| p.t).collect();
-    let mut w = [0.0; 8];
-    extrapolation(&tau, t, &mut w[..n]);
-    q.fill(0.0);
-    v.fill(0.0);
-    for (j, p) in hist.iter().take(n).enumerate() {
-        q.axpy(w[j], &p.q, 1.0);
-        v.axpy(w[j], &p.v, 1.0);
+    let mut tau = [0.0; 8];
+    for (slot, p) in tau.iter_mut().zip(hist.iter().take(n)) {
+        *slot = p.t;
     }
+    let mut w = [0.0; 8];
+    extrapolation(&tau[..n], t, &mut w[..n]);
+    combine(hist, &w[..n], q, v);
+}
+
+/// The weighted max norm of a − b relative to `tol` (`integrators::wnorm` without a temporary).
+fn wnorm_diff(a: &DVector<f64>, b: &DVector<f64>, w: &[f64], tol: f64) -> f64 {
+    (a.as_slice().iter())
+        .zip(b.as_slice())
+        .zip(w)
+        .map(|((a, b), w)| ((a - b) * w).abs())
+        .fold(0.0, f64::max)
+        / tol
 }
 
 /// Runs the BDF integrator (see the module doc).
@@ -119,6 +143,7 @@ pub(super) fn run(
     let n = pb.n();
     let w = pb.weights();
     let m = pb.mass();
+    let mass = MassOp::new(m);
     let guard = Guard::new(s);
     let mut st = Stats::new();
     let cap = s.max_order + 2;
@@ -142,7 +167,6 @@ pub(super) fn run(
     let (mut q, mut v) = (DVector::zeros(n), DVector::zeros(n));
     let (mut hq, mut hv) = (DVector::zeros(n), DVector::zeros(n));
     let (mut f, mut r, mut a) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
-    let mut tmp = DVector::zeros(n);
     let (mut qq, mut vv) = (DVector::zeros(n), DVector::zeros(n));
     let mut nm = DMatrix::zeros(n, n);
     let modes = if s.max_order > 2 {
@@ -176,12 +200,7 @@ pub(super) fn run(
             *slot = p.t;
         }
         bdf_coefficients(&tau[..=keff], &mut alpha[..=keff]);
-        hq.fill(0.0);
-        hv.fill(0.0);
-        for (j, p) in hist.iter().take(keff).enumerate() {
-            hq.axpy(alpha[j + 1], &p.q, 1.0);
-            hv.axpy(alpha[j + 1], &p.v, 1.0);
-        }
+        combine(&hist, &alpha[1..=keff], &mut hq, &mut hv);
         let full_pred = hist.len() > keff;
         if full_pred {
             predict(&hist, keff, tn, &mut qp, &mut vp);
@@ -227,13 +246,11 @@ pub(super) fn run(
                 s.tolerance,
                 &mut st,
                 |q, r| {
-                    v.copy_from(&hq);
-                    v.axpy(a0, q, 1.0);
-                    a.copy_from(&hv);
-                    a.axpy(a0, &v, 1.0);
+                    sum_scaled(v.as_mut_slice(), hq.as_slice(), a0, q.as_slice());
+                    sum_scaled(a.as_mut_slice(), hv.as_slice(), a0, v.as_slice());
                     pb.force(tn, q, &v, &mut f);
-                    matvec(r.as_mut_slice(), false, m.as_slice(), a.as_slice(), 1.0);
-                    *r -= &f;
+                    mass.apply(r.as_mut_slice(), a.as_slice());
+                    axpy(r.as_mut_slice(), -1.0, f.as_slice());
                 },
             );
             slow = out.slow;
@@ -261,25 +278,22 @@ pub(super) fn run(
             // A slowly converging corrector: refresh the Newton matrix for the next step.
             lu = None;
         }
-        v.copy_from(&hq);
-        v.axpy(a0, &q, 1.0);
+        sum_scaled(v.as_mut_slice(), hq.as_slice(), a0, q.as_slice());
         if !finite(&q) || !finite(&v) {
             st.status = Status::Diverged;
             st.cause = format!("non-finite state at t = {tn:.6} s");
             break;
         }
         // Local error estimates of orders k−1, k, k+1 from predictor differences.
-        let est = |order: usize, qpred: &DVector<f64>, tmp: &mut DVector<f64>| {
-            tmp.copy_from(&q);
-            *tmp -= qpred;
+        let est = |order: usize, qpred: &DVector<f64>| {
             let (denom, kg) = if hist.len() > order {
                 (tn - hist[order].t, kappa_gamma(order))
             } else {
                 (2.0 * h, 0.0)
             };
-            (h / denom + kg).abs() * wnorm(tmp, w, s.tolerance)
+            (h / denom + kg).abs() * wnorm_diff(&q, qpred, w, s.tolerance)
         };
-        let err = est(keff, &qp, &mut tmp);
+        let err = est(keff, &qp);
         if err > 1.0 {
             st.rejected_error += 1;
             fails += 1;
@@ -306,12 +320,12 @@ pub(super) fn run(
         let review = at_order > keff;
         if review && keff > 1 && hist.len() >= keff {
             predict(&hist, keff - 1, tn, &mut qq, &mut vv);
-            cands[nc] = cand(keff - 1, est(keff - 1, &qq, &mut tmp));
+            cands[nc] = cand(keff - 1, est(keff - 1, &qq));
             nc += 1;
         }
         if review && keff < s.max_order && hist.len() >= keff + 2 {
             predict(&hist, keff + 1, tn, &mut qq, &mut vv);
-            cands[nc] = cand(keff + 1, est(keff + 1, &qq, &mut tmp));
+            cands[nc] = cand(keff + 1, est(keff + 1, &qq));
             nc += 1;
         }
         // Orders that would amplify a mode at the step they propose are no candidates.

@@ -8,7 +8,7 @@
 //! Error control (Zienkiewicz–Xie): the local displacement error ≈ h² |β − 1/6| ‖a₁ − a₀‖.
 //! With `fixed_step` the step is hmax throughout (the last one shortened to end on t_end).
 
-use crate::dense::matvec;
+use crate::dense::MassOp;
 use nalgebra::{DMatrix, DVector};
 
 use super::{
@@ -29,6 +29,7 @@ pub(super) fn run(
     let n = pb.n();
     let w = pb.weights();
     let m = pb.mass();
+    let mass = MassOp::new(m);
     let guard = Guard::new(s);
     let mut st = Stats::new();
     let rho = s.rho_inf;
@@ -68,13 +69,8 @@ pub(super) fn run(
             h = t_end - t;
         }
         let tn = t + h;
-        matvec(
-            fixed_part.as_mut_slice(),
-            false,
-            m.as_slice(),
-            a0.as_slice(),
-            am,
-        );
+        mass.apply(fixed_part.as_mut_slice(), a0.as_slice());
+        fixed_part *= am;
         fixed_part.axpy(-af, &f0, 1.0);
         a1.copy_from(&a0);
         let mut fresh = false;
@@ -117,13 +113,8 @@ pub(super) fn run(
                     v1.axpy(h * (1.0 - gamma), &a0, 1.0);
                     v1.axpy(h * gamma, a1, 1.0);
                     pb.force(tn, &q1, &v1, &mut f1);
-                    matvec(
-                        r.as_mut_slice(),
-                        false,
-                        m.as_slice(),
-                        a1.as_slice(),
-                        1.0 - am,
-                    );
+                    mass.apply(r.as_mut_slice(), a1.as_slice());
+                    *r *= 1.0 - am;
                     *r += &fixed_part;
                     r.axpy(-(1.0 - af), &f1, 1.0);
                 },

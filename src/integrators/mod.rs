@@ -22,9 +22,26 @@
 //! a M − b ∂F/∂q − c ∂F/∂q̇ (n × n, not 2n × 2n), factorised once and reused over steps while the
 //! corrector converges (modified Newton), refactorised when the step coefficient moves by more
 //! than 30 % or the corrector fails. The factorisation is kept as the explicit inverse
-//! ([`Newton`]): each corrector iteration is then one matrix-vector product on faer's SIMD
-//! kernels (`crate::dense`) instead of nalgebra's two scalar triangular solves; the inverse
-//! costs one n³ LU-based inversion per factorisation, which many steps share.
+//! ([`Newton`]): each corrector iteration is then one matrix-vector product on the run-time
+//! dispatched SIMD kernels (`crate::dense`) instead of nalgebra's two scalar triangular solves;
+//! the inverse costs one n³ LU-based inversion per factorisation (faer's), which many steps
+//! share. The mass matrix is applied elementwise when it is diagonal (`crate::dense::MassOp`).
+//!
+//! Contacts and `hmax`. No integrator locates contact onset or lift-off inside a step: a step
+//! that crosses one is accepted or rejected by the error test and the corrector like any other.
+//! Measured on the timing case (`studies/scenes/timing-case.toml`, 10 s, 50 contact changes
+//! over its four rollers), the steps that cross a contact change are too few for event location
+//! to pay: at hmax 500 µs they are 166 of 20 395 accepted steps, with 16 of the 42 rejections
+//! and 491 of 47 851 corrector iterations; at 200 µs 138 of 50 031, with 5 of 6 rejections and
+//! 309 of 52 214 iterations. Removing every extra cost of those steps would save under 1 % of
+//! the iterations. What costs at a long step is elsewhere: at hmax 500 µs the roll turns 3° per
+//! step and the contact directions turn with it in the body frame, so a reused Newton matrix
+//! ages within a few steps (2.3 iterations per step, 1 832 rebuilds, nearly all after a stale
+//! matrix failed to converge); at 100 µs one lasts thousands of steps (24 rebuilds). With
+//! contacts, hmax therefore sets the cost through the reuse of the Newton matrix as much as
+//! through the step count, and on the timing case it also bounds the order BDF may use
+//! (`stability`); there 200 µs is the cheapest max step that keeps the centre-runout error
+//! below 2 µm.
 
 mod bdf;
 #[cfg(feature = "cvode")]
@@ -318,7 +335,7 @@ const RATE_REUSE: u32 = 8;
 /// It also remembers the corrector's last measured convergence rate with it and the step
 /// coefficient that rate was measured at (see [`corrector`]).
 struct Newton {
-    inv: Option<DMatrix<f64>>,
+    inv: Option<crate::dense::Padded>,
     scratch: DVector<f64>,
     /// The step coefficient the matrix was built for (α₀ for BDF, h for generalized-α).
     key: f64,
@@ -336,7 +353,7 @@ fn same_key(a: f64, b: f64) -> bool {
 impl Newton {
     fn new(nm: &DMatrix<f64>, key: f64, problem: &dyn SecondOrder) -> Self {
         Self {
-            inv: nm.clone().try_inverse(),
+            inv: crate::dense::inverse(nm).map(|i| crate::dense::Padded::from_matrix(&i)),
             scratch: DVector::zeros(nm.nrows()),
             key,
             reuse: problem.linear_in_state(),
@@ -367,14 +384,8 @@ impl Newton {
         let Some(inv) = &self.inv else {
             return false;
         };
-        crate::dense::matvec(
-            self.scratch.as_mut_slice(),
-            false,
-            inv.as_slice(),
-            r.as_slice(),
-            1.0,
-        );
-        r.copy_from(&self.scratch);
+        inv.matvec(self.scratch.as_mut_slice(), false, r.as_slice(), &[], 1.0);
+        std::mem::swap(r, &mut self.scratch);
         true
     }
 }
@@ -406,9 +417,7 @@ struct Corrected {
 /// error of BDF at tight tolerances on `studies/scenes/linear-unbalance.toml` (16 Hz, 1e-10 m:
 /// 0.33 µm, 0.040 µm at 1 %, same steps, 2.9 against 2.1 iterations per step); the first test,
 /// which ends most steps of the contact runs, is not the one that matters (tightened alone to 1 %
-/// it leaves 0.47 µm). A rate
-/// measured in an earlier step is not trusted: the contact directions turn with the roll, so a
-/// reused matrix ages with the roll angle.
+/// it leaves 0.47 µm).
 #[allow(clippy::too_many_arguments)]
 fn corrector(
     lu: &mut Newton,
@@ -432,7 +441,7 @@ fn corrector(
         if !lu.solve_mut(r) {
             break;
         }
-        x.axpy(-scale, r, 1.0);
+        crate::dense::axpy(x.as_mut_slice(), -scale, r.as_slice());
         let d = scale * size * wnorm(r, w, tol);
         if !d.is_finite() {
             break;
@@ -464,7 +473,7 @@ fn corrector(
 
 /// Weighted max norm of a position-like vector, relative to `tol`.
 fn wnorm(e: &DVector<f64>, w: &[f64], tol: f64) -> f64 {
-    e.iter()
+    (e.as_slice().iter())
         .zip(w)
         .map(|(x, w)| (x * w).abs())
         .fold(0.0, f64::max)
@@ -472,7 +481,7 @@ fn wnorm(e: &DVector<f64>, w: &[f64], tol: f64) -> f64 {
 }
 
 fn finite(q: &DVector<f64>) -> bool {
-    q.iter().all(|x| x.is_finite())
+    q.as_slice().iter().all(|x| x.is_finite())
 }
 
 /// Integrates from (t0, q0, v0) to `t_end`; returns the final state and the statistics.

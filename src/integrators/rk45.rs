@@ -4,8 +4,8 @@
 //! estimate; the norm is max(‖e_q‖, h‖e_v‖) in the weighted displacement norm of `integrators`.
 //! Stiffness shows honestly as a step count near the stability limit (h ≈ 3.3/ω_max).
 
-use crate::dense::matvec;
-use nalgebra::{DMatrix, DVector};
+use crate::dense::MassOp;
+use nalgebra::DVector;
 
 use super::{finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
 use crate::scene::SolverSettings;
@@ -66,8 +66,8 @@ pub(super) fn run(
     let w = pb.weights();
     let guard = Guard::new(s);
     let mut st = Stats::new();
-    let minv: DMatrix<f64> = match pb.mass().clone().try_inverse() {
-        Some(x) => x,
+    let minv = match crate::dense::inverse(pb.mass()) {
+        Some(x) => MassOp::new(&x),
         None => {
             st.status = Status::Diverged;
             st.cause = "singular mass matrix".into();
@@ -83,13 +83,7 @@ pub(super) fn run(
         |t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>, st: &mut Stats| {
             pb.force(t, q, v, &mut f);
             st.rhs_evals += 1;
-            matvec(
-                out.as_mut_slice(),
-                false,
-                minv.as_slice(),
-                f.as_slice(),
-                1.0,
-            );
+            minv.apply(out.as_mut_slice(), f.as_slice());
         };
     let mut t = t0;
     let mut h = s.h0.min(s.hmax);
