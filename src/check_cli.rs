@@ -8,8 +8,8 @@
 //! record, and, unless `--no-model`, the model: mass, mesh, reduced size, balancing masses and
 //! the first undamped frequencies on the linearised supports at standstill (vertical,
 //! horizontal), as `rotorsweep modes` computes them. For a study: its jobs, models and
-//! references, the values of every swept key, then the base scene with the study's `[set]` (and
-//! `[budget]`) as above. Errors as in every command (exit 1 names the file, line and key).
+//! references, the values of every swept key, then the first job's scene (the study's `[set]`
+//! and `[budget]` with that job's swept values) as above. Errors as in every command (exit 1 names the file, line and key).
 
 use std::path::{Path, PathBuf};
 
@@ -89,15 +89,17 @@ fn study(path: &Path, model: bool) -> Result<()> {
         }
         println!("  {k}: {}", values.join(", "));
     }
+    // The first job's scene, not the base alone: a swept key may be what makes the scene valid
+    // (a ramp's speed.rate_hz_per_s on an axis, without which the base lacks ramp_end_s).
     let first = &st.jobs[0];
     let base: Vec<String> = first
         .overrides
         .iter()
-        .filter(|(k, _)| !st.varying.contains(k))
         .map(|(k, v)| format!("{k}={}", toml_text(v)))
         .collect();
     println!(
-        "\nthe base scene with the study's [set] and [budget] (every job adds its swept keys):"
+        "\nthe first job's scene: the study's [set] and [budget] with its swept values (the \
+         other jobs differ in the swept keys above):"
     );
     let source = Source::load(&st.scene_path)?;
     scene(&source, &base, model)

@@ -83,6 +83,15 @@ fn a_study_lists_its_axes_and_its_base_scene() {
 }
 
 #[test]
+fn a_ramp_study_whose_rate_is_swept_checks_with_its_first_job() {
+    // studies/runup-reference.toml sweeps speed.rate_hz_per_s; without it the reference roll's
+    // ramp lacks ramp_end_s, so the base scene alone is no valid scene (it made check exit 1).
+    let out = stdout(&check(&["studies/runup-reference.toml", "--no-model"]));
+    assert!(out.contains("speed.rate_hz_per_s: 0.02, 0.1"), "{out}");
+    assert!(out.contains("--set speed.rate_hz_per_s=0.02"), "{out}");
+}
+
+#[test]
 fn errors_name_file_line_and_key_with_exit_1() {
     let dir = std::env::temp_dir().join(format!("rotorsweep-cli-check-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
