@@ -48,7 +48,7 @@ use nalgebra::{DMatrix, DVector};
 use sundials_sys as sun;
 
 use super::{finite, Guard, Observer, SecondOrder, Stats, Status, StepView};
-use crate::dense::matvec;
+use crate::dense::Padded;
 use crate::scene::SolverSettings;
 
 /// Absolute tolerance of a coordinate of weight 0: so large that it never limits a step.
@@ -59,6 +59,8 @@ struct Rhs<'a> {
     pb: &'a dyn SecondOrder,
     n: usize,
     minv: DMatrix<f64>,
+    /// M⁻¹ for the SIMD product of the right-hand side.
+    minv_op: Padded,
     q: DVector<f64>,
     v: DVector<f64>,
     f: DVector<f64>,
@@ -71,10 +73,12 @@ impl<'a> Rhs<'a> {
     /// The callbacks' data for `pb`; None when its mass matrix is singular.
     fn new(pb: &'a dyn SecondOrder) -> Option<Self> {
         let n = pb.n();
+        let minv = pb.mass().clone().try_inverse()?;
         Some(Rhs {
             pb,
             n,
-            minv: pb.mass().clone().try_inverse()?,
+            minv_op: Padded::from_matrix(&minv),
+            minv,
             q: DVector::zeros(n),
             v: DVector::zeros(n),
             f: DVector::zeros(n),
@@ -112,7 +116,7 @@ unsafe extern "C" fn rhs(
     r.pb.force(t, &r.q, &r.v, &mut r.f);
     let (dq, dv) = out.split_at_mut(n);
     dq.copy_from_slice(&y[n..]);
-    matvec(dv, false, r.minv.as_slice(), r.f.as_slice(), 1.0);
+    r.minv_op.matvec(dv, false, r.f.as_slice(), &[], 1.0);
     if dv.iter().all(|x| x.is_finite()) {
         0
     } else {
