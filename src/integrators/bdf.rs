@@ -159,7 +159,6 @@ pub(super) fn run(
     let mut at_order = 0usize;
 
     let mut lu: Option<Newton> = None;
-    let mut alpha_lu = 0.0;
     // Steps in a row at the same α₀, and that α₀.
     let (mut steady, mut a0_prev) = (0u32, f64::NAN);
     let mut fails = 0usize;
@@ -214,27 +213,27 @@ pub(super) fn run(
         let kg = if full_pred { kappa_gamma(keff) } else { 0.0 };
         let c_ndf = -kg / h;
         let a0 = alpha[0] + c_ndf;
-        hq.axpy(-c_ndf, &qp, 1.0);
-        hv.axpy(-c_ndf, &vp, 1.0);
+        if c_ndf != 0.0 {
+            hq.axpy(-c_ndf, &qp, 1.0);
+            hv.axpy(-c_ndf, &vp, 1.0);
+        }
         steady = if same_key(a0, a0_prev) { steady + 1 } else { 0 };
         a0_prev = a0;
         // Corrector: modified Newton on q.
         let mut fresh = false;
         let mut slow: bool;
         let converged = loop {
-            let stale = lu.as_ref().is_some_and(|l| l.stale_at_steady(a0, steady));
-            if lu.is_none() || stale || (a0 / alpha_lu - 1.0).abs() > 0.3 {
+            if lu.as_ref().is_none_or(|l| l.stale(a0, steady)) {
                 pb.newton_matrix(tn, &qp, &vp, (a0 * a0, 1.0, a0), &mut nm);
                 st.jacobian_evals += 1;
                 st.factorizations += 1;
                 lu = Some(Newton::new(&nm, a0, pb));
-                alpha_lu = a0;
                 fresh = true;
             }
             let lu_ref = lu.as_mut().expect("factorised above");
             q.copy_from(&qp);
-            // The matrix was built for α_lu: scale the correction as DASSL does.
-            let scale = 2.0 / (1.0 + a0 / alpha_lu);
+            // The matrix was built for its own α₀: scale the correction as DASSL does.
+            let scale = 2.0 / (1.0 + a0 / lu_ref.key);
             let out = corrector(
                 lu_ref,
                 &mut q,

@@ -54,7 +54,6 @@ pub(super) fn run(
         s.h0.min(s.hmax)
     };
     let mut lu: Option<Newton> = None;
-    let mut h_lu = 0.0;
     let mut fails = 0usize;
     let (mut q1, mut v1, mut a1) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
     let (mut f1, mut r, mut tmp) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
@@ -76,7 +75,7 @@ pub(super) fn run(
         let mut fresh = false;
         let mut slow: bool;
         let converged = loop {
-            if lu.is_none() || (h / h_lu - 1.0).abs() > 0.3 {
+            if lu.as_ref().is_none_or(|l| l.stale(h, 0)) {
                 // Newton matrix at the predicted state (a₁ = a₀).
                 q1.copy_from(&q0);
                 q1.axpy(h, &v0, 1.0);
@@ -88,7 +87,6 @@ pub(super) fn run(
                 st.jacobian_evals += 1;
                 st.factorizations += 1;
                 lu = Some(Newton::new(&nm, h, pb));
-                h_lu = h;
                 fresh = true;
             }
             let lu_ref = lu.as_mut().expect("factorised above");

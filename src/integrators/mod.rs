@@ -372,11 +372,13 @@ impl Newton {
         }
     }
 
-    /// Whether to rebuild the matrix of a linear problem whose step coefficient `key` has held
-    /// for `steady` steps but differs from the one it was built for: at the built coefficient
-    /// one iteration converges, so the rebuild pays after a few steps.
-    fn stale_at_steady(&self, key: f64, steady: u32) -> bool {
-        self.reuse && steady >= 2 && !same_key(self.key, key)
+    /// Whether to rebuild the matrix for step coefficient `key`: when it moved by more than 30 %
+    /// from the one the matrix was built for, or, on a linear problem, when `key` has held for
+    /// `steady` steps (2 or more) but differs from it: at the built coefficient one iteration
+    /// converges, so the rebuild pays after a few steps.
+    fn stale(&self, key: f64, steady: u32) -> bool {
+        (key / self.key - 1.0).abs() > 0.3
+            || (self.reuse && steady >= 2 && !same_key(self.key, key))
     }
 
     /// r ← N⁻¹ r; false when N is singular.
