@@ -148,16 +148,7 @@ fn balance_command_computes_and_checks_corrections_from_a_study() {
     // The report's balancing table has the same closed-form corrections; no model-based
     // (`ideal`) rows for a [rotor] scene, whose unbalance is its point masses, and the legend
     // says so.
-    let rep = common::rotorsweep_ok(&[
-        "report",
-        out.to_str().unwrap(),
-        "--table",
-        "balancing",
-        "--format",
-        "json",
-    ]);
-    let doc: serde_json::Value = serde_json::from_slice(&rep).unwrap();
-    let t = &doc["tables"][0];
+    let t = &common::report_table(&out, "balancing");
     let rows = t["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 2, "{t}");
     for r in rows {

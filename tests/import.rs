@@ -43,15 +43,8 @@ fn import_of_the_synthetic_run_up_recovers_the_known_orders() {
         }
     }
     // The report reads the imported file like a study's.
-    let rep = common::rotorsweep_ok(&[
-        "report",
-        out.to_str().unwrap(),
-        "--table",
-        "orders",
-        "--format",
-        "json",
-    ]);
-    assert!(String::from_utf8_lossy(&rep).contains("\"amplitude_um\""));
+    let orders = common::report_table(&out, "orders");
+    assert!(orders.to_string().contains("\"amplitude_um\""));
     // A bad value names the file and line; nothing is written.
     let bad = common::write_file(
         &dir,

@@ -213,16 +213,7 @@ fn a_study_stores_tracked_orders_and_the_report_lists_them() {
     );
     let out = dir.join("out.h5");
     common::rotorsweep_ok(&["run", study.to_str().unwrap(), "-o", out.to_str().unwrap()]);
-    let rep = common::rotorsweep_ok(&[
-        "report",
-        out.to_str().unwrap(),
-        "--table",
-        "orders",
-        "--format",
-        "json",
-    ]);
-    let doc: serde_json::Value = serde_json::from_slice(&rep).unwrap();
-    let table = &doc["tables"][0];
+    let table = &common::report_table(&out, "orders");
     let cols: Vec<&str> = table["columns"]
         .as_array()
         .unwrap()

@@ -414,3 +414,17 @@ pub fn rotorsweep_ok(args: &[&str]) -> Vec<u8> {
     );
     out.stdout
 }
+
+/// `rotorsweep report FILE --table NAME --format json`: the one table of that name.
+pub fn report_table(file: &std::path::Path, name: &str) -> serde_json::Value {
+    let out = rotorsweep_ok(&[
+        "report",
+        file.to_str().unwrap(),
+        "--table",
+        name,
+        "--format",
+        "json",
+    ]);
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    doc["tables"][0].clone()
+}
