@@ -38,10 +38,8 @@ t_end_s = 1.8
 settle_s = 1.0
 sample_rate_hz = 2400.0
 [solver]
-# Order 2: orders 3-5 reject up to 40 % of the steps here (untrusted; tests/linear_consistency.rs).
 tolerance = 1e-10
 hmax = 2e-4
-max_order = 2
 "#
     )
 }

@@ -393,7 +393,11 @@ pub(super) fn run(
         if !(1.0..1.2).contains(&factor) {
             h *= factor.max(0.2);
         }
-        h = h.min(s.hmax);
+        // Not into a lobe of the order chosen: that step would run at the order stability allows
+        // there (`stable` above) on a history fitted for this one. On the timing case at 1e-11 m
+        // and hmax 200 µs, BDF-5 proposed 1.4e-4 s, BDF-3 failed it 15–60 times over, and 82 %
+        // of the steps were rejected.
+        h = modes.stable_step(best.0, h.min(s.hmax));
     }
     let last = hist.pop_front().expect("history never empty");
     guard.finish(&mut st, t);

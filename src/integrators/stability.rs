@@ -208,6 +208,28 @@ impl Modes {
             .last()
             .unwrap_or(max_order.min(2))
     }
+
+    /// The longest step up to `h` at which [`Modes::stable_order`] allows `order`, that is at
+    /// which BDF-3 … BDF-`order` amplify no mode: `h` itself when it lies in none of their
+    /// intervals, else just below the start of the interval holding it, repeated until none
+    /// does (orders 1 and 2, A-stable, always `h`). Below the current step when that step is
+    /// unstable for the order.
+    pub fn stable_step(&self, order: usize, h: f64) -> f64 {
+        let mut x = h;
+        loop {
+            let held = (3..=order.min(5)).find_map(|k| {
+                let iv = &self.forbidden[k - 3];
+                let i = iv.partition_point(|&(lo, _)| lo <= x);
+                iv.get(i.wrapping_sub(1))
+                    .filter(|&&(_, hi)| x <= hi)
+                    .map(|&(lo, _)| lo * (1.0 - 1e-9))
+            });
+            match held {
+                Some(below) => x = below,
+                None => return x,
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -268,5 +290,14 @@ mod tests {
         );
         assert_eq!(modes.stable_order(2e-2, 5), 5, "hω = 20: past every lobe");
         assert_eq!(modes.stable_order(3e-3, 1), 1, "never above max_order");
+        // The longest stable step of an order ends where its lobe starts: stable there, not a
+        // hair above; past BDF-3's lobe (hω = 1.93, Hairer & Wanner II, Fig. V.2.1) no cap.
+        let h5 = modes.stable_step(5, 1e-3);
+        assert!(h5 > 1e-5 && h5 < 1e-3, "BDF-5 cap {h5}");
+        assert_eq!(modes.stable_order(h5, 5), 5, "at the cap");
+        assert!(modes.stable_order(h5 * 1.000001, 5) < 5, "above the cap");
+        assert_eq!(modes.stable_step(5, 2e-2), 2e-2, "past the lobe");
+        assert_eq!(modes.stable_step(2, 1.5e-3), 1.5e-3, "BDF-2 is A-stable");
+        assert_eq!(modes.stable_step(3, 3e-3), 3e-3, "past BDF-3's lobe");
     }
 }
