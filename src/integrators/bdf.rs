@@ -25,7 +25,9 @@
 //!
 //! Orders 3–5 are used only at steps where they amplify none of the modes of the system
 //! linearised at the start (`integrators::stability`): on lightly damped high modes the order
-//! drops to 2 (A-stable) instead of the step following the instability.
+//! drops to 2 (A-stable) instead of the step following the instability. The next step proposed
+//! for the order chosen is cut back to the edge of that order's lobe (`Modes::stable_step`), so
+//! a step is never run at a lower order than the one its history and length were chosen for.
 
 use std::collections::VecDeque;
 

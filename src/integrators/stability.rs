@@ -13,7 +13,8 @@
 //! control, which only weighs error against step length, climbs back: the step then follows the
 //! instability (tens of thousands of steps whatever the tolerance), and at loose tolerances the
 //! grown mode is accepted as the solution. Capping the order at the largest k whose lobes hold
-//! no mode at the step taken keeps BDF on the accuracy-limited step (Hairer & Wanner, Solving
+//! no mode at the step taken, and cutting the step proposed for an order back to the edge of
+//! its lobes ([`Modes::stable_step`]), keeps BDF on the accuracy-limited step (Hairer & Wanner, Solving
 //! ODEs II, §V.2 for the stability regions).
 //!
 //! Method: for each order 3–5 and each damping ratio ζ on a grid 0, 0.01, …, 0.99, the interval
