@@ -141,95 +141,67 @@ fn plotter() -> Result<(PathBuf, PathBuf), String> {
     Ok((script, python))
 }
 
-/// A fresh folder of our own under the temporary directory.
-fn scratch() -> std::io::Result<PathBuf> {
-    let base = std::env::temp_dir();
-    for i in 0..100u32 {
-        let nanos = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.subsec_nanos());
-        let d = base.join(format!(
-            "rotorsweep-report-{}-{nanos}-{i}",
-            std::process::id()
-        ));
-        match std::fs::create_dir(&d) {
-            Ok(()) => return Ok(d),
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(e),
-        }
-    }
-    Err(std::io::Error::other("no free temporary folder name"))
-}
-
 /// The figures of `file`, drawn by `scripts/plots.py` in the order it prints them.
 fn figures(file: &Path, compare: Option<&Path>) -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
     let (script, python) = plotter()?;
-    let dir = scratch()?;
-    let result = (|| -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
-        let mut cmd = Command::new(&python);
-        // The script's own tree's package (python/) first, so the figures work without
-        // `pip install ./python` and never use another version of it.
-        if let Some(pkg) = script
-            .parent()
-            .and_then(Path::parent)
-            .map(|t| t.join("python"))
-            .filter(|p| p.join("rotorsweep").is_dir())
-        {
-            let mut paths = vec![pkg];
-            paths.extend(
-                std::env::var_os("PYTHONPATH")
-                    .iter()
-                    .flat_map(std::env::split_paths),
-            );
-            cmd.env("PYTHONPATH", std::env::join_paths(paths)?);
-        }
-        let run = cmd
-            .arg(&script)
-            .arg(file)
-            .args(compare.iter().flat_map(|c| [Path::new("--compare"), c]))
-            .arg("-o")
-            .arg(&dir)
-            .output()
-            .map_err(|e| {
-                format!(
-                    "cannot run {} for the figures ({e}); set ROTORSWEEP_PYTHON to a Python with \
-                     the packages of scripts/requirements.txt, or add --no-figures",
-                    python.display()
-                )
-            })?;
-        if !run.status.success() {
-            return Err(format!(
-                "the figures script {} failed ({}):\n{}\n(ROTORSWEEP_PYTHON picks the Python; \
-                 --no-figures leaves the figures out)",
-                script.display(),
-                run.status,
-                String::from_utf8_lossy(&run.stderr).trim_end()
-            )
-            .into());
-        }
-        String::from_utf8_lossy(&run.stdout)
-            .lines()
-            .filter(|l| l.ends_with(".png"))
-            .map(|l| {
-                let p = PathBuf::from(l);
-                let png = std::fs::read(&p).map_err(output::io_at(&p))?;
-                let name = p
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                Ok(Figure { name, png })
-            })
-            .collect::<Result<Vec<_>, OutputError>>()
-            .map_err(Into::into)
-    })();
-    // Only what the script wrote into our own folder, then the folder.
-    if let Ok(rd) = std::fs::read_dir(&dir) {
-        for e in rd.flatten() {
-            if e.file_type().is_ok_and(|t| t.is_file()) {
-                let _ = std::fs::remove_file(e.path());
-            }
-        }
+    // A fresh folder of our own under the temporary directory, removed with what the script
+    // wrote into it when `dir` drops.
+    let dir = tempfile::Builder::new()
+        .prefix("rotorsweep-report-")
+        .tempdir()?;
+    let mut cmd = Command::new(&python);
+    // The script's own tree's package (python/) first, so the figures work without
+    // `pip install ./python` and never use another version of it.
+    if let Some(pkg) = script
+        .parent()
+        .and_then(Path::parent)
+        .map(|t| t.join("python"))
+        .filter(|p| p.join("rotorsweep").is_dir())
+    {
+        let mut paths = vec![pkg];
+        paths.extend(
+            std::env::var_os("PYTHONPATH")
+                .iter()
+                .flat_map(std::env::split_paths),
+        );
+        cmd.env("PYTHONPATH", std::env::join_paths(paths)?);
     }
-    let _ = std::fs::remove_dir(&dir);
-    result
+    let run = cmd
+        .arg(&script)
+        .arg(file)
+        .args(compare.iter().flat_map(|c| [Path::new("--compare"), c]))
+        .arg("-o")
+        .arg(dir.path())
+        .output()
+        .map_err(|e| {
+            format!(
+                "cannot run {} for the figures ({e}); set ROTORSWEEP_PYTHON to a Python with \
+                 the packages of scripts/requirements.txt, or add --no-figures",
+                python.display()
+            )
+        })?;
+    if !run.status.success() {
+        return Err(format!(
+            "the figures script {} failed ({}):\n{}\n(ROTORSWEEP_PYTHON picks the Python; \
+             --no-figures leaves the figures out)",
+            script.display(),
+            run.status,
+            String::from_utf8_lossy(&run.stderr).trim_end()
+        )
+        .into());
+    }
+    String::from_utf8_lossy(&run.stdout)
+        .lines()
+        .filter(|l| l.ends_with(".png"))
+        .map(|l| {
+            let p = PathBuf::from(l);
+            let png = std::fs::read(&p).map_err(output::io_at(&p))?;
+            let name = p
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            Ok(Figure { name, png })
+        })
+        .collect::<Result<Vec<_>, OutputError>>()
+        .map_err(Into::into)
 }

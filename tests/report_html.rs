@@ -242,9 +242,13 @@ fn html_report_is_self_contained_and_follows_the_output_rules() {
     );
     let python = figure_python();
     let mut args = vec!["report", &r, "--format", "html", "-o", &h];
+    // The figures are drawn in a temporary folder of the report's own, under TMPDIR: none may
+    // be left there.
+    let tmp = d.join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
     let run_html = |args: &[&str]| {
         let mut c = Command::new(env!("CARGO_BIN_EXE_rotorsweep"));
-        c.args(args);
+        c.args(args).env("TMPDIR", &tmp);
         if let Some(p) = &python {
             c.env("ROTORSWEEP_PYTHON", p);
         }
@@ -258,6 +262,8 @@ fn html_report_is_self_contained_and_follows_the_output_rules() {
         args.push("--no-figures");
     }
     assert!(run_html(&args).status.success());
+    let left: Vec<_> = std::fs::read_dir(&tmp).unwrap().collect();
+    assert!(left.is_empty(), "left in TMPDIR: {left:?}");
     let html = std::fs::read_to_string(&html_path).unwrap();
     assert!(html.starts_with("<!DOCTYPE html>"));
     assert!(html.contains(rotorsweep::report::HTML_MARKER));
