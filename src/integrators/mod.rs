@@ -46,6 +46,7 @@
 mod bdf;
 #[cfg(feature = "cvode")]
 mod cvode;
+mod events;
 mod gen_alpha;
 mod rk45;
 pub mod stability;
@@ -80,6 +81,15 @@ pub trait SecondOrder {
     fn linear_in_state(&self) -> bool {
         false
     }
+    /// Number of event functions ([`SecondOrder::events`]); 0, the default, for none.
+    fn n_events(&self) -> usize {
+        0
+    }
+    /// The event functions at (t, q, q̇) into `out` (length [`SecondOrder::n_events`]): one per
+    /// kink of F, positive on one side of it and ≤ 0 on the other (a contact's penetration δ [m]:
+    /// the force acts only for δ > 0). With `solver.contact_events`, BDF ends a step where one
+    /// changes sign (`events`).
+    fn events(&self, _t: f64, _q: &DVector<f64>, _v: &DVector<f64>, _out: &mut [f64]) {}
 }
 
 /// How a run ended.
@@ -182,6 +192,8 @@ pub struct Stats {
     pub factorizations: u64,
     /// Force (right-hand side) evaluations.
     pub rhs_evals: u64,
+    /// Contact events located inside a step, each ending a shortened step (`events`).
+    pub events: u64,
     /// Thread CPU time of the integration [s].
     pub cpu_time_s: f64,
     /// Wall time of the integration [s].
@@ -201,6 +213,7 @@ impl Stats {
             jacobian_evals: 0,
             factorizations: 0,
             rhs_evals: 0,
+            events: 0,
             cpu_time_s: 0.0,
             wall_time_s: 0.0,
         }
