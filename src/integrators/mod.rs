@@ -27,21 +27,50 @@
 //! the inverse costs one n³ LU-based inversion per factorisation (faer's), which many steps
 //! share. The mass matrix is applied elementwise when it is diagonal (`crate::dense::MassOp`).
 //!
-//! Contacts and `hmax`. No integrator locates contact onset or lift-off inside a step: a step
-//! that crosses one is accepted or rejected by the error test and the corrector like any other.
-//! Measured on the timing case (`studies/scenes/timing-case.toml`, 10 s, 50 contact changes
-//! over its four rollers), the steps that cross a contact change are too few for event location
-//! to pay: at hmax 500 µs they are 166 of 20 395 accepted steps, with 16 of the 42 rejections
-//! and 491 of 47 851 corrector iterations; at 200 µs 138 of 50 031, with 5 of 6 rejections and
-//! 309 of 52 214 iterations. Removing every extra cost of those steps would save under 1 % of
-//! the iterations. What costs at a long step is elsewhere: at hmax 500 µs the roll turns 3° per
-//! step and the contact directions turn with it in the body frame, so a reused Newton matrix
-//! ages within a few steps (2.3 iterations per step, 1 832 rebuilds, nearly all after a stale
-//! matrix failed to converge); at 100 µs one lasts thousands of steps (24 rebuilds). With
+//! Contacts and `hmax`. With `solver.contact_events = true` BDF locates contact onset and
+//! lift-off inside a step (`events`): the event functions are the rollers' penetrations δ
+//! ([`SecondOrder::events`]); after the corrector converged on a step, a δ that changed sign
+//! over it is located on the step's cubic Hermite dense output (Illinois, on all rollers at
+//! once), and the step is redone to end just past the first root, located again on the
+//! shortened step until the root lies in its last 1 % (at most 4 times); the order then
+//! restarts at 2 at most (`bdf::EVENT_ORDER`). A root in the first 1 % of a step does not
+//! shorten it. `Stats::events` counts the located events. hmax still caps every step: location
+//! only ever shortens one, so it cannot lift the step above hmax; what it can remove is the
+//! error-test rejections of the steps that cross a kink, and how many of those there are is
+//! what hmax sets. The other integrators ignore the setting; it is off by default, because on
+//! the timing case it does not pay (measured, 10 s, tolerance 1e-7 m, least thread CPU of 3
+//! runs; error: the centre runout against BDF 1e-12 m / hmax 10 µs):
+//!
+//! | hmax | events | steps | rejected (error/conv.) | iterations | factorisations | CPU | error |
+//! |---|---|---|---|---|---|---|---|
+//! | 500 µs | off | 20 276 | 39 / 2 | 49 020 | 1 983 | 0.120 s | 55.9 µm |
+//! | 500 µs | on (90 located) | 20 599 | 8 / 5 | 49 604 | 2 315 | 0.175 s | 55.6 µm |
+//! | 200 µs | off | 50 030 | 5 / 0 | 52 412 | 562 | 0.128 s | 1.63 µm |
+//! | 200 µs | on (66) | 50 234 | 6 / 0 | 52 723 | 817 | 0.146 s | 2.26 µm |
+//! | 100 µs | off | 100 010 | 0 / 0 | 100 396 | 22 | 0.146 s | 0.23 µm |
+//! | 100 µs | on (65) | 100 174 | 0 / 0 | 100 782 | 250 | 0.172 s | 2.42 µm |
+//!
+//! At 500 µs location removes 28 of the 41 rejections but adds 323 steps and 332 factorisations
+//! (3.7 per located event: a shortened step moves α₀ by more than 30 %, which rebuilds the
+//! Newton matrix); below it there are no rejections left to remove. The error does not improve: it is
+//! sensitive to the step sequence itself (over five hmax within ±4 % of each value, the median
+//! error without and with location is 55.9 / 55.6 µm at 500 µs, 1.69 / 2.28 µm at 200 µs and
+//! 1.04 / 2.43 µm at 100 µs; the 0.23 µm at exactly 100 µs is the least of its five,
+//! 0.23–2.17 µm). The timing case's kinks are mild, so the error test rarely sees them: the
+//! fitted Hertz law has exponent 1.07 and its damping ramps in over 5 µm of penetration, and at
+//! hmax 500 µs only 166 of 20 395 accepted steps cross one of its 50 contact changes (all in the
+//! first 2 s), with 16 of the 42 rejections and 491 of 47 851 iterations. Where kinks are sharp
+//! and the error test does see them, location pays: on the bouncing mass of
+//! tests/contact_events.rs (linear one-sided spring, 1e-9 m) it takes 13 rejections and 525
+//! iterations instead of 29 and 601, at a slightly smaller error (4.30 against 4.81 µm).
+//! What costs at a long step on the timing case is elsewhere: at hmax 500 µs the roll turns 3°
+//! per step and the contact directions turn with it in the body frame, so a reused Newton
+//! matrix ages within a few steps (2.4 iterations per step, 1 983 rebuilds, nearly all after a
+//! stale matrix failed to converge); at 100 µs one lasts thousands of steps (22 rebuilds). With
 //! contacts, hmax therefore sets the cost through the reuse of the Newton matrix as much as
 //! through the step count, and on the timing case it also bounds the order BDF may use
 //! (`stability`); there 200 µs is the cheapest max step that keeps the centre-runout error
-//! below 2 µm.
+//! below 2 µm (at exactly 200 µs; its ±4 % neighbours reach 1.66–3.54 µm).
 
 mod bdf;
 #[cfg(feature = "cvode")]
