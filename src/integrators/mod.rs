@@ -51,16 +51,22 @@
 //! | 100 µs | on (65) | 100 174 | 0 / 0 | 100 782 | 250 | 0.172 s | 2.42 µm |
 //!
 //! At 500 µs location removes 28 of the 41 rejections but adds 323 steps and 332 factorisations
-//! (3.7 per located event: a shortened step moves α₀ by more than 30 %, which rebuilds the
-//! Newton matrix); below it there are no rejections left to remove. The error does not improve: it is
+//! (3.7 per located event: a shortened step moves α₀ by more than 30 %, which rebuilds the Newton
+//! matrix); below it there are no rejections left to remove. The error does not improve: it is
 //! sensitive to the step sequence itself (over five hmax within ±4 % of each value, the median
-//! error without and with location is 55.9 / 55.6 µm at 500 µs, 1.69 / 2.28 µm at 200 µs and
-//! 1.04 / 2.43 µm at 100 µs; the 0.23 µm at exactly 100 µs is the least of its five,
-//! 0.23–2.17 µm). The timing case's kinks are mild, so the error test rarely sees them: the
-//! fitted Hertz law has exponent 1.07 and its damping ramps in over 5 µm of penetration, and at
-//! hmax 500 µs only 166 of 20 395 accepted steps cross one of its 50 contact changes (all in the
-//! first 2 s), with 16 of the 42 rejections and 491 of 47 851 iterations. Where kinks are sharp
-//! and the error test does see them, location pays: on the bouncing mass of
+//! error without and with location is 55.9 / 55.6 µm at 500 µs, 1.69 / 2.28 µm at 200 µs and 1.04 /
+//! 2.43 µm at 100 µs; the 0.23 µm at exactly 100 µs is the least of its five, 0.23–2.17 µm). At
+//! tighter tolerances (2 s, hmax 100 µs, the same five hmax, one run each) location halves the
+//! rejections (13 → 8 per run at 1e-8 m, 66 → 30 at 1e-9, 120 → 67 at 1e-10) and saves up to 5 % of
+//! the iterations, but costs 13–20 % more CPU (120–150 more factorisations, and the events
+//! evaluated at every step), and the error is no better: median 2.98 / 0.82 µm at 1e-8 m, 0.23 /
+//! 1.85 µm at 1e-9 and 0.037 / 0.037 µm at 1e-10 (off / on). At 1e-8 and 1e-9 the error is bimodal
+//! with or without location: in some runs an error of 1–4 µm appears between 0.7 and 0.9 s and
+//! stays, in the others it stays below 0.26 µm. The timing case's kinks are mild, so the error test
+//! rarely sees them: the fitted Hertz law has exponent 1.07 and its damping ramps in over 5 µm of
+//! penetration, and at hmax 500 µs only 166 of 20 395 accepted steps cross one of its 50 contact
+//! changes (all in the first 2 s), with 16 of the 42 rejections and 491 of 47 851 iterations. Where
+//! kinks are sharp and the error test does see them, location pays: on the bouncing mass of
 //! tests/contact_events.rs (linear one-sided spring, 1e-9 m) it takes 13 rejections and 525
 //! iterations instead of 29 and 601, at a slightly smaller error (4.30 against 4.81 µm).
 //! What costs at a long step on the timing case is elsewhere: at hmax 500 µs the roll turns 3°
