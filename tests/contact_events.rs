@@ -174,7 +174,7 @@ fn the_located_onset_matches_the_closed_form() {
     // The first onset follows a free fall: the step that crosses it ends within what the
     // position error before the contact moves the crossing (error / |v_c|) plus the share of
     // the step the location leaves (events::LAND_SHARE, 1 %). Measured: 1.77 µs late, with a
-    // free-fall error of 2.45e-7 m (BDF's start-up, not the location: 1.75 µs of it) and a
+    // free-fall error of 2.44e-7 m (BDF's start-up, not the location: 1.74 µs of it) and a
     // 125 µs step, bound 3.0 µs.
     let (t, h) = on.changes[0];
     let bound = on.err_before_contact / vc + 0.01 * h;
