@@ -55,6 +55,7 @@ struct Summary<'a> {
     jacobian_evals: u64,
     factorizations: u64,
     rhs_evals: u64,
+    events: u64,
     modes: &'a str,
     coordinates: usize,
     integrator: &'a str,
@@ -93,6 +94,7 @@ pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
         jacobian_evals: s.jacobian_evals,
         factorizations: s.factorizations,
         rhs_evals: s.rhs_evals,
+        events: s.events,
         modes: &r.modes,
         coordinates: r.coordinates,
         integrator,
@@ -128,10 +130,11 @@ pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
             s.iterations_per_step()
         );
         println!(
-            "  Jacobians {}, factorisations {}, RHS evaluations {}, samples {}",
+            "  Jacobians {}, factorisations {}, RHS evaluations {}, contact events {}, samples {}",
             s.jacobian_evals,
             s.factorizations,
             s.rhs_evals,
+            s.events,
             r.time.len()
         );
     }

@@ -68,6 +68,7 @@ fn settings(tol: f64) -> SolverSettings {
         fixed_step: false,
         max_steps: 1_000_000,
         cpu_budget: None,
+        contact_events: false,
     }
 }
 

@@ -46,6 +46,50 @@ struct RollerSys {
     ratio: f64,
 }
 
+/// A roller's penetration and what its rate and direction need (`RollerSys::penetration`).
+struct Penetration {
+    /// δ = H_j + H_r + L − |d| [m].
+    delta: f64,
+    /// d(H_j + H_r)/dθ [m/rad].
+    dh: f64,
+    /// d = w − L e, from the roller centre to the journal centre [m], and |d|.
+    d: Vector2<f64>,
+    dist: f64,
+}
+
+impl RollerSys {
+    /// The penetration of the journal `journal` at relative displacement w into this roller at
+    /// roll angle θ, given as (θ, sin θ, cos θ).
+    fn penetration(
+        &self,
+        journal: &Profile,
+        (theta, st, ct): (f64, f64, f64),
+        w: Vector2<f64>,
+    ) -> Penetration {
+        // sin and cos of θ − a by angle addition; of the roller's angle ratio·θ by its own
+        // sin_cos unless the roller turns with the roll angle (ratio 1).
+        let (sa, ca) = self.sin_cos;
+        let (hj, dhj) = journal.eval((st * ca - ct * sa, ct * ca + st * sa));
+        let (hr, dhr) = if self.roundness.terms.is_empty() {
+            (0.0, 0.0)
+        } else if self.ratio == 1.0 {
+            self.roundness.eval((st, ct))
+        } else {
+            self.roundness.eval((self.ratio * theta).sin_cos())
+        };
+        let d = w - self.l * self.e;
+        let dist = d.norm();
+        // L − |d| without cancellation: (2L w·e − |w|²)/(L + |d|).
+        let gap = (2.0 * self.l * w.dot(&self.e) - w.norm_squared()) / (self.l + dist);
+        Penetration {
+            delta: hj + hr + gap,
+            dh: dhj + self.ratio * dhr,
+            d,
+            dist,
+        }
+    }
+}
+
 #[derive(Debug, Clone)]
 enum Law {
     Contact {
@@ -397,24 +441,10 @@ impl RollSystem {
                 let mut cc = Matrix2::zeros();
                 let mut forces = out;
                 for r in rollers {
-                    // sin and cos of θ − a by angle addition; of the roller's angle ratio·θ by
-                    // its own sin_cos unless the roller turns with the roll angle (ratio 1).
-                    let (sa, ca) = r.sin_cos;
-                    let (hj, dhj) = journal.eval((st * ca - ct * sa, ct * ca + st * sa));
-                    let (hr, dhr) = if r.roundness.terms.is_empty() {
-                        (0.0, 0.0)
-                    } else if r.ratio == 1.0 {
-                        r.roundness.eval((st, ct))
-                    } else {
-                        r.roundness.eval((r.ratio * theta).sin_cos())
-                    };
-                    let dvec = w - r.l * r.e;
-                    let dist = dvec.norm();
-                    // L − |d| without cancellation: (2L w·e − |w|²)/(L + |d|).
-                    let gap = (2.0 * r.l * w.dot(&r.e) - w.norm_squared()) / (r.l + dist);
-                    let delta = hj + hr + gap;
-                    let nrm = dvec / dist;
-                    let ddelta = omega * (dhj + r.ratio * dhr) - nrm.dot(&wd);
+                    let p = r.penetration(journal, (theta, st, ct), w);
+                    let (delta, dist) = (p.delta, p.dist);
+                    let nrm = p.d / dist;
+                    let ddelta = omega * p.dh - nrm.dot(&wd);
                     let mut fmag = 0.0;
                     if delta > 0.0 {
                         let (st, dst) = step(delta / law.d);
@@ -753,5 +783,33 @@ impl crate::integrators::SecondOrder for RollSystem {
         self.supports
             .iter()
             .all(|s| matches!(s.law, Law::Linear(_)))
+    }
+
+    /// One event per contact roller: its penetration δ [m].
+    fn n_events(&self) -> usize {
+        (self.supports.iter())
+            .map(|s| match &s.law {
+                Law::Contact { rollers, .. } => rollers.len(),
+                Law::Linear(_) => 0,
+            })
+            .sum()
+    }
+
+    /// The penetration δ [m] of every contact roller, supports and rollers in scene order.
+    fn events(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut [f64]) {
+        let (theta, omega, _) = self.speed.at(t);
+        let (st, ct) = theta.sin_cos();
+        let mut slots = out.iter_mut();
+        for sup in &self.supports {
+            if let Law::Contact {
+                journal, rollers, ..
+            } = &sup.law
+            {
+                let (w, _, _) = self.relative(sup, (st, ct), omega, q, v);
+                for (r, slot) in rollers.iter().zip(&mut slots) {
+                    *slot = r.penetration(journal, (theta, st, ct), w).delta;
+                }
+            }
+        }
     }
 }

@@ -27,25 +27,63 @@
 //! the inverse costs one n³ LU-based inversion per factorisation (faer's), which many steps
 //! share. The mass matrix is applied elementwise when it is diagonal (`crate::dense::MassOp`).
 //!
-//! Contacts and `hmax`. No integrator locates contact onset or lift-off inside a step: a step
-//! that crosses one is accepted or rejected by the error test and the corrector like any other.
-//! Measured on the timing case (`studies/scenes/timing-case.toml`, 10 s, 50 contact changes
-//! over its four rollers), the steps that cross a contact change are too few for event location
-//! to pay: at hmax 500 µs they are 166 of 20 395 accepted steps, with 16 of the 42 rejections
-//! and 491 of 47 851 corrector iterations; at 200 µs 138 of 50 031, with 5 of 6 rejections and
-//! 309 of 52 214 iterations. Removing every extra cost of those steps would save under 1 % of
-//! the iterations. What costs at a long step is elsewhere: at hmax 500 µs the roll turns 3° per
-//! step and the contact directions turn with it in the body frame, so a reused Newton matrix
-//! ages within a few steps (2.3 iterations per step, 1 832 rebuilds, nearly all after a stale
-//! matrix failed to converge); at 100 µs one lasts thousands of steps (24 rebuilds). With
+//! Contacts and `hmax`. With `solver.contact_events = true` BDF locates contact onset and
+//! lift-off inside a step (`events`): the event functions are the rollers' penetrations δ
+//! ([`SecondOrder::events`]); after the corrector converged on a step, a δ that changed sign
+//! over it is located on the step's cubic Hermite dense output (Illinois, on all rollers at
+//! once), and the step is redone to end just past the first root, located again on the
+//! shortened step until the root lies in its last 1 % (at most 4 times); the order then
+//! restarts at 2 at most (`bdf::EVENT_ORDER`). A root in the first 1 % of a step does not
+//! shorten it. `Stats::events` counts the located events. hmax still caps every step: location
+//! only ever shortens one, so it cannot lift the step above hmax; what it can remove is the
+//! error-test rejections of the steps that cross a kink, and how many of those there are is
+//! what hmax sets. The other integrators ignore the setting; it is off by default, because on
+//! the timing case it does not pay (measured, 10 s, tolerance 1e-7 m, least thread CPU of 3
+//! runs, the pairs run together; error: the centre runout against BDF 1e-12 m / hmax 10 µs):
+//!
+//! | hmax | events | steps | rejected (error/conv.) | iterations | factorisations | CPU | error |
+//! |---|---|---|---|---|---|---|---|
+//! | 500 µs | off | 20 309 | 17 / 4 | 48 862 | 1 939 | 0.156 s | 48.3 µm |
+//! | 500 µs | on (95 located) | 22 216 | 8 / 5 | 51 198 | 1 992 | 0.177 s | 47.6 µm |
+//! | 200 µs | off | 50 029 | 6 / 0 | 52 428 | 568 | 0.131 s | 1.57 µm |
+//! | 200 µs | on (66) | 50 234 | 6 / 0 | 52 723 | 817 | 0.158 s | 2.26 µm |
+//! | 100 µs | off | 100 010 | 0 / 0 | 100 396 | 22 | 0.196 s | 0.23 µm |
+//! | 100 µs | on (65) | 100 174 | 0 / 0 | 100 782 | 250 | 0.241 s | 2.42 µm |
+//!
+//! At 500 µs location removes 8 of the 21 rejections but adds 1 907 steps and 53 factorisations
+//! (a shortened step moves α₀ by more than 30 %, which rebuilds the Newton matrix, and the step
+//! grows back over several steps); below it there are no rejections left to remove. The error
+//! does not improve: it is sensitive to the step sequence itself (over five hmax within ±4 % of
+//! each value, the median error without and with location is 48.3 / 41.8 µm at 500 µs, 1.79 /
+//! 2.28 µm at 200 µs and 1.04 / 2.43 µm at 100 µs; the 0.23 µm at exactly 100 µs is the least of
+//! its five, 0.23–2.17 µm). At
+//! tighter tolerances (2 s, hmax 100 µs, the same five hmax, one run each) location halves the
+//! rejections (13 → 8 per run at 1e-8 m, 66 → 30 at 1e-9, 120 → 67 at 1e-10) and saves up to 5 % of
+//! the iterations, but costs 13–20 % more CPU (120–150 more factorisations, and the events
+//! evaluated at every step), and the error is no better: median 2.98 / 0.82 µm at 1e-8 m, 0.23 /
+//! 1.85 µm at 1e-9 and 0.037 / 0.037 µm at 1e-10 (off / on). At 1e-8 and 1e-9 the error is bimodal
+//! with or without location: in some runs an error of 1–4 µm appears between 0.7 and 0.9 s and
+//! stays, in the others it stays below 0.26 µm. The timing case's kinks are mild, so the error test
+//! rarely sees them: the fitted Hertz law has exponent 1.07 and its damping ramps in over 5 µm of
+//! penetration, and at hmax 500 µs only 166 of 20 395 accepted steps cross one of its 50 contact
+//! changes (all in the first 2 s), with 16 of the 42 rejections and 491 of 47 851 iterations. Where
+//! kinks are sharp and the error test does see them, location pays: on the bouncing mass of
+//! tests/contact_events.rs (linear one-sided spring, 1e-9 m) it takes 13 rejections and 525
+//! iterations instead of 29 and 601, at a slightly smaller error (4.30 against 4.81 µm).
+//! What costs at a long step on the timing case is elsewhere: at hmax 500 µs the roll turns 3°
+//! per step and the contact directions turn with it in the body frame, so a reused Newton
+//! matrix ages within a few steps (2.4 iterations per step, 1 939 rebuilds, nearly all after a
+//! stale matrix failed to converge); at 100 µs one lasts thousands of steps (22 rebuilds). With
 //! contacts, hmax therefore sets the cost through the reuse of the Newton matrix as much as
 //! through the step count, and on the timing case it also bounds the order BDF may use
 //! (`stability`); there 200 µs is the cheapest max step that keeps the centre-runout error
-//! below 2 µm.
+//! below 2 µm (at exactly 200 µs; its ±4 % neighbours reach 1.66–3.54 µm; at tolerance 1e-8 m
+//! the same five max steps give 0.89–1.30 µm).
 
 mod bdf;
 #[cfg(feature = "cvode")]
 mod cvode;
+mod events;
 mod gen_alpha;
 mod rk45;
 pub mod stability;
@@ -80,6 +118,15 @@ pub trait SecondOrder {
     fn linear_in_state(&self) -> bool {
         false
     }
+    /// Number of event functions ([`SecondOrder::events`]); 0, the default, for none.
+    fn n_events(&self) -> usize {
+        0
+    }
+    /// The event functions at (t, q, q̇) into `out` (length [`SecondOrder::n_events`]): one per
+    /// kink of F, positive on one side of it and ≤ 0 on the other (a contact's penetration δ [m]:
+    /// the force acts only for δ > 0). With `solver.contact_events`, BDF ends a step where one
+    /// changes sign (`events`).
+    fn events(&self, _t: f64, _q: &DVector<f64>, _v: &DVector<f64>, _out: &mut [f64]) {}
 }
 
 /// How a run ended.
@@ -182,6 +229,8 @@ pub struct Stats {
     pub factorizations: u64,
     /// Force (right-hand side) evaluations.
     pub rhs_evals: u64,
+    /// Contact events located inside a step, each ending a shortened step (`events`).
+    pub events: u64,
     /// Thread CPU time of the integration [s].
     pub cpu_time_s: f64,
     /// Wall time of the integration [s].
@@ -201,6 +250,7 @@ impl Stats {
             jacobian_evals: 0,
             factorizations: 0,
             rhs_evals: 0,
+            events: 0,
             cpu_time_s: 0.0,
             wall_time_s: 0.0,
         }

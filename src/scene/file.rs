@@ -151,6 +151,8 @@ pub(super) struct SolverFile {
     #[serde(default = "default_max_steps")]
     pub max_steps: u64,
     pub cpu_budget_s: Option<f64>,
+    #[serde(default = "default_contact_events")]
+    pub contact_events: bool,
 }
 
 impl Default for SolverFile {
@@ -166,6 +168,7 @@ impl Default for SolverFile {
             fixed_step: false,
             max_steps: default_max_steps(),
             cpu_budget_s: None,
+            contact_events: default_contact_events(),
         }
     }
 }
@@ -190,6 +193,9 @@ fn default_order() -> usize {
 }
 fn default_rho() -> f64 {
     0.8
+}
+fn default_contact_events() -> bool {
+    false
 }
 fn default_max_steps() -> u64 {
     50_000_000

@@ -1255,6 +1255,13 @@ pub const DOCS: &[KeyDoc] = &[
         meaning: "CPU budget: more ends the run with status `budget`.",
     },
     KeyDoc {
+        key: "solver.contact_events",
+        units: "",
+        default: "false",
+        range: "true, false",
+        meaning: "BDF locates each contact onset and lift-off inside a step (a roller's penetration changing sign) and ends the step there; the other integrators ignore it.",
+    },
+    KeyDoc {
         key: "outputs",
         units: "",
         default: "defaults",

@@ -235,6 +235,8 @@ pub struct SolverSettings {
     pub max_steps: u64,
     /// CPU budget [s].
     pub cpu_budget: Option<f64>,
+    /// BDF ends a step at a contact onset or lift-off inside it (`integrators`, contacts).
+    pub contact_events: bool,
 }
 
 /// Run window and sampling.
@@ -480,6 +482,7 @@ pub(super) fn solver(c: &Check, s: &SolverFile) -> Result<SolverSettings, InputE
             .cpu_budget_s
             .map(|b| c.positive("solver.cpu_budget_s", b))
             .transpose()?,
+        contact_events: s.contact_events,
     })
 }
 

@@ -190,6 +190,7 @@ pub fn write_job(
     attr_u64(&g, "jacobian_evals", s.jacobian_evals)?;
     attr_u64(&g, "factorizations", s.factorizations)?;
     attr_u64(&g, "rhs_evals", s.rhs_evals)?;
+    attr_u64(&g, "events", s.events)?;
     attr_f64(&g, "cpu_time_s", s.cpu_time_s)?;
     attr_f64(&g, "wall_time_s", s.wall_time_s)?;
     attr_f64(&g, "lift_off_s", r.lift_off_s.unwrap_or(f64::NAN))?;
