@@ -62,6 +62,8 @@ COUNT_COLUMNS = (
     "newton_iterations",
     "jacobian_evals",
     "rhs_evals",
+    "factorizations",
+    "events",
 )
 
 #: The channel families of a run and the axis each is sampled along (by name: files from

@@ -1222,7 +1222,7 @@ fn analyse_or_note(f: &hdf5::File, out: &Path) {
 }
 
 /// The statistics every summary row carries, in order: (name, units, is a count).
-const STAT_COLUMNS: [(&str, &str, bool); 12] = [
+const STAT_COLUMNS: [(&str, &str, bool); 14] = [
     ("cpu_time_s", "s", false),
     ("wall_time_s", "s", false),
     ("steps", "1", true),
@@ -1231,6 +1231,8 @@ const STAT_COLUMNS: [(&str, &str, bool); 12] = [
     ("iterations_per_step", "1", false),
     ("jacobian_evals", "1", true),
     ("rhs_evals", "1", true),
+    ("factorizations", "1", true),
+    ("events", "1", true),
     ("t_end_s", "s", false),
     ("error_max_um", "um", false),
     ("error_rms_um", "um", false),
