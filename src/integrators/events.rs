@@ -4,16 +4,17 @@
 //! In: the event values g at the start and at the end of a step (a contact's penetration δ [m]
 //! per roller, [`SecondOrder::events`]), the step's two end states (t, q, q̇), and the problem to
 //! evaluate g at states in between. Out: the earliest time in the step at which some event
-//! changed state, as the upper end of a bracket no wider than `ttol`: at that time the event
+//! changed state, as the upper end of a bracket no wider than `ttol` (or the bracket left after
+//! 60 evaluations, which on a bracket of any width reach round-off): at that time the event
 //! already has its new state.
 //!
 //! State: an event is *on* where g > 0 (a contact carries load only for δ > 0), *off* where g ≤ 0,
 //! so an exact zero belongs to the open contact.
 //!
 //! Dense output: the cubic Hermite interpolant of (q, q̇) at the two ends of the step. It is the
-//! same for every integrator (no formula's history is needed), exact for cubics, and its error,
-//! O(h⁴) in q, is below the local error of the step it interpolates for the orders used on the
-//! contact runs; the located time cannot be better than the position it comes from anyway (a
+//! same for every integrator (no formula's history is needed) and exact for cubics; its error is
+//! O(h⁴) in q, of the order of a BDF-3 step's local error (larger than BDF-4's and -5's at small
+//! steps, where the event's time is resolved to a small share of the step anyway); the located time cannot be better than the position it comes from anyway (a
 //! penetration error of one tolerance moves it by tolerance/|δ̇|).
 //!
 //! Root finding: the Illinois variant of the secant method on all event functions at once, as in
@@ -260,13 +261,17 @@ impl Tracker {
         self.tries = 0;
     }
 
-    /// The step was accepted: whether some event changed state over it (the formula should
-    /// restart after a kink); counts the located events in `st`.
+    /// The step was accepted: whether the formula should restart after it, because some event
+    /// changed state over it or it was shortened to end at one (the next step then starts at the
+    /// root, and must not run a high order across the kink); counts in `st.events` the steps
+    /// over which some event changed state. A shortened step whose solved end still lies just
+    /// before the root holds no change: the next step does, within [`MIN_SHARE`] of its start.
+    /// (Counting the shortened steps instead counted 95 events against 60 force switches on the
+    /// timing case at hmax 500 µs.)
     pub(super) fn accept(&mut self, st: &mut super::Stats) -> bool {
-        let kink = self.tries > 0 || changed(&self.accepted, &self.end);
-        if self.tries > 0 {
-            st.events += 1;
-        }
+        let change = changed(&self.accepted, &self.end);
+        st.events += u64::from(change);
+        let kink = change || self.tries > 0;
         self.tries = 0;
         std::mem::swap(&mut self.accepted, &mut self.end);
         kink

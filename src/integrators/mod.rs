@@ -44,11 +44,11 @@
 //! | hmax | events | steps | rejected (error/conv.) | iterations | factorisations | CPU | error |
 //! |---|---|---|---|---|---|---|---|
 //! | 500 µs | off | 20 309 | 17 / 4 | 48 862 | 1 939 | 0.156 s | 48.3 µm |
-//! | 500 µs | on (95 located) | 22 216 | 8 / 5 | 51 198 | 1 992 | 0.177 s | 47.6 µm |
+//! | 500 µs | on (60 changes) | 22 216 | 8 / 5 | 51 198 | 1 992 | 0.177 s | 47.6 µm |
 //! | 200 µs | off | 50 029 | 6 / 0 | 52 428 | 568 | 0.131 s | 1.57 µm |
-//! | 200 µs | on (66) | 50 234 | 6 / 0 | 52 723 | 817 | 0.158 s | 2.26 µm |
+//! | 200 µs | on (50) | 50 234 | 6 / 0 | 52 723 | 817 | 0.158 s | 2.26 µm |
 //! | 100 µs | off | 100 010 | 0 / 0 | 100 396 | 22 | 0.196 s | 0.23 µm |
-//! | 100 µs | on (65) | 100 174 | 0 / 0 | 100 782 | 250 | 0.241 s | 2.42 µm |
+//! | 100 µs | on (56) | 100 174 | 0 / 0 | 100 782 | 250 | 0.241 s | 2.42 µm |
 //!
 //! At 500 µs location removes 8 of the 21 rejections but adds 1 907 steps and 53 factorisations
 //! (a shortened step moves α₀ by more than 30 %, which rebuilds the Newton matrix, and the step
@@ -65,8 +65,10 @@
 //! with or without location: in some runs an error of 1–4 µm appears between 0.7 and 0.9 s and
 //! stays, in the others it stays below 0.26 µm. The timing case's kinks are mild, so the error test
 //! rarely sees them: the fitted Hertz law has exponent 1.07 and its damping ramps in over 5 µm of
-//! penetration, and at hmax 500 µs only 166 of 20 395 accepted steps cross one of its 50 contact
-//! changes (all in the first 2 s), with 16 of the 42 rejections and 491 of 47 851 iterations. Where
+//! penetration, and at hmax 500 µs with location on only 60 of 22 216 accepted steps cross a
+//! contact change (all in the first 2 s; without location, before the step cut out of the
+//! stability lobes, 166 of 20 395 steps crossed one, with 16 of the 42 rejections and 491 of
+//! 47 851 iterations). Where
 //! kinks are sharp and the error test does see them, location pays: on the bouncing mass of
 //! tests/contact_events.rs (linear one-sided spring, 1e-9 m) it takes 13 rejections and 525
 //! iterations instead of 29 and 601, at a slightly smaller error (4.30 against 4.81 µm).
@@ -122,10 +124,11 @@ pub trait SecondOrder {
     fn n_events(&self) -> usize {
         0
     }
-    /// The event functions at (t, q, q̇) into `out` (length [`SecondOrder::n_events`]): one per
-    /// kink of F, positive on one side of it and ≤ 0 on the other (a contact's penetration δ [m]:
-    /// the force acts only for δ > 0). With `solver.contact_events`, BDF ends a step where one
-    /// changes sign (`events`).
+    /// The event functions at (t, q, q̇) into `out` (length [`SecondOrder::n_events`]): positive
+    /// on one side of a kink of F and ≤ 0 on the other (a contact's penetration δ [m]: the force
+    /// acts only for δ > 0). With `solver.contact_events`, BDF ends a step where one changes sign
+    /// (`events`). The damped contact's second kink, where its damping drives the force to zero
+    /// before δ reaches zero at a lift-off (the force is clipped at 0), has no event function.
     fn events(&self, _t: f64, _q: &DVector<f64>, _v: &DVector<f64>, _out: &mut [f64]) {}
 }
 
@@ -229,7 +232,7 @@ pub struct Stats {
     pub factorizations: u64,
     /// Force (right-hand side) evaluations.
     pub rhs_evals: u64,
-    /// Contact events located inside a step, each ending a shortened step (`events`).
+    /// Accepted steps over which a contact event changed state, with location on (`events`).
     pub events: u64,
     /// Thread CPU time of the integration [s].
     pub cpu_time_s: f64,
