@@ -8,53 +8,14 @@ mod common;
 
 use std::f64::consts::PI;
 
-use common::{channel, first_bending_hz, hann_amplitude, scene_from_text};
+use common::{channel, first_bending_hz, hann_amplitude, scene_from_text, Oscillator};
 use nalgebra::{DMatrix, DVector};
 use rotorsweep::integrators::{integrate, SecondOrder, Stats, Status, StepView};
 use rotorsweep::model::Model;
 use rotorsweep::scene::{IntegratorKind, SolverSettings};
 
-/// m q̈ = −m(ω² q + 2ζω q̇), m = 2 kg (so M⁻¹ is exercised), ω = 2π·10 Hz, ζ = 2 %.
-struct Oscillator {
-    m: DMatrix<f64>,
-    w: Vec<f64>,
-}
-
-const OMEGA: f64 = 2.0 * PI * 10.0;
-const ZETA: f64 = 0.02;
+/// m = 2 kg, so that M⁻¹ is exercised.
 const MASS: f64 = 2.0;
-
-impl SecondOrder for Oscillator {
-    fn n(&self) -> usize {
-        1
-    }
-    fn mass(&self) -> &DMatrix<f64> {
-        &self.m
-    }
-    fn force(&self, _t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
-        out[0] = -MASS * (OMEGA * OMEGA * q[0] + 2.0 * ZETA * OMEGA * v[0]);
-    }
-    fn newton_matrix(
-        &self,
-        _t: f64,
-        _q: &DVector<f64>,
-        _v: &DVector<f64>,
-        (a, b, c): (f64, f64, f64),
-        out: &mut DMatrix<f64>,
-    ) {
-        out[(0, 0)] = a * MASS + b * MASS * OMEGA * OMEGA + c * MASS * 2.0 * ZETA * OMEGA;
-    }
-    fn weights(&self) -> &[f64] {
-        &self.w
-    }
-}
-
-/// Free decay from q(0) = q0, q̇(0) = 0: q = q0 e^{−ζωt}(cos ω_d t + ζω/ω_d sin ω_d t),
-/// ω_d = ω√(1 − ζ²) (any vibrations text, e.g. Rao, Mechanical Vibrations, §2.6).
-fn exact(q0: f64, t: f64) -> f64 {
-    let wd = OMEGA * (1.0 - ZETA * ZETA).sqrt();
-    q0 * (-ZETA * OMEGA * t).exp() * ((wd * t).cos() + ZETA * OMEGA / wd * (wd * t).sin())
-}
 
 fn settings(tol: f64) -> SolverSettings {
     SolverSettings {
@@ -75,15 +36,12 @@ fn settings(tol: f64) -> SolverSettings {
 /// Runs the oscillator over [0, 1] s from q0 = 1 mm: the largest error against the closed form
 /// at the step ends [m], the statistics and the observer's step ends.
 fn oscillator(set: &SolverSettings) -> (f64, Stats, Vec<(f64, f64)>) {
-    let pb = Oscillator {
-        m: DMatrix::from_element(1, 1, MASS),
-        w: vec![1.0],
-    };
+    let pb = Oscillator::new(MASS);
     let q0 = 1e-3;
     let mut worst: f64 = 0.0;
     let mut steps = Vec::new();
     let mut obs = |s: &StepView| -> Result<(), String> {
-        worst = worst.max((s.q1[0] - exact(q0, s.t1)).abs());
+        worst = worst.max((s.q1[0] - Oscillator::exact(q0, s.t1)).abs());
         steps.push((s.t0, s.t1));
         Ok(())
     };

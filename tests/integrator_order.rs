@@ -11,9 +11,7 @@
 
 mod common;
 
-use std::f64::consts::PI;
-
-use common::{scene_from_text, slope};
+use common::{scene_from_text, slope, Oscillator};
 use nalgebra::{DMatrix, DVector};
 use rotorsweep::dynamics::system::RollSystem;
 use rotorsweep::integrators::{integrate, SecondOrder, Status, StepView};
@@ -296,49 +294,12 @@ fn gen_alpha_fixed_step_is_second_order() {
     }
 }
 
-/// A damped oscillator q̈ + 2ζω q̇ + ω² q = 0 (ω = 2π·10 Hz, ζ = 2 %): the smooth problem for the
-/// BDF order test, free of the rotor's stiff spectrum.
-struct Oscillator {
-    m: DMatrix<f64>,
-    w: Vec<f64>,
-}
-
-const OSC_OMEGA: f64 = 2.0 * PI * 10.0;
-const OSC_ZETA: f64 = 0.02;
-
-impl SecondOrder for Oscillator {
-    fn n(&self) -> usize {
-        1
-    }
-    fn mass(&self) -> &DMatrix<f64> {
-        &self.m
-    }
-    fn force(&self, _t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
-        out[0] = -OSC_OMEGA * OSC_OMEGA * q[0] - 2.0 * OSC_ZETA * OSC_OMEGA * v[0];
-    }
-    fn newton_matrix(
-        &self,
-        _t: f64,
-        _q: &DVector<f64>,
-        _v: &DVector<f64>,
-        (a, b, c): (f64, f64, f64),
-        out: &mut DMatrix<f64>,
-    ) {
-        out[(0, 0)] = a + b * OSC_OMEGA * OSC_OMEGA + c * 2.0 * OSC_ZETA * OSC_OMEGA;
-    }
-    fn weights(&self) -> &[f64] {
-        &self.w
-    }
-}
-
 #[test]
 fn bdf_step_count_grows_as_its_order_says() {
     // A method of order k with local error ∝ h^(k+1) kept at the tolerance takes steps
     // h ∝ tol^(1/(k+1)): N ∝ tol^(−1/(k+1)) (Hairer & Wanner, Solving ODEs II, §III.7).
-    let pb = Oscillator {
-        m: DMatrix::identity(1, 1),
-        w: vec![1.0],
-    };
+    // The damped oscillator of tests/common at unit mass.
+    let pb = Oscillator::new(1.0);
     let base = jeffcott(UNDAMPED).solver;
     for (order, tols) in [
         (1usize, &[1e-7, 1e-8, 1e-9, 1e-10][..]),

@@ -428,3 +428,66 @@ pub fn report_table(file: &std::path::Path, name: &str) -> serde_json::Value {
     let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
     doc["tables"][0].clone()
 }
+
+/// The damped oscillator m q̈ = −m(ω² q + 2ζω q̇), ω = 2π·10 Hz, ζ = 2 %, of mass `mass` [kg]
+/// (a mass other than 1 exercises M⁻¹): a smooth problem with a closed form
+/// ([`Oscillator::exact`]), free of a rotor's stiff spectrum, for the integrator tests.
+pub struct Oscillator {
+    m: nalgebra::DMatrix<f64>,
+    mass: f64,
+    w: Vec<f64>,
+}
+
+impl Oscillator {
+    pub const OMEGA: f64 = 2.0 * std::f64::consts::PI * 10.0;
+    pub const ZETA: f64 = 0.02;
+
+    pub fn new(mass: f64) -> Self {
+        Self {
+            m: nalgebra::DMatrix::from_element(1, 1, mass),
+            mass,
+            w: vec![1.0],
+        }
+    }
+
+    /// Free decay from q(0) = q0, q̇(0) = 0: q = q0 e^{−ζωt}(cos ω_d t + ζω/ω_d sin ω_d t),
+    /// ω_d = ω√(1 − ζ²) (any vibrations text, e.g. Rao, Mechanical Vibrations, §2.6).
+    pub fn exact(q0: f64, t: f64) -> f64 {
+        let (w, z) = (Self::OMEGA, Self::ZETA);
+        let wd = w * (1.0 - z * z).sqrt();
+        q0 * (-z * w * t).exp() * ((wd * t).cos() + z * w / wd * (wd * t).sin())
+    }
+}
+
+impl rotorsweep::integrators::SecondOrder for Oscillator {
+    fn n(&self) -> usize {
+        1
+    }
+    fn mass(&self) -> &nalgebra::DMatrix<f64> {
+        &self.m
+    }
+    fn force(
+        &self,
+        _t: f64,
+        q: &nalgebra::DVector<f64>,
+        v: &nalgebra::DVector<f64>,
+        out: &mut nalgebra::DVector<f64>,
+    ) {
+        let (w, z) = (Self::OMEGA, Self::ZETA);
+        out[0] = -self.mass * (w * w * q[0] + 2.0 * z * w * v[0]);
+    }
+    fn newton_matrix(
+        &self,
+        _t: f64,
+        _q: &nalgebra::DVector<f64>,
+        _v: &nalgebra::DVector<f64>,
+        (a, b, c): (f64, f64, f64),
+        out: &mut nalgebra::DMatrix<f64>,
+    ) {
+        let (m, w, z) = (self.mass, Self::OMEGA, Self::ZETA);
+        out[(0, 0)] = a * m + b * m * w * w + c * m * 2.0 * z * w;
+    }
+    fn weights(&self) -> &[f64] {
+        &self.w
+    }
+}
