@@ -34,44 +34,16 @@
 //! once), and the step is redone to end just past the first root, located again on the
 //! shortened step until the root lies in its last 1 % (at most 4 times); the order then
 //! restarts at 2 at most (`bdf::EVENT_ORDER`). A root in the first 1 % of a step does not
-//! shorten it. `Stats::events` counts the located events. hmax still caps every step: location
-//! only ever shortens one, so it cannot lift the step above hmax; what it can remove is the
-//! error-test rejections of the steps that cross a kink, and how many of those there are is
-//! what hmax sets. The other integrators ignore the setting; it is off by default, because on
-//! the timing case it does not pay (measured, 10 s, tolerance 1e-7 m, least thread CPU of 3
-//! runs, the pairs run together; error: the centre runout against BDF 1e-12 m / hmax 10 µs):
-//!
-//! | hmax | events | steps | rejected (error/conv.) | iterations | factorisations | CPU | error |
-//! |---|---|---|---|---|---|---|---|
-//! | 500 µs | off | 20 309 | 17 / 4 | 48 862 | 1 939 | 0.156 s | 48.3 µm |
-//! | 500 µs | on (60 changes) | 22 216 | 8 / 5 | 51 198 | 1 992 | 0.177 s | 47.6 µm |
-//! | 200 µs | off | 50 029 | 6 / 0 | 52 428 | 568 | 0.131 s | 1.57 µm |
-//! | 200 µs | on (50) | 50 234 | 6 / 0 | 52 723 | 817 | 0.158 s | 2.26 µm |
-//! | 100 µs | off | 100 010 | 0 / 0 | 100 396 | 22 | 0.196 s | 0.23 µm |
-//! | 100 µs | on (56) | 100 174 | 0 / 0 | 100 782 | 250 | 0.241 s | 2.42 µm |
-//!
-//! At 500 µs location removes 8 of the 21 rejections but adds 1 907 steps and 53 factorisations
-//! (a shortened step moves α₀ by more than 30 %, which rebuilds the Newton matrix, and the step
-//! grows back over several steps); below it there are no rejections left to remove. The error
-//! does not improve: it is sensitive to the step sequence itself (over five hmax within ±4 % of
-//! each value, the median error without and with location is 48.3 / 41.8 µm at 500 µs, 1.79 /
-//! 2.28 µm at 200 µs and 1.04 / 2.43 µm at 100 µs; the 0.23 µm at exactly 100 µs is the least of
-//! its five, 0.23–2.17 µm). At
-//! tighter tolerances (2 s, hmax 100 µs, the same five hmax, one run each) location halves the
-//! rejections (13 → 8 per run at 1e-8 m, 66 → 30 at 1e-9, 120 → 67 at 1e-10) and saves up to 5 % of
-//! the iterations, but costs 13–20 % more CPU (120–150 more factorisations, and the events
-//! evaluated at every step), and the error is no better: median 2.98 / 0.82 µm at 1e-8 m, 0.23 /
-//! 1.85 µm at 1e-9 and 0.037 / 0.037 µm at 1e-10 (off / on). At 1e-8 and 1e-9 the error is bimodal
-//! with or without location: in some runs an error of 1–4 µm appears between 0.7 and 0.9 s and
-//! stays, in the others it stays below 0.26 µm. The timing case's kinks are mild, so the error test
-//! rarely sees them: the fitted Hertz law has exponent 1.07 and its damping ramps in over 5 µm of
-//! penetration, and at hmax 500 µs with location on only 60 of 22 216 accepted steps cross a
-//! contact change (all in the first 2 s; without location, before the step cut out of the
-//! stability lobes, 166 of 20 395 steps crossed one, with 16 of the 42 rejections and 491 of
-//! 47 851 iterations). Where
-//! kinks are sharp and the error test does see them, location pays: on the bouncing mass of
-//! tests/contact_events.rs (linear one-sided spring, 1e-9 m) it takes 13 rejections and 525
-//! iterations instead of 29 and 601, at a slightly smaller error (4.30 against 4.81 µm).
+//! shorten it. `Stats::events` counts the steps a contact changed over. hmax still caps every
+//! step: location only ever shortens one, so it cannot lift the step above hmax; what it can
+//! remove is the error-test rejections of the steps that cross a kink, and how many of those
+//! there are is what hmax sets. The other integrators ignore the setting; it is off by default, because on
+//! the timing case it does not pay: its kinks are mild (the fitted Hertz law has exponent 1.07
+//! and its damping ramps in over 5 µm), only about 60 steps of a run cross a contact change, and
+//! location costs 13–30 % more CPU at no smaller error, whose size depends on the exact step
+//! sequence more than on location (README, "Contacts and hmax", has the measurements). Where
+//! kinks are sharp location pays: on the bouncing mass of tests/contact_events.rs it takes 13
+//! rejections and 525 iterations instead of 29 and 601.
 //! What costs at a long step on the timing case is elsewhere: at hmax 500 µs the roll turns 3°
 //! per step and the contact directions turn with it in the body frame, so a reused Newton
 //! matrix ages within a few steps (2.4 iterations per step, 1 939 rebuilds, nearly all after a
@@ -157,9 +129,7 @@ impl Status {
             Status::Budget => "budget",
         }
     }
-}
 
-impl Status {
     /// Whether the run reached its end time (ok or untrusted): its records are complete.
     pub fn completed(&self) -> bool {
         matches!(self, Status::Ok | Status::Untrusted)
@@ -167,7 +137,14 @@ impl Status {
 
     /// [`Status::completed`] of a status name as stored in results.
     pub fn name_completed(name: &str) -> bool {
-        name == "ok" || name == "untrusted"
+        [
+            Status::Ok,
+            Status::Untrusted,
+            Status::Diverged,
+            Status::Budget,
+        ]
+        .iter()
+        .any(|st| st.name() == name && st.completed())
     }
 }
 
