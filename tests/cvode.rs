@@ -9,8 +9,8 @@ mod common;
 use std::f64::consts::PI;
 
 use common::{channel, first_bending_hz, hann_amplitude, scene_from_text, Oscillator};
-use nalgebra::{DMatrix, DVector};
-use rotorsweep::integrators::{integrate, SecondOrder, Stats, Status, StepView};
+use nalgebra::DVector;
+use rotorsweep::integrators::{integrate, Stats, Status, StepView};
 use rotorsweep::model::Model;
 use rotorsweep::scene::{IntegratorKind, SolverSettings};
 
