@@ -9,6 +9,8 @@
 //! then a free flight back to H and the same again, with period T = 2 t_c + τ_l.
 //! Event function: the penetration δ = −q.
 
+mod common;
+
 use nalgebra::{DMatrix, DVector};
 use rotorsweep::integrators::{integrate, SecondOrder, Stats, Status, StepView};
 use rotorsweep::scene::{IntegratorKind, SolverSettings};
@@ -87,17 +89,8 @@ fn exact(t: f64) -> f64 {
 /// BDF at tolerance 1e-9 m, hmax 1 ms, with or without event location.
 fn settings(events: bool) -> SolverSettings {
     SolverSettings {
-        integrator: IntegratorKind::Bdf,
-        tolerance: 1e-9,
-        hmax: 1e-3,
-        hmin: 1e-12,
-        h0: 1e-6,
-        max_order: 5,
-        rho_inf: 0.8,
-        fixed_step: false,
-        max_steps: 1_000_000,
-        cpu_budget: None,
         contact_events: events,
+        ..common::solver(IntegratorKind::Bdf, 1e-9, 1e-3)
     }
 }
 

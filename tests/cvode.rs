@@ -18,19 +18,7 @@ use rotorsweep::scene::{IntegratorKind, SolverSettings};
 const MASS: f64 = 2.0;
 
 fn settings(tol: f64) -> SolverSettings {
-    SolverSettings {
-        integrator: IntegratorKind::Cvode,
-        tolerance: tol,
-        hmax: 1e-2,
-        hmin: 1e-12,
-        h0: 1e-6,
-        max_order: 5,
-        rho_inf: 0.8,
-        fixed_step: false,
-        max_steps: 1_000_000,
-        cpu_budget: None,
-        contact_events: false,
-    }
+    common::solver(IntegratorKind::Cvode, tol, 1e-2)
 }
 
 /// Runs the oscillator over [0, 1] s from q0 = 1 mm: the largest error against the closed form

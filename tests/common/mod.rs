@@ -491,3 +491,26 @@ impl rotorsweep::integrators::SecondOrder for Oscillator {
         &self.w
     }
 }
+
+/// Solver settings for the integrator tests on small systems: `integrator` at `tolerance` [m]
+/// and `hmax` [s], hmin 1e-12 s, h0 1e-6 s, orders up to 5, ρ∞ 0.8, error-controlled, 10⁶ steps,
+/// no CPU budget, no event location.
+pub fn solver(
+    integrator: rotorsweep::scene::IntegratorKind,
+    tolerance: f64,
+    hmax: f64,
+) -> rotorsweep::scene::SolverSettings {
+    rotorsweep::scene::SolverSettings {
+        integrator,
+        tolerance,
+        hmax,
+        hmin: 1e-12,
+        h0: 1e-6,
+        max_order: 5,
+        rho_inf: 0.8,
+        fixed_step: false,
+        max_steps: 1_000_000,
+        cpu_budget: None,
+        contact_events: false,
+    }
+}
