@@ -10,8 +10,8 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use rotorsweep::model::Model;
-use rotorsweep::reduction::ModeSelection;
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::rotor::reduction::ModeSelection;
 use rotorsweep::scene::Scene;
 
 fn reference_roll() -> PathBuf {

@@ -9,15 +9,15 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use rotorsweep::job;
-use rotorsweep::model::Model;
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::simulation;
 use rotorsweep::scene::Scene;
 
 fn timing_case(c: &mut Criterion) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("studies/scenes/timing-case.toml");
     let scene = Scene::load(&path, &[]).expect("timing case scene");
     let model = Model::build(&scene, None).expect("model");
-    let r = job::run(&scene, &model);
+    let r = simulation::run(&scene, &model);
     eprintln!(
         "timing case: status {}, {} steps, {} rejected, {:.3} iterations/step, CPU {:.3} s",
         r.stats.status.name(),
@@ -29,7 +29,7 @@ fn timing_case(c: &mut Criterion) {
     let mut g = c.benchmark_group("timing_case");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
     g.bench_function("bdf_10s_hmax100us", |b| {
-        b.iter(|| black_box(job::run(&scene, &model)))
+        b.iter(|| black_box(simulation::run(&scene, &model)))
     });
     g.finish();
 }

@@ -1,23 +1,43 @@
 //! rotorsweep: overnight parameter studies of flexible-rotor dynamics.
 //!
-//! The pipeline, one way: [`scene`] file → rotor FE ([`section`], [`fe`]) → reduced
-//! Craig–Bampton model ([`reduction`], [`model`]) → [`dynamics`] → integrators → study → store →
-//! analysis.
+//! The modules are the pipeline's stages, listed in the order data flows through them; a stage
+//! imports only from the stages above it (checked by the test `layering`):
+//!
+//! | stage | in → out |
+//! |---|---|
+//! | [`error`], [`text`] | shared by all: input errors naming file, line and key; numbers as text |
+//! | [`numerics`] | dense kernels and eigen-solvers |
+//! | [`signal`] | sampled records → spectra, lines, peaks, orders, influence coefficients |
+//! | [`rotor`] | rotor spec → sections, wall map, beam FE, Craig–Bampton reduction |
+//! | [`integrators`] | a second-order system and [`SolverSettings`](integrators::SolverSettings) → a time history |
+//! | [`scene`] | scene TOML → validated [`Scene`](scene::Scene) in SI (a stage owns its parameters: the scene builds the rotor's and integrators' own types) |
+//! | [`dynamics`] | scene → reduced model, linear and nonlinear systems on supports, one simulation |
+//! | [`linear`] | linear system → damped modes, Campbell, critical speeds, response, Floquet, statics |
+//! | [`store`] | results → the HDF5 layout and its writers |
+//! | [`results`] | a results file → its analysis, order tracking, balancing; measured records in |
+//! | [`study`] | study TOML → jobs, plan, campaign run, shards, merge |
+//! | [`report`] | a results file → tables (Markdown, CSV, JSON, HTML) |
 
-pub mod analysis;
-pub mod dense;
-pub mod dynamics;
-pub mod eigen;
 pub mod error;
-pub mod fe;
+pub mod text;
+
+pub mod numerics;
+pub mod signal;
+
+pub mod rotor;
+
 pub mod integrators;
-pub mod job;
-pub mod linear;
-pub mod model;
-pub mod reduction;
-pub mod report;
+
 pub mod scene;
-pub mod section;
+
+pub mod dynamics;
+
+pub mod linear;
+
 pub mod store;
+
+pub mod results;
+
 pub mod study;
-pub mod thickness;
+
+pub mod report;

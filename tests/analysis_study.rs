@@ -9,7 +9,7 @@ mod common;
 use std::f64::consts::PI;
 
 use common::{first_bending_hz, scene_from_text, scratch_dir, write_file, JEFFCOTT_ROTOR};
-use rotorsweep::model::Model;
+use rotorsweep::dynamics::model::Model;
 use rotorsweep::study::{campaign, Study};
 
 /// The Jeffcott rotor of check 7 (tests/dynamics_checks.rs: shaft Ø30 × 700 mm, 12.331 kg disk,

@@ -14,10 +14,10 @@ mod common;
 use std::f64::consts::PI;
 
 use nalgebra::DVector;
-use rotorsweep::analysis::balancing::{self, PlaneLimits};
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::LinearSystem;
 use rotorsweep::linear::response::{plane_response, point_unbalance};
-use rotorsweep::linear::LinearSystem;
-use rotorsweep::model::Model;
+use rotorsweep::signal::influence::{self, PlaneLimits};
 use rustfft::num_complex::Complex64;
 
 #[test]
@@ -55,13 +55,13 @@ fn two_plane_corrections_of_a_rigid_rotor_are_its_static_and_couple_unbalance() 
         .map(|z| rows(&(u0.clone() + point_unbalance(&model, trial, r, 0.0, *z))))
         .collect();
     let units = vec![vec![Complex64::new(1e3 * trial, 0.0); b.len()]; 2];
-    let alpha = balancing::influence(&b, &trials, &units);
-    let masses = balancing::corrections(
+    let alpha = influence::influence(&b, &trials, &units);
+    let masses = influence::corrections(
         &alpha,
         &b,
         &[PlaneLimits::default(), PlaneLimits::default()],
     );
-    let w: Vec<Complex64> = masses.iter().map(|m| balancing::unbalance(m)).collect();
+    let w: Vec<Complex64> = masses.iter().map(|m| influence::unbalance(m)).collect();
     // Closed form, in grams at r = 100 mm: Σ U = 10 e^{i30°} + 5 e^{i120°} [g at 100 mm],
     // Σ z U = 0.2 · 10 e^{i30°} + 0.4 · 5 e^{i120°}.
     let ua = Complex64::from_polar(10.0, 30f64.to_radians());
@@ -73,7 +73,7 @@ fn two_plane_corrections_of_a_rigid_rotor_are_its_static_and_couple_unbalance() 
         assert!((got - want).norm() < 1e-3 * want.norm(), "{got} vs {want}");
     }
     // And the predicted residual vanishes at every row (relative to the reference).
-    let after = balancing::predicted(&alpha, &b, &w);
+    let after = influence::predicted(&alpha, &b, &w);
     for (a, r0) in after.iter().zip(&b) {
         assert!(a.norm() < 1e-3 * r0.norm(), "{} of {}", a.norm(), r0.norm());
     }

@@ -8,22 +8,25 @@
 //! this machine, issue 13). The reference is fixed-step generalized-α at 10 µs (its error at
 //! 100 µs is already 0.014 µm on this case).
 
-use rotorsweep::model::Model;
+use rotorsweep::dynamics::model::Model;
 use rotorsweep::scene::Scene;
 
 mod common;
 
-fn run(over: &[&str]) -> rotorsweep::job::JobResult {
+fn run(over: &[&str]) -> rotorsweep::dynamics::simulation::JobResult {
     let path = common::repo().join("studies/scenes/linear-unbalance.toml");
     let mut o: Vec<String> = vec!["simulation.t_end_s=1.0".into()];
     o.extend(over.iter().map(|s| s.to_string()));
     let scene = Scene::load(&path, &o).unwrap_or_else(|e| panic!("{e}"));
     let model = Model::build(&scene, None).expect("model");
-    rotorsweep::job::run(&scene, &model)
+    rotorsweep::dynamics::simulation::run(&scene, &model)
 }
 
 /// Largest difference of the runout channels [µm].
-fn max_error(a: &rotorsweep::job::JobResult, b: &rotorsweep::job::JobResult) -> f64 {
+fn max_error(
+    a: &rotorsweep::dynamics::simulation::JobResult,
+    b: &rotorsweep::dynamics::simulation::JobResult,
+) -> f64 {
     let mut e: f64 = 0.0;
     for c in a.channels.iter().filter(|c| c.name.starts_with("runout/")) {
         let d = common::channel(b, &c.name);

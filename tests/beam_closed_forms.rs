@@ -6,8 +6,8 @@ mod common;
 use std::f64::consts::PI;
 
 use common::{frequencies, tube, STEEL};
-use rotorsweep::fe::Rotor;
-use rotorsweep::section::Section;
+use rotorsweep::rotor::fe::Rotor;
+use rotorsweep::rotor::section::Section;
 
 /// Euler–Bernoulli free-free roots β_n L (Blevins, Formulas for Natural Frequency, Table 8-1).
 const FREE_FREE_BL: [f64; 3] = [4.730_040_7, 7.853_204_6, 10.995_607_8];

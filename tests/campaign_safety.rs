@@ -47,7 +47,7 @@ fn run_ok(d: &Path, args: &[&str]) -> String {
     stderr(&o)
 }
 
-// Exit codes (src/main.rs): 1 input, 2 jobs not ok, 64 usage, 74 I/O, 75 busy.
+// Exit codes (src/bin/rotorsweep/main.rs): 1 input, 2 jobs not ok, 64 usage, 74 I/O, 75 busy.
 const USAGE: i32 = 64;
 const IO: i32 = 74;
 const BUSY: i32 = 75;

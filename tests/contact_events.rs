@@ -13,7 +13,7 @@ mod common;
 
 use nalgebra::{DMatrix, DVector};
 use rotorsweep::integrators::{integrate, SecondOrder, Stats, Status, StepView};
-use rotorsweep::scene::{IntegratorKind, SolverSettings};
+use rotorsweep::integrators::{IntegratorKind, SolverSettings};
 
 /// m = 1 kg, g = 9.81 m/s², k = 1e6 N/m (ω = 1000 rad/s), dropped from H = 1 mm.
 const M: f64 = 1.0;

@@ -7,9 +7,9 @@ mod common;
 use std::f64::consts::PI;
 use std::path::Path;
 
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::simulation::JobResult;
 use rotorsweep::integrators::Status;
-use rotorsweep::job::JobResult;
-use rotorsweep::model::Model;
 use rotorsweep::scene::Scene;
 
 /// studies/scenes/reference-roll.toml with `extra` TOML appended (its thickness map resolves
@@ -22,7 +22,7 @@ fn reference_roll(extra: &str) -> Scene {
 
 fn run(scene: &Scene) -> JobResult {
     let model = Model::build(scene, None).expect("model");
-    rotorsweep::job::run(scene, &model)
+    rotorsweep::dynamics::simulation::run(scene, &model)
 }
 
 /// A point mass [g] at the shell centre on the surface (z = 2250 mm, r = 160 mm).
@@ -136,7 +136,7 @@ fn rk45_on_the_rollers_counts_its_steps_and_ends_on_its_budgets() {
         "{window}[solver]\nintegrator = \"rk45\"\nhmax = 1e-2\n"
     ));
     let model = Model::build(&rk, None).expect("model");
-    let r = rotorsweep::job::run(&rk, &model);
+    let r = rotorsweep::dynamics::simulation::run(&rk, &model);
     assert_eq!(r.stats.status, Status::Ok, "{}", r.stats.cause);
     let bdf = run(&reference_roll(&format!("{window}[solver]\nhmax = 1e-2\n")));
     assert_eq!(bdf.stats.status, Status::Ok, "{}", bdf.stats.cause);

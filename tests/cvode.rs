@@ -10,9 +10,9 @@ use std::f64::consts::PI;
 
 use common::{channel, first_bending_hz, hann_amplitude, scene_from_text, Oscillator};
 use nalgebra::DVector;
+use rotorsweep::dynamics::model::Model;
 use rotorsweep::integrators::{integrate, Stats, Status, StepView};
-use rotorsweep::model::Model;
-use rotorsweep::scene::{IntegratorKind, SolverSettings};
+use rotorsweep::integrators::{IntegratorKind, SolverSettings};
 
 /// m = 2 kg, so that M⁻¹ is exercised.
 const MASS: f64 = 2.0;
@@ -132,7 +132,7 @@ fn cvode_jeffcott_unbalance_response_matches_the_closed_form() {
             &text(hz, 2.0 * zeta * m * w1, 0.85 + 16.0 / hz, 0.85),
         );
         assert_eq!(scene.solver.integrator, IntegratorKind::Cvode);
-        let res = rotorsweep::job::run(&scene, &model);
+        let res = rotorsweep::dynamics::simulation::run(&scene, &model);
         assert_eq!(res.stats.status, Status::Ok, "{}", res.stats.cause);
         let v = channel(&res, "runout/disk/vertical");
         let n = 64 * 16;

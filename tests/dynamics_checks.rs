@@ -1,4 +1,4 @@
-//! physics.md §9 checks 4, 5 and 7 through the time simulation (`job::run`) and the static
+//! physics.md §9 checks 4, 5 and 7 through the time simulation (`simulation::run`) and the static
 //! equilibrium of `RollSystem`:
 //! - check 4: an oval-bored roll (2nd wall harmonic only) under gravity on stiff supports shows the
 //!   2Ω response peak at half its first bending frequency; an axisymmetric roll shows none;
@@ -13,9 +13,9 @@ use std::path::Path;
 
 use common::{channel, first_bending_hz, hann_amplitude, scene_from_text};
 use nalgebra::DVector;
+use rotorsweep::dynamics::model::Model;
 use rotorsweep::dynamics::system::RollSystem;
 use rotorsweep::integrators::Status;
-use rotorsweep::model::Model;
 use rotorsweep::scene::{Scene, SupportModel};
 
 // ---------------------------------------------------------------------------------------------
@@ -133,7 +133,7 @@ gravity_m_s2 = 9.81
 fn two_x(a_mm: f64, hz: f64) -> f64 {
     let scene = oval_roll(a_mm, 0.0, hz);
     let model = Model::build(&scene, None).expect("model");
-    let r = rotorsweep::job::run(&scene, &model);
+    let r = rotorsweep::dynamics::simulation::run(&scene, &model);
     assert_eq!(r.stats.status, Status::Ok, "{}", r.stats.cause);
     let v = channel(&r, "runout/centre/vertical");
     let n = (PER_REV * REVS) as usize;
@@ -487,7 +487,7 @@ fn check7_jeffcott_unbalance_response_matches_the_closed_form() {
     for r in [0.5, 0.8, 0.9, 1.0, 1.1, 1.25, 1.6, 2.0] {
         let hz = r * f1;
         let scene = jeffcott(c, hz);
-        let res = rotorsweep::job::run(&scene, &model);
+        let res = rotorsweep::dynamics::simulation::run(&scene, &model);
         assert_eq!(res.stats.status, Status::Ok, "{}", res.stats.cause);
         let n = (PER_REV * REVS) as usize;
         let fs = PER_REV * hz;

@@ -7,8 +7,8 @@
 //! 18 500 accepted (40 %): an explicit method on a stiff contact, whose step swings about its
 //! stability limit. On the same physics BDF rejects 88 of 10 223 (0.9 %).
 
-use rotorsweep::job::JobResult;
-use rotorsweep::model::Model;
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::simulation::JobResult;
 use rotorsweep::scene::Scene;
 
 mod common;
@@ -18,7 +18,7 @@ fn run(scene: &str, over: &[&str]) -> JobResult {
     let o: Vec<String> = over.iter().map(|s| s.to_string()).collect();
     let scene = Scene::load(&path, &o).unwrap_or_else(|e| panic!("{e}"));
     let model = Model::build(&scene, None).expect("model");
-    rotorsweep::job::run(&scene, &model)
+    rotorsweep::dynamics::simulation::run(&scene, &model)
 }
 
 /// The timing case with both contacts 100 × stiffer, 0.5 s (studies/stiff-and-extreme.toml).

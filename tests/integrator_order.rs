@@ -13,10 +13,11 @@ mod common;
 
 use common::{scene_from_text, slope, Oscillator};
 use nalgebra::{DMatrix, DVector};
+use rotorsweep::dynamics::model::Model;
 use rotorsweep::dynamics::system::RollSystem;
 use rotorsweep::integrators::{integrate, SecondOrder, Status, StepView};
-use rotorsweep::model::Model;
-use rotorsweep::scene::{IntegratorKind, Scene, SolverSettings};
+use rotorsweep::integrators::{IntegratorKind, SolverSettings};
+use rotorsweep::scene::Scene;
 
 /// The Jeffcott rotor (module doc) with the given `[damping]` body.
 fn jeffcott(damping: &str) -> Scene {
@@ -89,7 +90,8 @@ impl Linear {
         }
         let m = sys.mass().clone();
         let q_eq = a.clone().lu().solve(&b).expect("A regular");
-        let eig = rotorsweep::eigen::generalized_symmetric(&a, &m).expect("eigen-solution");
+        let eig =
+            rotorsweep::numerics::eigen::generalized_symmetric(&a, &m).expect("eigen-solution");
         let phi = eig.vectors.column(0).into_owned();
         let at_disk = (&sys.sensors[0].1 * phi.rows(0, sys.nm)).norm();
         let q0 = &q_eq + (1e-4 / at_disk) * &phi;

@@ -1,19 +1,19 @@
-//! The frequency-domain unbalance response against the time simulation (`job::run`, body frame,
+//! The frequency-domain unbalance response against the time simulation (`simulation::run`, body frame,
 //! BDF) at the same speed, on linear supports: the Jeffcott rotor of studies/scenes/jeffcott.toml
 //! (shaft Ø30 × 700 mm, 12.331 kg disk, 20 g at 100 mm) on bearings with pedestal masses and
 //! anisotropic ground springs (so the orbit is elliptic and has a backward part, in which the
 //! rotating modal damping acts), a stationary damper at the disk, the default modal damping, no
 //! gravity. The 1× line of the simulated runout, fitted as the study analysis does
-//! (`analysis::lines`, phase against roll angle 0), must equal the linear response within 1 % in
+//! (`signal::lines`, phase against roll angle 0), must equal the linear response within 1 % in
 //! amplitude and 1° in phase, below and above the first critical speed (≈ 44 Hz).
 
 mod common;
 
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::LinearSystem;
 use rotorsweep::integrators::Status;
 use rotorsweep::linear::modes::{damped_modes, Split};
 use rotorsweep::linear::response::sensor_response;
-use rotorsweep::linear::LinearSystem;
-use rotorsweep::model::Model;
 
 const PER_REV: f64 = 40.0;
 const SETTLE_S: f64 = 1.0;
@@ -62,7 +62,7 @@ fn unbalance_response_equals_the_simulated_1x_line() {
             ratio.abs() < 0.999,
             "{hz} Hz: minor/major {ratio}, should be elliptic"
         );
-        let res = rotorsweep::job::run(&s, &model);
+        let res = rotorsweep::dynamics::simulation::run(&s, &model);
         assert_eq!(res.stats.status, Status::Ok, "{}", res.stats.cause);
         let t = &res.time;
         for (name, want) in [
@@ -70,7 +70,7 @@ fn unbalance_response_equals_the_simulated_1x_line() {
             ("runout/disk/horizontal", lin.horizontal),
         ] {
             let x = common::channel(&res, name);
-            let got = rotorsweep::analysis::lines(x, t, &[hz])[0];
+            let got = rotorsweep::signal::lines(x, t, &[hz])[0];
             let want_um = 1e6 * want.norm();
             let dphi = (got.arg() - want.arg()).to_degrees();
             let dphi = (dphi + 180.0).rem_euclid(360.0) - 180.0;

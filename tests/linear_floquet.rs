@@ -18,12 +18,12 @@ mod common;
 use std::f64::consts::PI;
 
 use nalgebra::{DMatrix, Matrix2};
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::LinearSystem;
 use rotorsweep::linear::floquet::{
     growth_per_rev, monodromy, multipliers, scene_multipliers, unstable_ranges,
 };
 use rotorsweep::linear::modes::{damped_modes, Split};
-use rotorsweep::linear::LinearSystem;
-use rotorsweep::model::Model;
 
 const M: f64 = 2.0;
 const K_XI: f64 = 1.0e4;

@@ -10,9 +10,9 @@
 
 mod common;
 
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::LinearSystem;
 use rotorsweep::linear::modes::{damped_modes, Kind, Split, Whirl};
-use rotorsweep::linear::LinearSystem;
-use rotorsweep::model::Model;
 
 fn scene_text() -> String {
     use std::f64::consts::PI;

@@ -12,11 +12,11 @@ mod common;
 
 use std::f64::consts::PI;
 
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::LinearSystem;
 use rotorsweep::linear::campbell::sweep;
 use rotorsweep::linear::modes::{damped_modes, Kind, Split, Whirl};
 use rotorsweep::linear::response::sensor_response;
-use rotorsweep::linear::LinearSystem;
-use rotorsweep::model::Model;
 
 const K: f64 = 1.0e5;
 
@@ -129,7 +129,7 @@ fn cross_coupled_stiffness_threshold_is_c_times_omega_n() {
 
 #[test]
 fn critical_speed_map_matches_the_rigid_rotor() {
-    use rotorsweep::linear::map::critical_map;
+    use rotorsweep::linear::critical_map::critical_map;
     // Rigid cylinder (radius r, length L) on two supports k at its ends: synchronous critical
     // speeds of bounce √(2k/m), and of the conical modes ω² = 2k(L/2)² / (I_d ∓ I_p), forward
     // (−) and backward (+), I_d = m(L²/12 + r²/4), I_p = m r²/2 (Friswell et al. 2010, §3.5).

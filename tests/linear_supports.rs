@@ -9,15 +9,15 @@
 //!   highest modes lose their partners.
 //! - One support with zero stiffness: the rigid motion it leaves free has zero frequency; the
 //!   Campbell sweep warns about it and its critical speeds are exactly the undamped synchronous
-//!   roots of (K − Ω²(M − iG_s)) X = 0, found independently by `linear::map`.
+//!   roots of (K − Ω²(M − iG_s)) X = 0, found independently by `linear::critical_map`.
 
 mod common;
 
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::LinearSystem;
 use rotorsweep::linear::campbell::sweep;
-use rotorsweep::linear::map::undamped_critical_hz;
-use rotorsweep::linear::LinearSystem;
-use rotorsweep::model::Model;
-use rotorsweep::reduction::{ModeKind, ModeSelection};
+use rotorsweep::linear::critical_map::undamped_critical_hz;
+use rotorsweep::rotor::reduction::{ModeKind, ModeSelection};
 
 fn tube(ka: f64, kb: f64) -> rotorsweep::scene::Scene {
     let text = format!(
@@ -128,7 +128,7 @@ fn zero_stiffness_support_warns_and_finds_only_real_critical_speeds() {
 
 #[test]
 fn static_sag_and_support_forces_match_beam_theory() {
-    use rotorsweep::section::tube_shear_factor;
+    use rotorsweep::rotor::section::tube_shear_factor;
     use std::f64::consts::PI;
     // Simply supported uniform beam under its weight q (Timoshenko & Gere, Mechanics of
     // Materials): midspan sag 5qL⁴/(384EI) + qL²/(8κGA) (shear), reactions qL/2.

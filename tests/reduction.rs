@@ -7,11 +7,11 @@ mod common;
 use std::path::Path;
 
 use common::{frequencies, tube};
-use rotorsweep::dynamics::linear::{linear_stages, LinearSystem};
-use rotorsweep::eigen::{generalized_symmetric, max_residual};
-use rotorsweep::fe::Rotor;
-use rotorsweep::model::Model;
-use rotorsweep::reduction::{craig_bampton, ModeKind, ModeLabel, ModeSelection};
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::{linear_stages, LinearSystem};
+use rotorsweep::numerics::eigen::{generalized_symmetric, max_residual};
+use rotorsweep::rotor::fe::Rotor;
+use rotorsweep::rotor::reduction::{craig_bampton, ModeKind, ModeLabel, ModeSelection};
 use rotorsweep::scene::Scene;
 
 fn reference_scene() -> Scene {

@@ -10,9 +10,9 @@ use std::f64::consts::PI;
 
 use common::{inverse_state_matrix, state_matrix, STEEL};
 use nalgebra::DMatrix;
-use rotorsweep::eigen::general;
-use rotorsweep::fe::{DiskSpec, Rotor, RotorSpec, SectionSpec, SegmentSpec, NDOF};
-use rotorsweep::reduction::craig_bampton;
+use rotorsweep::numerics::eigen::general;
+use rotorsweep::rotor::fe::{DiskSpec, Rotor, RotorSpec, SectionSpec, SegmentSpec, NDOF};
+use rotorsweep::rotor::reduction::craig_bampton;
 
 /// A stepped shaft with a heavy disk: strong gyroscopic splitting. Few elements keep the highest
 /// frequency (and so the round-off of the non-symmetric eigen-solution) low.

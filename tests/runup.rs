@@ -13,9 +13,9 @@ mod common;
 
 use std::f64::consts::{PI, TAU};
 
-use rotorsweep::analysis::orders;
-use rotorsweep::job;
-use rotorsweep::model::Model;
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::simulation;
+use rotorsweep::signal::orders;
 use rustfft::num_complex::Complex64;
 
 const K: f64 = 1.0e5;
@@ -24,7 +24,7 @@ const MU_E: f64 = 0.010 * 0.100;
 const ALPHA: f64 = PI / 6.0;
 
 /// The stiff Jeffcott rotor ramped by the `[speed]` lines `speed`, recorded over [settle, end].
-fn run(speed: &str, settle: f64, end: f64) -> job::JobResult {
+fn run(speed: &str, settle: f64, end: f64) -> simulation::JobResult {
     let spring =
         format!("kx_n_per_m = {K}, ky_n_per_m = {K}, cx_ns_per_m = {C}, cy_ns_per_m = {C}");
     let tail = format!(
@@ -39,7 +39,7 @@ fn run(speed: &str, settle: f64, end: f64) -> job::JobResult {
         "a ramp records speed and roll angle by default"
     );
     let model = Model::build(&scene, None).unwrap();
-    let r = job::run(&scene, &model);
+    let r = simulation::run(&scene, &model);
     assert_eq!(r.stats.status.name(), "ok", "{}", r.stats.cause);
     r
 }
@@ -55,7 +55,7 @@ fn closed_form(f_hz: f64) -> Complex64 {
 
 /// Tracked 1× blocks of `revs` revolutions, half overlapping, of the centre's horizontal and
 /// vertical runout.
-fn tracked(r: &job::JobResult, revs: f64) -> Vec<orders::Block> {
+fn tracked(r: &simulation::JobResult, revs: f64) -> Vec<orders::Block> {
     let t = &r.time;
     let theta = common::channel(r, "speed/roll_angle");
     let h = common::channel(r, "runout/centre/horizontal");
@@ -288,7 +288,7 @@ fn a_study_stores_tracked_orders_and_the_report_lists_them() {
     // fluctuation's Hann leakage, at most A·|sinc d/(1 − d²)| ≤ 2.7 % of a line d ≥ 1.9 bins
     // away (the window's highest sidelobe), so below 5 % of the block's peak (the 1×, read
     // within the Hann scalloping loss of 15 %) from 1.9 / 0.512 s = 3.7 Hz on; below that the
-    // 1× lies inside the window's ±2-bin main lobe around 0 Hz (src/study/orders.rs).
+    // 1× lies inside the window's ±2-bin main lobe around 0 Hz (src/results/orders.rs).
     let means = wf.dataset("mean/centre/vertical").unwrap().shape();
     assert_eq!(means, vec![n_speeds]);
     let freq: Vec<f64> = wf.dataset("freq_hz").unwrap().read_raw().unwrap();

@@ -780,7 +780,7 @@ fn mesh_above_the_fe_limit() {
     let (ok, _) = replace_line(&reference_text(), "elements = 40", "elements = 100");
     let path = write_scene("finer-shell", &ok);
     let scene = Scene::from_text(&path, &ok, &[]).expect("110 elements");
-    rotorsweep::model::Model::build(&scene, None).expect("the model builds");
+    rotorsweep::dynamics::model::Model::build(&scene, None).expect("the model builds");
 }
 
 /// A record of more than 1e7 samples per channel is refused (issue 9: sample_rate_hz = 1e12
@@ -856,7 +856,7 @@ fn model_build_errors_name_the_scene_and_key() {
     let text = reference_text();
     let path = write_scene("too-many-modes", &text);
     let scene = Scene::from_text(&path, &text, &["reduction.modes=\"300n+12st\"".into()]).unwrap();
-    let e = rotorsweep::model::Model::build(&scene, None).unwrap_err();
+    let e = rotorsweep::dynamics::model::Model::build(&scene, None).unwrap_err();
     let msg = e.to_string();
     assert!(msg.starts_with(&path.display().to_string()), "{msg}");
     assert!(msg.contains("key `reduction.modes`"), "{msg}");

@@ -1,7 +1,15 @@
-//! Dynamics of the reduced rotor on its supports.
+//! The reduced rotor on its supports, and one simulation of it.
 //!
-//! In: a reduced model and the scene's supports. Out: linear systems (`linear`) for frequencies
-//! and Campbell data.
+//! In: a validated [`Scene`](crate::scene::Scene). Out: its reduced [`model`], the linear system
+//! on supports linearised at the static equilibrium ([`linear_system`], the base of the linear
+//! toolkit and of the simulation's start), the nonlinear roll system with contacts for the
+//! integrators ([`system`]) and one time simulation ([`simulation`]: static equilibrium, then
+//! time integration, sampled outputs). SI units throughout.
 
-pub mod linear;
+pub mod linear_system;
+pub mod model;
+pub mod simulation;
 pub mod system;
+
+pub use linear_system::{linear_stages, LinearError, LinearStage, LinearSystem};
+pub use model::Model;

@@ -17,16 +17,16 @@
 //! A scene pays for what it uses: a constant speed pre-combines the linear matrices.
 //!
 //! Per-evaluation cost (the integrators call the force once per corrector iteration): the
-//! linear part is one SIMD product [K − Ω²E | D + 2ΩG] [q; q̇] (`crate::dense::Padded`); the
+//! linear part is one SIMD product [K − Ω²E | D + 2ΩG] [q; q̇] (`crate::numerics::dense::Padded`); the
 //! modal mass, the identity to round-off for mass-normalised modes, is made exactly diagonal so
 //! that M q̈ is elementwise; one `sin_cos` of θ serves R(θ) and every roundness profile (angle
 //! addition for θ − a_i, recurrences for the harmonics) unless a roller's roundness turns with
 //! its own angle; the Hertz power δ^1.5 is δ √δ.
 
-use crate::dense::Padded;
+use crate::numerics::dense::Padded;
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
-use crate::model::Model;
+use crate::dynamics::model::Model;
 use crate::scene::{
     ContactLaw, Harmonic, LinearSupport, RollerPhase, Scene, SpeedProfile, SupportModel,
 };
@@ -503,7 +503,7 @@ impl RollSystem {
     ) {
         match &self.lin_padded {
             Some(lin) if alpha == 0.0 && Some(omega) == self.constant_speed() => {
-                // [K − Ω²E | D + 2ΩG] [q; v] in one SIMD product (`crate::dense`): the force's
+                // [K − Ω²E | D + 2ΩG] [q; v] in one SIMD product (`crate::numerics::dense`): the force's
                 // largest cost in the timing case.
                 lin.matvec(out.as_mut_slice(), false, q.as_slice(), v.as_slice(), -1.0);
             }

@@ -33,15 +33,15 @@
 
 use std::collections::VecDeque;
 
-use crate::dense::{axpy, sum_scaled, MassOp};
+use crate::numerics::dense::{axpy, sum_scaled, MassOp};
 use nalgebra::{DMatrix, DVector};
 
 use super::events::{self, Tracker};
 use super::stability::Modes;
+use super::SolverSettings;
 use super::{
     corrector, finite, same_key, Guard, Newton, Observer, SecondOrder, Stats, Status, StepView,
 };
-use crate::scene::SolverSettings;
 
 struct Point {
     t: f64,

@@ -47,9 +47,9 @@ use std::ptr;
 use nalgebra::{DMatrix, DVector};
 use sundials_sys as sun;
 
+use super::SolverSettings;
 use super::{finite, Guard, Observer, SecondOrder, Stats, Status, StepView};
-use crate::dense::Padded;
-use crate::scene::SolverSettings;
+use crate::numerics::dense::Padded;
 
 /// Absolute tolerance of a coordinate of weight 0: so large that it never limits a step.
 pub const UNWEIGHTED_ATOL: f64 = 1e300;

@@ -8,13 +8,13 @@
 //! Error control (Zienkiewicz–Xie): the local displacement error ≈ h² |β − 1/6| ‖a₁ − a₀‖.
 //! With `fixed_step` the step is hmax throughout (the last one shortened to end on t_end).
 
-use crate::dense::MassOp;
+use crate::numerics::dense::MassOp;
 use nalgebra::{DMatrix, DVector};
 
+use super::SolverSettings;
 use super::{
     corrector, finite, wnorm, Guard, Newton, Observer, SecondOrder, Stats, Status, StepView,
 };
-use crate::scene::SolverSettings;
 
 /// Runs generalized-α (see the module doc).
 pub(super) fn run(

@@ -23,9 +23,9 @@
 //! corrector converges (modified Newton), refactorised when the step coefficient moves by more
 //! than 30 % or the corrector fails. The factorisation is kept as the explicit inverse
 //! ([`Newton`]): each corrector iteration is then one matrix-vector product on the run-time
-//! dispatched SIMD kernels (`crate::dense`) instead of nalgebra's two scalar triangular solves;
+//! dispatched SIMD kernels (`crate::numerics::dense`) instead of nalgebra's two scalar triangular solves;
 //! the inverse costs one n³ LU-based inversion per factorisation (faer's), which many steps
-//! share. The mass matrix is applied elementwise when it is diagonal (`crate::dense::MassOp`).
+//! share. The mass matrix is applied elementwise when it is diagonal (`crate::numerics::dense::MassOp`).
 //!
 //! Contacts and `hmax`. With `solver.contact_events = true` BDF locates contact onset and
 //! lift-off inside a step (`events`): the event functions are the rollers' penetrations δ
@@ -66,7 +66,9 @@ use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::scene::{IntegratorKind, SolverSettings};
+mod settings;
+
+pub use settings::{IntegratorKind, SolverSettings};
 
 /// A second-order system M q̈ = F(t, q, q̇).
 pub trait SecondOrder {
@@ -365,7 +367,7 @@ const RATE_REUSE: u32 = 8;
 /// It also remembers the corrector's last measured convergence rate with it and the step
 /// coefficient that rate was measured at (see [`corrector`]).
 struct Newton {
-    inv: Option<crate::dense::Padded>,
+    inv: Option<crate::numerics::dense::Padded>,
     scratch: DVector<f64>,
     /// The step coefficient the matrix was built for (α₀ for BDF, h for generalized-α).
     key: f64,
@@ -383,7 +385,8 @@ fn same_key(a: f64, b: f64) -> bool {
 impl Newton {
     fn new(nm: &DMatrix<f64>, key: f64, problem: &dyn SecondOrder) -> Self {
         Self {
-            inv: crate::dense::inverse(nm).map(|i| crate::dense::Padded::from_matrix(&i)),
+            inv: crate::numerics::dense::inverse(nm)
+                .map(|i| crate::numerics::dense::Padded::from_matrix(&i)),
             scratch: DVector::zeros(nm.nrows()),
             key,
             reuse: problem.linear_in_state(),
@@ -473,7 +476,7 @@ fn corrector(
         if !lu.solve_mut(r) {
             break;
         }
-        crate::dense::axpy(x.as_mut_slice(), -scale, r.as_slice());
+        crate::numerics::dense::axpy(x.as_mut_slice(), -scale, r.as_slice());
         let d = scale * size * wnorm(r, w, tol);
         if !d.is_finite() {
             break;

@@ -4,11 +4,11 @@
 //! estimate; the norm is max(‖e_q‖, h‖e_v‖) in the weighted displacement norm of `integrators`.
 //! Stiffness shows honestly as a step count near the stability limit (h ≈ 3.3/ω_max).
 
-use crate::dense::MassOp;
+use crate::numerics::dense::MassOp;
 use nalgebra::DVector;
 
+use super::SolverSettings;
 use super::{finite, wnorm, Guard, Observer, SecondOrder, Stats, Status, StepView};
-use crate::scene::SolverSettings;
 
 const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
 const A: [[f64; 6]; 7] = [
@@ -66,7 +66,7 @@ pub(super) fn run(
     let w = pb.weights();
     let guard = Guard::new(s);
     let mut st = Stats::new();
-    let minv = match crate::dense::inverse(pb.mass()) {
+    let minv = match crate::numerics::dense::inverse(pb.mass()) {
         Some(x) => MassOp::new(&x),
         None => {
             st.status = Status::Diverged;

@@ -13,7 +13,7 @@
 use nalgebra::{Complex, DMatrix, DVector};
 
 use super::modes::{damped_modes, mac, DampedMode, Kind, ModeSet, Split, Whirl, UNSTABLE_ZETA};
-use super::system::{LinearError, LinearSystem};
+use crate::dynamics::linear_system::{LinearError, LinearSystem};
 
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 

@@ -28,8 +28,8 @@
 
 use nalgebra::{Complex, DMatrix, Matrix2};
 
-use super::system::{LinearError, LinearSystem};
-use crate::eigen;
+use crate::dynamics::linear_system::{LinearError, LinearSystem};
+use crate::numerics::eigen;
 
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 

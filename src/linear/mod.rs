@@ -1,10 +1,12 @@
 //! The linear rotordynamics toolkit: one linear system per scene and speed, and every analysis
 //! built on it.
 //!
-//! In: a [`Scene`](crate::scene::Scene) and its [`Model`](crate::model::Model).
+//! In: a [`Scene`](crate::scene::Scene) and its [`Model`](crate::dynamics::model::Model).
 //! Out, SI inside and Hz / µm / N at the interfaces:
-//! - [`system`]: the reduced rotor plus its supports linearised at the static equilibrium, with
-//!   damping, as M q̈ + (C(Ω) + Ω G_s) q̇ + K(Ω) q = f (stationary frame);
+//! - the system itself, [`LinearSystem`](crate::dynamics::LinearSystem) (the dynamics stage):
+//!   the reduced rotor plus its supports linearised at the static equilibrium, with damping, as
+//!   M q̈ + (C(Ω) + Ω G_s) q̇ + K(Ω) q = f (stationary frame);
+//! - [`standstill`]: its undamped frequencies at standstill by plane (`supported_hz`);
 //! - [`modes`]: damped modes at one speed (state-space complex eigenproblem): damped frequency,
 //!   damping ratio, log decrement, whirl direction, kind, complex shape;
 //! - [`campbell`]: damped modes over speed with branches matched by shape (MAC), critical speeds
@@ -13,8 +15,8 @@
 //! - [`floquet`]: stability of the asymmetric rotor on anisotropic supports (monodromy over one
 //!   revolution, body frame, supports rotating);
 //! - [`statics`]: static equilibrium under gravity (sag, journal positions, support forces);
-//! - [`map`]: undamped critical speeds against a support stiffness;
-//! - [`analysis`]: all of them on one request, as JSON and as an HDF5 group (the `linear`
+//! - [`critical_map`]: undamped critical speeds against a support stiffness;
+//! - [`request`]: all of them on one request, as JSON and as an HDF5 group (the `linear`
 //!   command and a study's `/linear/<id>`).
 //!
 //! Frames and approximations: every analysis except Floquet works in the **stationary frame**
@@ -26,16 +28,14 @@
 //! D plus the circulatory stiffness −Ω·skew(D Ŝ) (Ŝ: the rotation generator on the modal
 //! coordinates), exact for an axisymmetric rotor.
 
-pub mod analysis;
 pub mod campbell;
+pub mod critical_map;
 pub mod floquet;
-pub mod map;
 pub mod modes;
+pub mod request;
 pub mod response;
+pub mod standstill;
 pub mod statics;
-pub mod system;
-
-pub use system::{LinearError, LinearStage, LinearSystem};
 
 /// The frame and approximation of the stationary-frame analyses, as printed and stored.
 pub const FRAME_NOTE: &str = "stationary frame; rotor stiffness frozen at roll angle 0 with the \

@@ -25,9 +25,9 @@
 
 use nalgebra::{Complex, DMatrix, DVector};
 
-use super::system::{LinearError, LinearSystem};
-use crate::eigen;
-use crate::reduction::{classify, ModeKind};
+use crate::dynamics::linear_system::{LinearError, LinearSystem};
+use crate::numerics::eigen;
+use crate::rotor::reduction::{classify, ModeKind};
 
 /// Eigenvalues smaller than this [rad/s] (0.01 Hz) are zero modes: rigid motion not held.
 pub const ZERO_RAD_S: f64 = 2.0 * std::f64::consts::PI * 0.01;

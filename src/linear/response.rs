@@ -6,7 +6,7 @@
 //! Out: per sensor (or named node) the complex 1× amplitudes of the horizontal (x) and vertical (y) displacement
 //! of the section centre [m] in the inertial frame, x(t) = Re(X e^{iθ}), θ = Ωt the roll angle,
 //! so |X| is the amplitude and arg X the phase against roll angle 0: the convention of the
-//! study analysis (`analysis::lines`, `/analysis/lines`: x ≈ A cos(Ωt + φ)). And the orbit's
+//! study analysis (`signal::lines`, `/analysis/lines`: x ≈ A cos(Ωt + φ)). And the orbit's
 //! major and minor semi-axes: forward circle F = (X + iY)/2, backward B = (X − iY)/2,
 //! major = |F| + |B|, minor = |F| − |B| (negative: the orbit turns backward).
 //!
@@ -17,8 +17,8 @@
 
 use nalgebra::{Complex, DMatrix, DVector};
 
-use super::system::{LinearError, LinearSystem};
-use crate::model::Model;
+use crate::dynamics::linear_system::{LinearError, LinearSystem};
+use crate::dynamics::model::Model;
 
 type C64 = Complex<f64>;
 

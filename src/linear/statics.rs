@@ -14,8 +14,8 @@
 
 use nalgebra::{DVector, Vector2};
 
+use crate::dynamics::model::Model;
 use crate::dynamics::system::RollSystem;
-use crate::model::Model;
 use crate::scene::{Scene, SupportModel};
 
 /// One support at rest.
@@ -49,7 +49,7 @@ pub struct Static {
 /// Solves the static equilibrium (module doc).
 pub fn solve(scene: &Scene, model: &Model) -> Result<Static, String> {
     let sys = RollSystem::new(scene, model);
-    let lin = super::LinearSystem::of_scene(scene, model).map_err(|e| e.to_string())?;
+    let lin = crate::dynamics::LinearSystem::of_scene(scene, model).map_err(|e| e.to_string())?;
     let q0 = lin
         .k
         .clone()

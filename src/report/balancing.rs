@@ -16,7 +16,7 @@
 use std::path::Path;
 
 use super::{Cell, Table};
-use crate::analysis::balancing::PlaneLimits;
+use crate::signal::influence::PlaneLimits;
 use crate::study::balancing::{self, Correction};
 
 /// The two tables, or None when the file is not a balancing study.

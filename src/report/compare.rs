@@ -1,7 +1,7 @@
 //! `rotorsweep report MEASURED.h5 --compare SIMULATED.h5`: measured against simulated order
 //! amplitudes and phases side by side, with differences.
 //!
-//! In: two results files with `/analysis/orders` (written by `study::orders`): the measured one
+//! In: two results files with `/analysis/orders` (written by `results::orders`): the measured one
 //! (`rotorsweep import`, or any results file) and the simulated one (a run-up of the model, or
 //! a constant-speed sweep: one row per job). Out: one [`Table`] `compare`, one row per measured
 //! row (job, order, block, sensor, direction) with the measured amplitude [µm] and phase [deg],
@@ -17,7 +17,7 @@
 //!
 //! A second table `compare_resonances` (the thesis's Table 5.1 side by side): per measured job,
 //! order, sensor and direction whose curve over speed has a resonance — its highest interior
-//! peak (`analysis::curve_peaks`, parabola-refined) at least [`PROMINENCE`] × the curve's
+//! peak (`signal::curve_peaks`, parabola-refined) at least [`PROMINENCE`] × the curve's
 //! median — the measured resonance speed [Hz] and amplitude [µm], the simulated curve's peak
 //! nearest to it within 10 % of its speed (the `resonances` table's window; none: empty), and
 //! the differences measured − simulated in Hz, in % of the simulated speed and in µm. A flat
@@ -31,8 +31,8 @@ use rustfft::num_complex::Complex64;
 
 use super::orders::{records, OrderRow};
 use super::{Cell, Report, Table};
-use crate::analysis;
 use crate::error::InputError;
+use crate::signal;
 
 /// Simulated points of one (order, sensor, direction): (speed [Hz], complex amplitude [µm]).
 type Curve = Vec<(f64, Complex64)>;
@@ -89,7 +89,7 @@ fn resonance_table(meas: &[OrderRow], sim: &[OrderRow], legend: String) -> Optio
     let mut rows = Vec::new();
     for ((job, sensor, dir, order), points) in amplitude_curves(meas, true) {
         let med = median(points.iter().map(|p| p.1));
-        let Some(m) = analysis::curve_peaks(points)
+        let Some(m) = signal::curve_peaks(points)
             .into_iter()
             .next()
             .filter(|p| p.amplitude >= PROMINENCE * med)
@@ -98,7 +98,7 @@ fn resonance_table(meas: &[OrderRow], sim: &[OrderRow], legend: String) -> Optio
         };
         let s = simulated
             .get(&(String::new(), sensor.clone(), dir.clone(), order))
-            .and_then(|c| super::pick(analysis::curve_peaks(c.clone()), Some(m.speed_hz)));
+            .and_then(|c| super::pick(signal::curve_peaks(c.clone()), Some(m.speed_hz)));
         let (ss, sa) = s.map_or((f64::NAN, f64::NAN), |p| (p.speed_hz, p.amplitude));
         rows.push(vec![
             Cell::Text(job),

@@ -1,5 +1,5 @@
 //! The `orders` and `order_resonances` tables of `rotorsweep report`, from `/analysis/orders`
-//! and `/analysis/order_resonances` (written by `study::orders`).
+//! and `/analysis/order_resonances` (written by `results::orders`).
 
 use hdf5::types::VarLenUnicode;
 use hdf5::File;

@@ -23,10 +23,7 @@ pub mod position;
 mod run;
 pub mod source;
 
-pub use run::{
-    DampingBands, IntegratorKind, Outputs, SimulationSettings, SolverSettings, SpeedProfile,
-    MAX_SPEED_HZ,
-};
+pub use run::{DampingBands, Outputs, SimulationSettings, SpeedProfile, MAX_SPEED_HZ};
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -34,11 +31,12 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::error::InputError;
-use crate::fe::{
+use crate::integrators::SolverSettings;
+use crate::rotor::fe::{
     BalancingSpec, DiskSpec, Material, PointMassSpec, RotorSpec, SectionSpec, SegmentSpec,
 };
-use crate::reduction::ModeSelection;
-use crate::thickness::{AxialShape, HarmonicSpec, SyntheticSpec, ThicknessMap};
+use crate::rotor::reduction::ModeSelection;
+use crate::rotor::wall::{AxialShape, HarmonicSpec, SyntheticSpec, ThicknessMap};
 
 use file::*;
 use position::{Frame, Position};

@@ -28,7 +28,7 @@ use std::str::FromStr;
 use hdf5::types::VarLenUnicode;
 use hdf5::{File, Group, Location};
 
-use crate::job::JobResult;
+use crate::dynamics::simulation::JobResult;
 
 pub use table::{compound_table, units_of_key, Column};
 

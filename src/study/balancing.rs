@@ -7,10 +7,10 @@
 //! roll angle 0]; optional constraints (hole angles, a maximum mass per plane).
 //! Out: a [`Balance`]: the corrections per plane (z [mm], mass [g], angle [deg] at the trial
 //! mass's radius, scene angle convention), the reference's 1× and the predicted residual per
-//! speed, sensor and direction [µm] (`analysis::balancing`: influence coefficients and least
+//! speed, sensor and direction [µm] (`signal::influence`: influence coefficients and least
 //! squares over all planes and speeds at once), and with [`check`] the 1× of the corrected roll
 //! run again: the reference job's scene with the corrections added to its masses, the same
-//! record, 1× by `analysis::lines`.
+//! record, 1× by `signal::lines`.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -21,11 +21,12 @@ use serde::Serialize;
 
 use nalgebra::DMatrix;
 
-use super::{analysis_of_text, value_text, Study};
-use crate::analysis::balancing::{self, PlaneLimits};
+use super::{value_text, Study};
+use crate::dynamics::model::Model;
 use crate::error::InputError;
-use crate::model::Model;
+use crate::results::request::analysis_of_text;
 use crate::scene::Scene;
+use crate::signal::influence::{self, PlaneLimits};
 use crate::store;
 
 /// One correction mass.
@@ -275,11 +276,11 @@ pub fn balance(path: &Path, limits: &PlaneLimits) -> Result<Balance, InputError>
             rows.push((*s, c));
         }
     }
-    let alpha = balancing::influence(&b, &resp, &units);
+    let alpha = influence::influence(&b, &resp, &units);
     let radii: Vec<f64> = planes.iter().map(|p| p.1).collect();
-    let masses = balancing::corrections(&alpha, &b, &vec![limits.clone(); planes.len()]);
-    let w: Vec<Complex64> = masses.iter().map(|m| balancing::unbalance(m)).collect();
-    let after = balancing::predicted(&alpha, &b, &w);
+    let masses = influence::corrections(&alpha, &b, &vec![limits.clone(); planes.len()]);
+    let w: Vec<Complex64> = masses.iter().map(|m| influence::unbalance(m)).collect();
+    let after = influence::predicted(&alpha, &b, &w);
     let corrections = planes
         .iter()
         .zip(&masses)
@@ -402,7 +403,7 @@ pub fn ideal(b: &Balance, study: Option<&Path>) -> Result<Ideal, InputError> {
         value_text(&toml::Value::Array(ref_masses.clone()))
     ));
     let scene = Scene::from_text(&study.scene_path, &scene_text, &over)?;
-    let rotor = crate::fe::Rotor::mesh(&scene.rotor)
+    let rotor = crate::rotor::fe::Rotor::mesh(&scene.rotor)
         .map_err(|e| InputError::new(&study.scene_path, e.to_string()))?;
     let masses = &rotor.balancing_masses;
     if masses.len() != b.planes.len() {
@@ -432,7 +433,7 @@ pub fn ideal(b: &Balance, study: Option<&Path>) -> Result<Ideal, InputError> {
         .iter()
         .map(|c| Complex64::from_polar(c.mass_g, c.angle_deg.to_radians()))
         .collect();
-    let after = balancing::predicted(alpha, reference, &w);
+    let after = influence::predicted(alpha, reference, &w);
     let predicted = b
         .predicted
         .iter()
@@ -471,7 +472,7 @@ pub fn check(b: &mut Balance, study: Option<&Path>) -> Result<(), InputError> {
         let scene = Scene::from_text(&study.scene_path, &scene_text, &over)?;
         let model = Model::build(&scene, None)
             .map_err(|e| InputError::new(&study.scene_path, e.to_string()))?;
-        let r = crate::job::run(&scene, &model);
+        let r = crate::dynamics::simulation::run(&scene, &model);
         if !r.stats.status.completed() {
             return Err(InputError::new(
                 &study.scene_path,
@@ -489,7 +490,7 @@ pub fn check(b: &mut Balance, study: Option<&Path>) -> Result<(), InputError> {
             .unwrap_or((std::f64::consts::TAU * speed, 0.0));
         let f_hz = w / std::f64::consts::TAU;
         for c in r.channels.iter().filter(|c| c.name.starts_with("runout/")) {
-            let z = crate::analysis::lines(&c.data, &r.time, &[f_hz])[0]
+            let z = crate::signal::lines(&c.data, &r.time, &[f_hz])[0]
                 * Complex64::from_polar(1.0, -delta);
             let name = &c.name["runout/".len()..];
             let before = b

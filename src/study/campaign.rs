@@ -43,12 +43,12 @@ use rayon::prelude::*;
 use super::identity::{compare, describe_mismatch, Identity};
 use super::progress::{Progress, RunLog};
 use super::{Job, Study};
-use crate::dynamics::linear::LinearSystem;
+use crate::dynamics::linear_system::LinearSystem;
+use crate::dynamics::model::Model;
+use crate::dynamics::simulation::{self, JobResult};
 use crate::error::InputError;
 use crate::integrators::{Stats, Status};
-use crate::job::{self, JobResult};
-use crate::model::Model;
-use crate::reduction::{ModeKind, ModeSelection};
+use crate::rotor::reduction::{ModeKind, ModeSelection};
 use crate::scene::Scene;
 use crate::store::output::{self, OutputError, OutputLock};
 use crate::store::{self, units_of_key, Column, Param};
@@ -253,7 +253,7 @@ pub fn pruned_selection(model: &Model, shares: &[f64], threshold: f64) -> ModeSe
 }
 
 fn run_one(scene: &Scene, model: &Model) -> JobResult {
-    match catch_unwind(AssertUnwindSafe(|| job::run(scene, model))) {
+    match catch_unwind(AssertUnwindSafe(|| simulation::run(scene, model))) {
         Ok(r) => r,
         Err(e) => {
             let msg = panic_text(&*e);
@@ -303,7 +303,7 @@ fn save_part(
         }
         // The spin speed over the record, the roll angle's offset and the roller ratios, for
         // the spectral analysis.
-        params.extend(super::post::job_attrs(w.scene));
+        params.extend(crate::results::analyse::job_attrs(w.scene));
         if let Some(p) = w.prune {
             params.push((super::PRUNE_KEY.into(), Param::Number(p)));
         }
@@ -989,18 +989,18 @@ fn errors_against(
 
 /// A job's model on its linearised supports (`/linear/<linear_id>`): the analyses the study's
 /// `[linear]` table asks for (damped modes over its speeds always) in the layout of `rotorsweep
-/// linear -o` ([`crate::linear::analysis::Results::write`], without wall times), and the
+/// linear -o` ([`crate::linear::request::Results::write`], without wall times), and the
 /// attribute `model_id`; a failure is stored as the attribute `linear_error`.
 fn write_linear(
     g: &hdf5::Group,
-    req: &crate::linear::analysis::Request,
+    req: &crate::linear::request::Request,
     model_id: &str,
     scene: &Scene,
     m: &Model,
 ) -> hdf5::Result<()> {
     store::attr_str(g, "model_id", model_id)?;
     let results = LinearSystem::of_scene(scene, m)
-        .and_then(|sys| crate::linear::analysis::compute(req, scene, m, &sys));
+        .and_then(|sys| crate::linear::request::compute(req, scene, m, &sys));
     match results {
         Ok(r) => r.write(g, false),
         Err(e) => store::attr_str(g, "linear_error", &e.to_string()),
@@ -1212,7 +1212,7 @@ fn finish_output(tmp: &Path, out: &Path, written: hdf5::Result<()>) -> Result<()
 /// Analyses the file being assembled (`post`); a failure there costs the analysis, not the
 /// finished jobs: it is printed and kept as the file's `analysis_error` attribute.
 fn analyse_or_note(f: &hdf5::File, out: &Path) {
-    if let Err(e) = super::post::analyse(f) {
+    if let Err(e) = crate::results::analyse::analyse(f) {
         let msg = format!("analysing {}: {e}", out.display());
         eprintln!("warning: {msg}");
         if let Err(e2) = store::attr_str(f, "analysis_error", &msg) {

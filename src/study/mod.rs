@@ -19,9 +19,6 @@
 pub mod balancing;
 pub mod campaign;
 pub mod identity;
-pub mod measured;
-pub mod orders;
-pub mod post;
 pub mod progress;
 
 use std::collections::BTreeMap;
@@ -30,6 +27,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::error::InputError;
+use crate::results::request::{axis_keys, default_orders, AnalysisSpec};
 use crate::scene::source::Source;
 use crate::scene::{locate, replaces, set_path, Scene};
 
@@ -61,7 +59,7 @@ struct StudyFile {
 }
 
 /// The study's `[linear]` table: the linear analyses stored per distinct linear system under
-/// `/linear/<id>` (module doc of [`crate::linear::analysis`]). The damped modes over `speeds`
+/// `/linear/<id>` (module doc of [`crate::linear::request`]). The damped modes over `speeds`
 /// always; the rest when set to `true`.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -94,85 +92,6 @@ struct LinearFile {
 /// The default speeds of a study's linear analyses [Hz] (the `modes` command's default range).
 pub const LINEAR_SPEEDS: &str = "0:100:201";
 
-/// The study's `[analysis]` table: what the post-processing of the results computes.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct AnalysisSpec {
-    /// Orders of the spin frequency whose lines are measured in every job (1, 2, 3, 4 by
-    /// default; non-integer orders measure other lines, e.g. 0.92 for rollers turning at
-    /// 115/125 of the roll's speed).
-    #[serde(default = "default_orders")]
-    pub orders: Vec<f64>,
-    /// Highest frequency [Hz] kept in stored spectra and maps (default: 1.25 × the highest order
-    /// × the job's speed, `study::post::ORDER_MARGIN`).
-    pub max_freq_hz: Option<f64>,
-    /// The label (on a labelled axis) of the baseline jobs: every other job on that axis gets
-    /// its 1× trial-mass response against the baseline job with the same other keys.
-    pub baseline: Option<String>,
-    /// Order tracking of jobs whose speed changes while recording (`analysis::orders`): the
-    /// block length [revolutions] (default 8; blocks overlap by half).
-    pub order_revolutions: Option<f64>,
-}
-
-/// The order-tracking block length [revolutions] when a study names none.
-pub const DEFAULT_ORDER_REVOLUTIONS: f64 = 8.0;
-
-fn default_orders() -> Vec<f64> {
-    vec![1.0, 2.0, 3.0, 4.0]
-}
-
-impl Default for AnalysisSpec {
-    fn default() -> Self {
-        Self {
-            orders: default_orders(),
-            max_freq_hz: None,
-            baseline: None,
-            order_revolutions: None,
-        }
-    }
-}
-
-/// An axis with labels: its keys (the first one names the label) and one label per value.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LabelledAxis {
-    /// The axis's keys.
-    pub keys: Vec<String>,
-    /// The labels, one per value.
-    pub labels: Vec<String>,
-}
-
-/// What the post-processing and the report need of a study's text.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct StudyAnalysis {
-    /// The `[analysis]` table.
-    pub spec: AnalysisSpec,
-    /// The axes with labels.
-    pub labelled: Vec<LabelledAxis>,
-    /// The keys of every axis (several for a zipped axis), in axis order.
-    pub axis_keys: Vec<Vec<String>>,
-}
-
-/// The `[analysis]` table and the axes of a study's text; `None` when the text is not a study
-/// file.
-pub fn analysis_of_text(text: &str) -> Option<StudyAnalysis> {
-    let raw: StudyFile = toml::from_str(text).ok()?;
-    let mut out = StudyAnalysis {
-        spec: raw.analysis,
-        ..StudyAnalysis::default()
-    };
-    for a in &raw.axes {
-        let Some(keys) = a.key_list() else { continue };
-        if let Some(labels) = &a.labels {
-            out.labelled.push(LabelledAxis {
-                keys: keys.clone(),
-                labels: labels.clone(),
-            });
-        }
-        out.axis_keys.push(keys);
-    }
-    Some(out)
-}
-
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct AxisFile {
@@ -186,11 +105,7 @@ struct AxisFile {
 impl AxisFile {
     /// The axis's keys: `key`, or a non-empty `keys` list; `None` for neither or both.
     fn key_list(&self) -> Option<Vec<String>> {
-        match (&self.key, &self.keys) {
-            (Some(k), None) => Some(vec![k.clone()]),
-            (None, Some(ks)) if !ks.is_empty() => Some(ks.clone()),
-            _ => None,
-        }
+        axis_keys(&self.key, &self.keys)
     }
 }
 
@@ -270,7 +185,7 @@ pub struct Study {
     /// Whether the study names a reference setting (otherwise no errors are computed).
     pub has_reference: bool,
     /// The linear analyses of every distinct linear system (`[linear]`).
-    pub linear: crate::linear::analysis::Request,
+    pub linear: crate::linear::request::Request,
 }
 
 /// The pilot overrides as one canonical text (for ids).
@@ -361,8 +276,8 @@ impl Ctx<'_> {
 }
 
 /// The `[linear]` table as a request, its values checked.
-fn linear_request(c: &Ctx, l: &LinearFile) -> Result<crate::linear::analysis::Request, InputError> {
-    use crate::linear::analysis::{parse_speeds, PointUnbalance, Request};
+fn linear_request(c: &Ctx, l: &LinearFile) -> Result<crate::linear::request::Request, InputError> {
+    use crate::linear::request::{parse_speeds, PointUnbalance, Request};
     let positive = |key: &str, v: Option<f64>| match v {
         Some(f) if !(f.is_finite() && f > 0.0) => Err(c.err(key, "must be a positive frequency")),
         _ => Ok(v),

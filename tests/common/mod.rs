@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use nalgebra::DMatrix;
-use rotorsweep::fe::{Material, RotorSpec, SectionSpec, SegmentSpec};
+use rotorsweep::rotor::fe::{Material, RotorSpec, SectionSpec, SegmentSpec};
 
 /// Structural steel of physics.md §10.
 pub const STEEL: Material = Material {
@@ -36,8 +36,11 @@ pub fn restrict(a: &DMatrix<f64>, keep: &[usize]) -> DMatrix<f64> {
 /// Natural frequencies [Hz] of K, M restricted to the DOFs not in `fixed`, ascending.
 pub fn frequencies(k: &DMatrix<f64>, m: &DMatrix<f64>, fixed: &[usize]) -> Vec<f64> {
     let keep: Vec<usize> = (0..k.nrows()).filter(|i| !fixed.contains(i)).collect();
-    let eig = rotorsweep::eigen::generalized_symmetric(&restrict(k, &keep), &restrict(m, &keep))
-        .expect("eigen-solution");
+    let eig = rotorsweep::numerics::eigen::generalized_symmetric(
+        &restrict(k, &keep),
+        &restrict(m, &keep),
+    )
+    .expect("eigen-solution");
     eig.values
         .iter()
         .map(|l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
@@ -75,7 +78,7 @@ pub fn scene_from_text(name: &str, text: &str) -> rotorsweep::scene::Scene {
 }
 
 /// The samples of the channel `name` of a job result.
-pub fn channel<'a>(r: &'a rotorsweep::job::JobResult, name: &str) -> &'a [f64] {
+pub fn channel<'a>(r: &'a rotorsweep::dynamics::simulation::JobResult, name: &str) -> &'a [f64] {
     &r.channels
         .iter()
         .find(|c| c.name == name)
@@ -182,10 +185,10 @@ mass_g = 20.0
 /// linearised supports at standstill, as `rotorsweep modes` reports them.
 pub fn first_bending_hz(
     scene: &rotorsweep::scene::Scene,
-    model: &rotorsweep::model::Model,
+    model: &rotorsweep::dynamics::model::Model,
 ) -> (f64, f64) {
-    use rotorsweep::dynamics::linear::LinearSystem;
-    use rotorsweep::reduction::ModeKind;
+    use rotorsweep::dynamics::LinearSystem;
+    use rotorsweep::rotor::reduction::ModeKind;
     let modes = LinearSystem::of_scene(scene, model)
         .expect("linear supports")
         .standstill_modes()
@@ -496,11 +499,11 @@ impl rotorsweep::integrators::SecondOrder for Oscillator {
 /// and `hmax` [s], hmin 1e-12 s, h0 1e-6 s, orders up to 5, ρ∞ 0.8, error-controlled, 10⁶ steps,
 /// no CPU budget, no event location.
 pub fn solver(
-    integrator: rotorsweep::scene::IntegratorKind,
+    integrator: rotorsweep::integrators::IntegratorKind,
     tolerance: f64,
     hmax: f64,
-) -> rotorsweep::scene::SolverSettings {
-    rotorsweep::scene::SolverSettings {
+) -> rotorsweep::integrators::SolverSettings {
+    rotorsweep::integrators::SolverSettings {
         integrator,
         tolerance,
         hmax,

@@ -26,8 +26,8 @@ use std::sync::Arc;
 
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, SVector, Vector3};
 
-use crate::section::Section;
-use crate::thickness::ThicknessMap;
+use crate::rotor::section::Section;
+use crate::rotor::wall::ThicknessMap;
 
 type M6 = SMatrix<f64, 6, 6>;
 type V6 = SVector<f64, 6>;

@@ -69,7 +69,7 @@ fn estimate(job: &rotorsweep::scene::Scene, coords: usize, f_max_hz: f64) -> f64
     let s = &job.solver;
     let t = job.simulation.t_end;
     let steps = match s.integrator {
-        rotorsweep::scene::IntegratorKind::Rk45 => {
+        rotorsweep::integrators::IntegratorKind::Rk45 => {
             (t / s.hmax).max(t * 2.0 * std::f64::consts::PI * f_max_hz / 3.0)
         }
         _ => t / s.hmax,

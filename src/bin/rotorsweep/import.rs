@@ -1,10 +1,10 @@
 //! `rotorsweep import MEASURED.csv|MEASURED.h5 -o OUT.h5`: a measured record (format in
-//! `rotorsweep::study::measured`) into a results file, analysed like a simulated job.
+//! `rotorsweep::results::measured`) into a results file, analysed like a simulated job.
 
 use std::path::PathBuf;
 
+use rotorsweep::results::measured;
 use rotorsweep::store::output::{self, OutputError};
-use rotorsweep::study::measured;
 
 /// Arguments of `rotorsweep import`.
 #[derive(clap::Args)]

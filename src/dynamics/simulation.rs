@@ -8,10 +8,10 @@
 
 use nalgebra::DVector;
 
-use crate::dynamics::linear::{linear_stages, LinearSystem};
+use crate::dynamics::linear_system::{linear_stages, LinearSystem};
+use crate::dynamics::model::Model;
 use crate::dynamics::system::RollSystem;
 use crate::integrators::{integrate, Stats, StepView};
-use crate::model::Model;
 use crate::scene::{Scene, SupportModel};
 
 /// One sampled output channel.

@@ -25,13 +25,14 @@ use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 
 use super::campbell::{lateral_modes, sweep, CampbellData};
+use super::critical_map::{critical_map, CriticalMap};
 use super::floquet::{scene_growth, unstable_ranges, Growth, UNSTABLE_GROWTH};
-use super::map::{critical_map, CriticalMap};
 use super::modes::node_shape;
 use super::response::{plane_response, point_unbalance, SensorResponse};
 use super::statics::{self, Static};
-use super::{LinearError, LinearSystem, FRAME_NOTE};
-use crate::model::Model;
+use super::FRAME_NOTE;
+use crate::dynamics::model::Model;
+use crate::dynamics::{LinearError, LinearSystem};
 use crate::scene::Scene;
 use crate::store;
 

@@ -1637,7 +1637,7 @@ mod tests {
         let mut text = vec![
             "# Wall-thickness map of the reference roll's shell (rotorsweep, physics.md §10)."
                 .to_string(),
-            "# SYNTHETIC, not measured: rotorsweep::thickness::ThicknessMap::synthetic, regenerate \
+            "# SYNTHETIC, not measured: rotorsweep::rotor::wall::ThicknessMap::synthetic, regenerate \
              with `cargo test --release write_reference_map -- --ignored`."
                 .to_string(),
             format!(

@@ -6,16 +6,17 @@
 //! `scene_text`; `/jobs/<scene name>` with the attributes a study job has (`job_index` 0,
 //! `kind` job, `speed_hz`, `roll_angle_offset_rad`, `roller_ratio:…`, every `--set` key), its
 //! samples, mean and spectrum; `/analysis` (its lines) and `/summary` (one row), both as `run`
-//! writes them (`study::post::analyse`, `campaign::write_summary`).
+//! writes them (`results::analyse::analyse`, `campaign::write_summary`).
 
 use std::path::PathBuf;
 
-use rotorsweep::job;
-use rotorsweep::model::Model;
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::simulation;
+use rotorsweep::results::analyse;
 use rotorsweep::scene::{parse_override, Scene};
 use rotorsweep::store::output::{self, OutputError};
 use rotorsweep::store::{self, Param};
-use rotorsweep::study::{campaign, post};
+use rotorsweep::study::campaign;
 use serde::Serialize;
 
 /// Arguments of `rotorsweep simulate`.
@@ -74,7 +75,7 @@ pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
         .map(|p| output::claim(p, a.overwrite))
         .transpose()?;
     let model = Model::build(&scene, None)?;
-    let r = job::run(&scene, &model);
+    let r = simulation::run(&scene, &model);
     let s = &r.stats;
     let integrator = scene.solver.integrator.name();
     let summary = Summary {
@@ -146,7 +147,7 @@ pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
             .filter_map(|kv| parse_override(kv).ok())
             .map(|(k, v)| (k, Param::from_toml(&v)))
             .collect();
-        params.extend(post::job_attrs(&scene));
+        params.extend(analyse::job_attrs(&scene));
         params.push(("job_index".into(), Param::Count(0)));
         params.push(("kind".into(), Param::Text("job".into())));
         let tmp = store::with_suffix(path, ".tmp");
@@ -154,7 +155,7 @@ pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
             store::attr_str(&file, "study_name", &scene.name)?;
             store::attr_str(&file, "varying_keys", "")?;
             store::write_job(&jobs, &scene.name, &params, integrator, &r)?;
-            post::analyse(&file)?;
+            analyse::analyse(&file)?;
             campaign::write_summary(&file, &[])?;
             Ok((file, jobs))
         });

@@ -13,10 +13,10 @@
 
 use std::path::{Path, PathBuf};
 
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::LinearSystem;
 use rotorsweep::error::InputError;
-use rotorsweep::fe::SectionSpec;
-use rotorsweep::linear::LinearSystem;
-use rotorsweep::model::Model;
+use rotorsweep::rotor::fe::SectionSpec;
 use rotorsweep::scene::source::Source;
 use rotorsweep::scene::{with_overrides, Scene, SpeedProfile};
 use rotorsweep::study::Study;

@@ -8,7 +8,7 @@
 //!   (at least one);
 //! - the roll angle: `roll_angle_rad` (unwrapped, 0 at the keyphasor mark, non-decreasing) or
 //!   `keyphasor`, a once-per-revolution pulse signal (any units: each rising crossing of half
-//!   its range is θ = 2πn, linear in time between pulses; `analysis::orders`);
+//!   its range is θ = 2πn, linear in time between pulses; `signal::orders`);
 //! - optional `speed_hz` [Hz] (stored as a channel; the speed the analysis uses comes from the
 //!   roll angle).
 //!
@@ -32,9 +32,9 @@
 
 use std::path::Path;
 
-use crate::analysis::orders;
+use crate::dynamics::simulation::{Channel, JobResult};
 use crate::error::InputError;
-use crate::job::{Channel, JobResult};
+use crate::signal::orders;
 use crate::store::{self, Param};
 
 /// A measured record.
@@ -353,7 +353,7 @@ pub fn write(
             ("kind".to_string(), Param::Text("measured".into())),
         ];
         store::write_job(&jobs, name, &params, "measured", &job)?;
-        super::post::analyse(&f)?;
+        super::analyse::analyse(&f)?;
         store::finish_file(path, f, jobs).map_err(|e| hdf5::Error::from(e.to_string().as_str()))
     };
     write().map_err(|e| {

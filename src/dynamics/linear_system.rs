@@ -28,10 +28,10 @@
 
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
-use crate::eigen;
-use crate::fe::{Rotor, NDOF};
-use crate::model::Model;
-use crate::reduction::{classify, ModeKind, ReducedModel};
+use crate::dynamics::model::Model;
+use crate::numerics::eigen;
+use crate::rotor::fe::{Rotor, NDOF};
+use crate::rotor::reduction::ReducedModel;
 use crate::scene::{DampingBands, LinearSupport, RollerSupport, Scene, SpringDamper, SupportModel};
 
 /// Why a linear system could not be built or solved.
@@ -59,15 +59,6 @@ pub struct LinearStage {
     pub node: usize,
     /// The linearised support (a roller support becomes its tangent spring on the stand).
     pub support: LinearSupport,
-}
-
-/// A frequency of the supported rotor with its character.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SupportedMode {
-    /// Frequency [Hz].
-    pub freq_hz: f64,
-    /// Dominant family of the rotor's motion.
-    pub kind: ModeKind,
 }
 
 /// Static roller forces [N] carrying a vertical journal load `w` [N] (rollers at angles a_i from
@@ -488,135 +479,36 @@ impl LinearSystem {
         out
     }
 
-    /// Undamped frequencies at standstill, ascending, with the character of the rotor's motion.
-    /// Cross-coupled (non-symmetric) support stiffness is kept (then the frequencies come from
-    /// the complex eigenproblem); a degenerate pair (isotropic supports) is split into its
-    /// horizontal and vertical members instead of two arbitrary "mixed" combinations, and a
-    /// lateral mode in neither plane goes to the one holding more of its kinetic energy.
-    pub fn standstill_modes(&self) -> Result<Vec<SupportedMode>, LinearError> {
-        let (k, _) = self.at(0.0);
-        let skew = (&k - k.transpose()).amax();
-        if skew > 1e-12 * k.amax() {
-            let undamped = Self {
-                base_c: DMatrix::zeros(self.n(), self.n()),
-                d_modal: DMatrix::zeros(self.nm, self.nm),
-                stages: self
-                    .stages
-                    .iter()
-                    .map(|s| {
-                        let mut s = s.clone();
-                        let strip = |sp: &mut SpringDamper| {
-                            sp.cx = 0.0;
-                            sp.cy = 0.0;
-                            sp.cxy = 0.0;
-                            sp.cyx = 0.0;
-                        };
-                        strip(&mut s.support.spring);
-                        for (_, sp) in s.support.by_speed.iter_mut() {
-                            strip(sp);
-                        }
-                        if let Some((_, g)) = s.support.mass.as_mut() {
-                            strip(g);
-                        }
-                        s
-                    })
-                    .collect(),
-                ..self.clone()
-            };
-            let set = super::modes::damped_modes(&undamped, 0.0, super::modes::Split::Planes)?;
-            return Ok(set
-                .modes
+    /// The same system without damping (the supports' dampers stripped, no modal or drive
+    /// damping): the undamped problem of the standstill frequencies.
+    pub fn undamped(&self) -> Self {
+        Self {
+            base_c: DMatrix::zeros(self.n(), self.n()),
+            d_modal: DMatrix::zeros(self.nm, self.nm),
+            stages: self
+                .stages
                 .iter()
-                .map(|m| SupportedMode {
-                    freq_hz: m.freq_hz,
-                    kind: plane_kind(
-                        self.family_energy(&m.shape.map(|z| z.re), &m.shape.map(|z| z.im)),
-                    ),
+                .map(|s| {
+                    let mut s = s.clone();
+                    let strip = |sp: &mut SpringDamper| {
+                        sp.cx = 0.0;
+                        sp.cy = 0.0;
+                        sp.cxy = 0.0;
+                        sp.cyx = 0.0;
+                    };
+                    strip(&mut s.support.spring);
+                    for (_, sp) in s.support.by_speed.iter_mut() {
+                        strip(sp);
+                    }
+                    if let Some((_, g)) = s.support.mass.as_mut() {
+                        strip(g);
+                    }
+                    s
                 })
-                .collect());
-        }
-        let eig = eigen::generalized_symmetric(&k, &self.m)?;
-        let mut vectors = eig.vectors.clone();
-        let fx = self.family_matrix(0);
-        for (a, b) in clusters(eig.values.as_slice(), 1e-7) {
-            let v = vectors.columns(a, b - a).into_owned();
-            let form = v.transpose() * &fx * &v;
-            let rot = nalgebra::SymmetricEigen::new(0.5 * (&form + form.transpose())).eigenvectors;
-            vectors.columns_mut(a, b - a).copy_from(&(v * rot));
-        }
-        Ok((0..eig.values.len())
-            .map(|i| {
-                let v = vectors.column(i).into_owned();
-                let zero = DVector::zeros(v.len());
-                SupportedMode {
-                    freq_hz: eig.values[i].max(0.0).sqrt() / (2.0 * std::f64::consts::PI),
-                    kind: plane_kind(self.family_energy(&v, &zero)),
-                }
-            })
-            .collect())
-    }
-
-    /// The non-zero [`standstill_modes`](Self::standstill_modes) frequencies [Hz] of vertical
-    /// and of horizontal bending, ascending: the `supported_hz` of `modes` and `linear`.
-    pub fn supported_hz(&self) -> Result<(Vec<f64>, Vec<f64>), LinearError> {
-        let modes = self.standstill_modes()?;
-        let pick = |k: ModeKind| -> Vec<f64> {
-            modes
-                .iter()
-                .filter(|m| m.kind == k && m.freq_hz > 1e-6)
-                .map(|m| m.freq_hz)
-                .collect()
-        };
-        Ok((pick(ModeKind::BendingY), pick(ModeKind::BendingX)))
-    }
-
-    /// Damped whirl frequencies [Hz] of the lateral modes at spin speed `omega` [rad/s] in the
-    /// stationary frame, ascending (supports at that speed, damping included); axial and
-    /// torsional modes are left out.
-    pub fn whirl_hz(&self, omega: f64) -> Result<Vec<f64>, LinearError> {
-        let set = super::modes::damped_modes(self, omega, super::modes::Split::Whirl)?;
-        Ok(set
-            .modes
-            .iter()
-            .filter(|m| m.kind == super::modes::Kind::Lateral)
-            .map(|m| m.freq_hz)
-            .collect())
-    }
-}
-
-/// The kind of a supported mode from its kinetic energy per family: the reduction's 80 % rule,
-/// except that a lateral mode it calls mixed (a circular mode of cross-coupled supports, say)
-/// goes to the plane holding more of its energy instead of being lost to both.
-fn plane_kind(e: [f64; 4]) -> ModeKind {
-    match classify(e) {
-        ModeKind::Mixed if e[0] + e[1] >= e[2].max(e[3]) => {
-            if e[0] >= e[1] {
-                ModeKind::BendingX
-            } else {
-                ModeKind::BendingY
-            }
-        }
-        k => k,
-    }
-}
-
-/// Index ranges [a, b) of runs of ascending values that agree within `rel` (relative to the
-/// larger magnitude), of length ≥ 2.
-pub fn clusters(values: &[f64], rel: f64) -> Vec<(usize, usize)> {
-    let mut out = Vec::new();
-    let mut a = 0;
-    for i in 1..=values.len() {
-        let same = i < values.len()
-            && (values[i] - values[i - 1]).abs()
-                <= rel * values[i].abs().max(values[i - 1].abs()).max(1e-300);
-        if !same {
-            if i - a >= 2 {
-                out.push((a, i));
-            }
-            a = i;
+                .collect(),
+            ..self.clone()
         }
     }
-    out
 }
 
 /// Ŝ: the least-squares projection on the basis Φ of the rotation generator ẑ× acting on every

@@ -23,9 +23,10 @@
 
 use std::path::PathBuf;
 
-use rotorsweep::linear::analysis::{self, PointUnbalance, Request, Results, PHASE_NOTE};
+use rotorsweep::dynamics::LinearSystem;
 use rotorsweep::linear::modes::Kind;
-use rotorsweep::linear::{LinearSystem, FRAME_NOTE};
+use rotorsweep::linear::request::{self, PointUnbalance, Request, Results, PHASE_NOTE};
+use rotorsweep::linear::FRAME_NOTE;
 use rotorsweep::scene::Scene;
 use rotorsweep::store;
 
@@ -79,7 +80,7 @@ fn request(a: &Args) -> Result<Request, String> {
     let speeds_hz = match a.speed_hz {
         Some(f) if f.is_finite() && f >= 0.0 => vec![f],
         Some(_) => return Err("--speed-hz must be zero or positive".into()),
-        None => analysis::parse_speeds(a.speeds.as_deref().unwrap_or("0:100:101"))
+        None => request::parse_speeds(a.speeds.as_deref().unwrap_or("0:100:101"))
             .map_err(|e| format!("--{e}"))?,
     };
     Ok(Request {
@@ -114,7 +115,7 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let sys = LinearSystem::of_scene(&scene, &model).map_err(|e| {
         rotorsweep::error::InputError::new(&a.scene, format!("linear analysis: {e}"))
     })?;
-    let r = analysis::compute(&req, &scene, &model, &sys)?;
+    let r = request::compute(&req, &scene, &model, &sys)?;
     if let Some(path) = &a.output {
         if let Err(e) = write_h5(path, &scene, &r) {
             let _ = std::fs::remove_file(store::with_suffix(path, ".tmp"));
@@ -216,7 +217,7 @@ fn print_tables(r: &Results) {
     }
 }
 
-fn print_response(r: &analysis::Response, speeds_hz: &[f64]) {
+fn print_response(r: &request::Response, speeds_hz: &[f64]) {
     println!("\nunbalance response ({PHASE_NOTE}): amplitude [µm] ∠ phase [°]");
     for (i, name) in r.planes.iter().enumerate().take(r.sensors) {
         println!("  {name}:");

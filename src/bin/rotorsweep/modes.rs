@@ -11,11 +11,12 @@
 
 use std::path::PathBuf;
 
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::dynamics::LinearSystem;
 use rotorsweep::linear::campbell::sweep;
 use rotorsweep::linear::modes::Kind;
-use rotorsweep::linear::{LinearSystem, FRAME_NOTE};
-use rotorsweep::model::Model;
-use rotorsweep::reduction::ModeSelection;
+use rotorsweep::linear::FRAME_NOTE;
+use rotorsweep::rotor::reduction::ModeSelection;
 use rotorsweep::scene::Scene;
 use serde::Serialize;
 

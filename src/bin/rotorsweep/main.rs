@@ -7,14 +7,14 @@
 //! while writing (disk full, read-only folder: the message names the path and the OS error);
 //! 75 the output is in use by another rotorsweep process (try again later).
 
-mod balance_cli;
-mod campaign_cli;
-mod check_cli;
-mod import_cli;
-mod keys_cli;
-mod linear_cli;
+mod balance;
+mod campaign;
+mod check;
+mod import;
+mod keys;
+mod linear;
 mod modes;
-mod report_cli;
+mod report;
 mod simulate;
 
 use std::process::ExitCode;
@@ -54,27 +54,27 @@ enum Command {
     Modes(modes::Args),
     /// Linear rotordynamics of a scene: damped modes vs speed, critical speeds, stability,
     /// unbalance response, Floquet, statics.
-    Linear(linear_cli::Args),
+    Linear(linear::Args),
     /// One time simulation of a scene: statistics, and results to HDF5 with -o.
     Simulate(simulate::Args),
     /// The jobs of a study, without running them: count, parameters, models, cost.
-    Plan(campaign_cli::PlanArgs),
+    Plan(campaign::PlanArgs),
     /// Run a study into one HDF5 file.
-    Run(campaign_cli::RunArgs),
+    Run(campaign::RunArgs),
     /// Join shard files of one study into one file.
-    Merge(campaign_cli::MergeArgs),
+    Merge(campaign::MergeArgs),
     /// Tables of a study results file: solver cost and error, resonances, trial masses, stability.
-    Report(report_cli::Args),
+    Report(report::Args),
     /// The effective scene of a scene or study file (after `extends` and --set, with units) and
     /// what is derived from it: positions, wall, mass, balancing masses, first frequencies.
-    Check(check_cli::Args),
+    Check(check::Args),
     /// Every key a scene file accepts (type, units, default, range, meaning), as Markdown.
-    Keys(keys_cli::Args),
+    Keys(keys::Args),
     /// Influence-coefficient balancing from a study's trial-mass runs: corrections, predicted
     /// residual, and with --check a run of the corrected roll.
-    Balance(balance_cli::Args),
+    Balance(balance::Args),
     /// A measured record (CSV) into a results file, analysed like a simulated job.
-    Import(import_cli::Args),
+    Import(import::Args),
 }
 
 fn main() -> ExitCode {
@@ -99,16 +99,16 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Modes(a) => modes::run(&a).map(|()| true),
-        Command::Linear(a) => linear_cli::run(&a).map(|()| true),
+        Command::Linear(a) => linear::run(&a).map(|()| true),
         Command::Simulate(a) => simulate::run(&a),
-        Command::Plan(a) => campaign_cli::plan(&a).map(|()| true),
-        Command::Run(a) => campaign_cli::run(&a),
-        Command::Merge(a) => campaign_cli::merge(&a).map(|()| true),
-        Command::Report(a) => report_cli::run(&a).map(|()| true),
-        Command::Check(a) => check_cli::run(&a).map(|()| true),
-        Command::Keys(a) => keys_cli::run(&a).map(|()| true),
-        Command::Balance(a) => balance_cli::run(&a).map(|()| true),
-        Command::Import(a) => import_cli::run(&a).map(|()| true),
+        Command::Plan(a) => campaign::plan(&a).map(|()| true),
+        Command::Run(a) => campaign::run(&a),
+        Command::Merge(a) => campaign::merge(&a).map(|()| true),
+        Command::Report(a) => report::run(&a).map(|()| true),
+        Command::Check(a) => check::run(&a).map(|()| true),
+        Command::Keys(a) => keys::run(&a).map(|()| true),
+        Command::Balance(a) => balance::run(&a).map(|()| true),
+        Command::Import(a) => import::run(&a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

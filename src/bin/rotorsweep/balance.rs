@@ -1,13 +1,13 @@
 //! `rotorsweep balance OUT.h5 [--check] [--json]`: influence-coefficient balancing from a
 //! study's trial-mass runs (`rotorsweep::study::balancing`, method in
-//! `rotorsweep::analysis::balancing`). Prints `corrections` ({z_mm, radius_mm, mass_g,
+//! `rotorsweep::signal::influence`). Prints `corrections` ({z_mm, radius_mm, mass_g,
 //! angle_deg}), `predicted` ({speed_hz, sensor, direction, before_um, after_um}: the 1×
 //! amplitude of the reference run and after the corrections) and with `--check` `check`, the
 //! same for a run of the corrected roll.
 
 use std::path::PathBuf;
 
-use rotorsweep::analysis::balancing::PlaneLimits;
+use rotorsweep::signal::influence::PlaneLimits;
 use rotorsweep::study::balancing;
 
 /// Arguments of `rotorsweep balance`.

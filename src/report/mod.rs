@@ -16,7 +16,7 @@
 //! - `resonances`: per speed sweep, direction and integer order k ≥ 2, the speed [Hz] where
 //!   order k of the centre runout peaks nearest to (within 10 % of) the model's critical
 //!   speed / k, the sweep's step there [Hz] and the flags `coarse` / `edge`
-//!   (`analysis::resolution`; markdown rounds the speed to the step), and the amplitude [µm] of
+//!   (`signal::resolution`; markdown rounds the speed to the step), and the amplitude [µm] of
 //!   order k at each sensor's own such peak (the thesis's Table 5.1);
 //! - `trial_mass`: per trial-mass job, the vertical 1× amplitude change and vector change
 //!   against the baseline [µm] at each sensor;
@@ -53,11 +53,12 @@ use hdf5::types::VarLenUnicode;
 use hdf5::{File, Group};
 use serde::Serialize;
 
-use crate::analysis;
 use crate::error::InputError;
 use crate::integrators::Status;
+use crate::results::request::{analysis_of_text, LabelledAxis, StudyAnalysis};
+use crate::signal;
 use crate::store::{self, Param};
-use crate::study::{analysis_of_text, LabelledAxis, StudyAnalysis};
+use crate::text::{number_text, significant};
 
 /// The key that names the integrator.
 const INTEGRATOR_KEY: &str = "solver.integrator";
@@ -206,34 +207,6 @@ struct Job {
     error_max_um: f64,
     error_rms_um: f64,
     error_peak_um: f64,
-}
-
-/// A parameter's value as text, the one way the report and the analysis write numbers: `1e-4`
-/// rather than `0.0001`, `16.4` as written (shortest round-trip form; scientific below 1e-3 and
-/// from 1e6, as [`significant`]).
-pub fn number_text(x: f64) -> String {
-    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
-}
-
-/// A measured value to `sig` significant digits (scientific below 1e-3 and from 1e6, as
-/// [`number_text`]).
-pub fn significant(x: f64, sig: usize) -> String {
-    if !x.is_finite() {
-        return "–".into();
-    }
-    if x == 0.0 {
-        return "0".into();
-    }
-    let mag = x.abs().log10().floor();
-    if !(-3.0..6.0).contains(&mag) {
-        return format!("{x:.*e}", sig - 1);
-    }
-    let decimals = (sig as f64 - 1.0 - mag).max(0.0) as usize;
-    format!("{x:.decimals$}")
 }
 
 /// The labels of the job's labelled axes and `key=value` of its other varying keys, in axis
@@ -620,7 +593,7 @@ const RESONANCE_WINDOW: f64 = 0.1;
 
 /// The peak nearest to `near` [Hz] within [`RESONANCE_WINDOW`] of it, or the highest one
 /// without `near`.
-fn pick(peaks: Vec<analysis::Peak>, near: Option<f64>) -> Option<analysis::Peak> {
+fn pick(peaks: Vec<signal::Peak>, near: Option<f64>) -> Option<signal::Peak> {
     match near {
         Some(c) => peaks
             .into_iter()
@@ -699,15 +672,15 @@ fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
                     continue;
                 }
                 let expected = crit[d].map(|c| c / order);
-                let found: Vec<Option<(analysis::Peak, analysis::Resolution)>> = data
+                let found: Vec<Option<(signal::Peak, signal::Resolution)>> = data
                     .iter()
                     .map(|m| {
                         let m = m.as_ref()?;
                         let amp: Vec<f64> = (0..speeds.len())
                             .map(|s| m.get(s * orders.len() + k).copied().unwrap_or(f64::NAN))
                             .collect();
-                        let p = pick(analysis::peaks(&speeds, &amp), expected)?;
-                        Some((p, analysis::resolution(&speeds, &amp, &p)))
+                        let p = pick(signal::peaks(&speeds, &amp), expected)?;
+                        Some((p, signal::resolution(&speeds, &amp, &p)))
                     })
                     .collect();
                 let centre = found[0];
@@ -764,7 +737,7 @@ fn resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
              lies at an end of the sweep (the strongest response may lie outside it); then the \
              amplitude [µm] of order k at each sensor's own such peak.",
             names[0],
-            100.0 * analysis::COARSE_STEP
+            100.0 * signal::COARSE_STEP
         ),
         columns,
         rows,

@@ -9,19 +9,19 @@
 //!   freq_hz, amplitude_um, phase_deg (phase of A cos(kθ + φ) against roll angle 0, as
 //!   `/analysis/lines` and `rotorsweep linear`'s unbalance response): one row per block of
 //!   `order_revolutions` revolutions (half overlapping) for a job whose speed changes, one row
-//!   for the whole record at a constant speed (`analysis::orders`, method and limits there);
+//!   for the whole record at a constant speed (`signal::orders`, method and limits there);
 //! - `/analysis/order_resonances`: table job_id, sensor, direction, order, rank, speed_hz,
 //!   amplitude_um — the three highest interior peaks of each order's amplitude over the blocks'
 //!   speeds of one job (the resonance speeds of a run-up or coast-down; jobs of ≥ 3 blocks);
 //! - `/jobs/<id>/waterfall` for a job whose speed changes: `time_s`, `speed_hz` (mean over each
 //!   block), `freq_hz`, `map/<sensor>/<dir>` [blocks × frequencies, µm]: amplitude-correct
 //!   Hanning spectra of the fluctuating part of time blocks of 2^⌊log₂ fs⌋ samples (about 1 s),
-//!   half overlapping, up to `max_freq_hz` (default [`super::post::ORDER_MARGIN`] × the highest
+//!   half overlapping, up to `max_freq_hz` (default [`super::analyse::ORDER_MARGIN`] × the highest
 //!   order × the highest speed, as the constant-speed spectra), and `mean/<sensor>/<dir>`
 //!   [blocks, µm]: the static part (sag, offset) removed from each block before its spectrum.
 //!
 //! The static part of a block is the mean m of the Hann-weighted least-squares fit x ≈ m +
-//! Σ_k A_k cos(kθ + φ_k) over the block with the tracked orders k (`analysis::weighted_fit`).
+//! Σ_k A_k cos(kθ + φ_k) over the block with the tracked orders k (`signal::weighted_fit`).
 //! The plain mean is not it at low speed: a block of T seconds holds d = f·T periods of a line
 //! at f, and its plain mean keeps A·sin(πd)/(πd)·cos(πd + φ) of it (up to A/(πd): 21 % of the
 //! 1× amplitude at d = 1.5, the 3 Hz start of a run-up in 0.512 s blocks, which a static part
@@ -34,9 +34,9 @@
 
 use rustfft::num_complex::Complex64;
 
-use super::AnalysisSpec;
-use crate::analysis::{self, orders as track};
+use super::request::{AnalysisSpec, DEFAULT_ORDER_REVOLUTIONS};
 use crate::integrators::Status;
+use crate::signal::{self, orders as track};
 use crate::store::{self, Column};
 
 /// Peaks kept per job, order and channel in the order-resonance table.
@@ -108,7 +108,7 @@ fn fluctuation(x: &[f64], theta: &[f64], w: &[f64], orders: &[f64]) -> (f64, Vec
         .filter(|k| *k < 0.5 * per_rev)
         .collect();
     let revs: Vec<f64> = theta[..n].iter().map(|a| a / tau).collect();
-    let m = analysis::weighted_fit(&x[..n], &revs, w, &fitted).0;
+    let m = signal::weighted_fit(&x[..n], &revs, w, &fitted).0;
     (m, x[..n].iter().map(|v| v - m).collect())
 }
 
@@ -145,9 +145,9 @@ fn waterfall(
         .collect();
     let top_order = orders.iter().copied().fold(1.0, f64::max);
     let cap = max_freq_hz.unwrap_or(
-        super::post::ORDER_MARGIN * top_order * speeds.iter().copied().fold(0.0, f64::max),
+        super::analyse::ORDER_MARGIN * top_order * speeds.iter().copied().fold(0.0, f64::max),
     );
-    let w = analysis::hanning(len);
+    let w = signal::hanning(len);
     if g.link_exists("waterfall") {
         g.unlink("waterfall")?;
     }
@@ -161,7 +161,7 @@ fn waterfall(
         for &s in &starts {
             let (m, fluct) = fluctuation(&x[s..s + len], &theta[s..s + len], &w, orders);
             means.push(m);
-            let sp = analysis::spectrum(&fluct, fs);
+            let sp = signal::spectrum(&fluct, fs);
             if bins == 0 {
                 bins = sp.freq_hz.iter().take_while(|f| **f <= cap + 1e-9).count();
             }
@@ -184,9 +184,7 @@ fn waterfall(
 
 /// Tracks every job it can and writes the tables into `analysis` (module doc).
 pub fn write(f: &hdf5::File, analysis: &hdf5::Group, spec: &AnalysisSpec) -> hdf5::Result<()> {
-    let revs = spec
-        .order_revolutions
-        .unwrap_or(super::DEFAULT_ORDER_REVOLUTIONS);
+    let revs = spec.order_revolutions.unwrap_or(DEFAULT_ORDER_REVOLUTIONS);
     let jobs = f.group("jobs")?;
     let mut rows = Rows::default();
     let mut peaks = Peaks::default();
@@ -248,7 +246,7 @@ pub fn write(f: &hdf5::File, analysis: &hdf5::Group, spec: &AnalysisSpec) -> hdf
                     .iter()
                     .map(|b| (b.speed_hz, b.amplitudes[c][k].norm()))
                     .collect();
-                for (r, p) in analysis::curve_peaks(points)
+                for (r, p) in signal::curve_peaks(points)
                     .into_iter()
                     .take(RANKS)
                     .enumerate()
@@ -312,7 +310,7 @@ mod tests {
             .map(|q| a * (q + phi).cos() + 4.0 * (2.0 * q - 1.0).cos())
             .collect();
         let x: Vec<f64> = line.iter().map(|v| v + 306.0).collect();
-        let w = analysis::hanning(n);
+        let w = signal::hanning(n);
         let (m, fluct) = fluctuation(&x, &theta, &w, &[1.0, 2.0]);
         // The fit models the block exactly: the sag to rounding.
         assert!((m - 306.0).abs() < 1e-9, "{m}");
@@ -333,8 +331,8 @@ mod tests {
         assert!(share.abs() > 0.05 * a, "{share}");
         // After the fitted mean the bins are those of the lines alone (the sag is gone), and
         // 0 Hz reads only their Hann leakage, at most A |sinc d / (1 − d²)| per line.
-        let s = analysis::spectrum(&fluct, fs);
-        let lone = analysis::spectrum(&line, fs);
+        let s = signal::spectrum(&fluct, fs);
+        let lone = signal::spectrum(&line, fs);
         for (u, v) in s.amplitude.iter().zip(&lone.amplitude).skip(1) {
             assert!((u - v).abs() < 1e-9, "{u} {v}");
         }

@@ -13,9 +13,9 @@
 
 use nalgebra::DMatrix;
 
-use super::system::{LinearError, LinearSystem};
-use crate::eigen;
-use crate::reduction::ModeKind;
+use crate::dynamics::linear_system::{LinearError, LinearSystem};
+use crate::numerics::eigen;
+use crate::rotor::reduction::ModeKind;
 
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 
@@ -63,7 +63,7 @@ fn critical_of(sys: &LinearSystem, k: &DMatrix<f64>) -> Result<Vec<f64>, LinearE
         let eb = sys.family_energy(&part(n, |z| z.re), &part(n, |z| z.im));
         let e = std::array::from_fn(|f| ea[f] + eb[f]);
         if matches!(
-            crate::reduction::classify(e),
+            crate::rotor::reduction::classify(e),
             ModeKind::Axial | ModeKind::Torsion
         ) {
             continue;

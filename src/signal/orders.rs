@@ -7,13 +7,13 @@
 //! Out: per block its start revolution, mid time [s], mean speed [Hz] (Δθ / 2πΔt over the
 //! block's samples) and per signal and order the complex amplitude A e^{iφ} with
 //! x ≈ m + Σ_k A_k cos(k θ + φ_k): modulus in the signal's unit, phase against roll angle 0 —
-//! the convention of the constant-speed lines (`analysis::lines`) and of the linear unbalance
+//! the convention of the constant-speed lines (`signal::lines`) and of the linear unbalance
 //! response (x(t) = Re(X e^{iθ})).
 //!
 //! Method: computed order tracking in the angle domain without interpolation. A block is the
 //! samples whose roll angle lies in [θ_s, θ_s + 2πB]; the orders are fitted together with the
 //! mean by Hann-in-angle weighted least squares, w = ½(1 − cos(2π(θ − θ_s)/2πB))
-//! ([`crate::analysis::weighted_lines`] with the angle in revolutions as abscissa). On samples
+//! ([`crate::signal::weighted_lines`] with the angle in revolutions as abscissa). On samples
 //! uniform in angle and orders at multiples of 1/B this is the per-block Hann DFT of
 //! angle-domain resampled data; on samples uniform in time during a speed change it needs no
 //! resampling, so no interpolation error. A record at constant speed is one block over the
@@ -182,7 +182,7 @@ pub fn whole(
         return Ok(None);
     }
     // The Hann weight over the record's span in angle (the first and last sample get weight
-    // zero, as the periodic window of `analysis::lines` gives the first).
+    // zero, as the periodic window of `signal::lines` gives the first).
     Ok(fit_block(
         (t, theta),
         signals,
@@ -288,7 +288,7 @@ mod tests {
     #[test]
     fn whole_record_at_constant_speed_equals_the_line_fit() {
         // 16.4 Hz over 8192 samples at 1 kHz, a 1× and a 2× line and a tone at 0.7× not fitted:
-        // the angle-domain fit over the whole record is `analysis::lines` to rounding (the same
+        // the angle-domain fit over the whole record is `signal::lines` to rounding (the same
         // Hann window up to the last sample's weight).
         let fs = 1000.0;
         let t: Vec<f64> = (0..8192).map(|i| i as f64 / fs).collect();
@@ -298,7 +298,7 @@ mod tests {
             .map(|a| 12.0 * (a - 0.4).cos() + 3.0 * (2.0 * a).cos() + 2.0 * (0.7 * a).cos())
             .collect();
         let b = whole(&t, &th, &[&x], &[1.0, 2.0]).unwrap().unwrap();
-        let l = crate::analysis::lines(&x, &t, &[16.4, 32.8]);
+        let l = crate::signal::lines(&x, &t, &[16.4, 32.8]);
         for (z, e) in b.amplitudes[0].iter().zip(&l) {
             assert!((z - e).norm() < 1e-3, "{z} {e}");
         }

@@ -27,8 +27,8 @@ use std::fmt;
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::eigen::{self, EigenError};
-use crate::fe::{FeMatrices, Rotor, NDOF};
+use crate::numerics::eigen::{self, EigenError};
+use crate::rotor::fe::{FeMatrices, Rotor, NDOF};
 
 /// Whether a mode came mostly from the fixed-interface normal modes or from the constraint modes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]

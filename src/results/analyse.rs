@@ -13,7 +13,7 @@
 //!   amplitude-correct Hanning spectrum of the record minus its mean, up to `max_freq_hz`
 //!   (default [`ORDER_MARGIN`] × the highest order × the speed);
 //! - `/analysis/lines`: table job_id, channel, order, speed_hz, freq_hz, amplitude_um, phase_deg
-//!   (the line at order × speed, all orders fitted together, `analysis::lines`; phase relative
+//!   (the line at order × speed, all orders fitted together, `signal::lines`; phase relative
 //!   to roll angle 0). A job is analysed when it ended ok and its speed was constant while it
 //!   recorded (a ramp or speed step may end before `settle_s`): attributes `speed_hz` and
 //!   `roll_angle_offset_rad` (θ = Ω t + δ) say so;
@@ -27,23 +27,23 @@
 //!   `speed_hz` and `orders` are dimension scales (`store::scales`);
 //! - `/analysis/resonances`: table sweep, fixed, channel, order, rank, speed_hz, amplitude_um,
 //!   step_hz, note (the three highest interior peaks of each order's amplitude over speed, the
-//!   sweep's spacing there and `coarse` / `edge` flags, `analysis::resolution`);
+//!   sweep's spacing there and `coarse` / `edge` flags, `signal::resolution`);
 //! - `/analysis/trial_mass`, with an `[analysis] baseline`: table job_id, baseline_id, label,
 //!   channel, speed_hz, amplitude_um, baseline_amplitude_um, amplitude_change_um,
 //!   vector_change_um, vector_phase_deg (1× change against the baseline job);
 //! - `/analysis/orders`, `/analysis/order_resonances` and each ramp's `/jobs/<id>/waterfall`:
-//!   order tracking of every job with a roll angle, ramps included (`study::orders`).
+//!   order tracking of every job with a roll angle, ramps included (`results::orders`).
 
 use std::collections::BTreeMap;
 
 use rustfft::num_complex::Complex64;
 
-use super::{self as study, analysis_of_text, AnalysisSpec, LabelledAxis};
-use crate::analysis;
+use super::request::{analysis_of_text, AnalysisSpec, LabelledAxis, StudyAnalysis};
 use crate::integrators::Status;
-use crate::report::number_text;
 use crate::scene::{RollerPhase, Scene, SupportModel};
+use crate::signal;
 use crate::store::{self, Column, Param};
+use crate::text::number_text;
 
 /// The key a spectral map sweeps.
 pub const SWEEP_KEY: &str = "speed.hz";
@@ -234,7 +234,7 @@ fn read_jobs(
         let (lines, one_x) = channels
             .iter()
             .map(|(_, x)| {
-                let mut z = analysis::lines(x, &time, &freqs);
+                let mut z = signal::lines(x, &time, &freqs);
                 for (zk, fk) in z.iter_mut().zip(&freqs) {
                     *zk = if *fk < 0.5 * rate_hz {
                         *zk * Complex64::from_polar(1.0, -fk / speed_hz * delta)
@@ -248,9 +248,9 @@ fn read_jobs(
                 (z, one_x)
             })
             .unzip();
-        let (means, full): (Vec<f64>, Vec<analysis::Spectrum>) = channels
+        let (means, full): (Vec<f64>, Vec<signal::Spectrum>) = channels
             .iter()
-            .map(|(_, x)| analysis::mean_and_spectrum(x, rate_hz))
+            .map(|(_, x)| signal::mean_and_spectrum(x, rate_hz))
             .unzip();
         let names: Vec<String> = channels.into_iter().map(|(name, _)| name).collect();
         if !g.link_exists("spectrum") {
@@ -309,7 +309,7 @@ fn scalar_dataset(group: &hdf5::Group, name: &str, value: f64, units: &str) -> h
 }
 
 /// The number of spectrum bins at or below `max_hz`.
-fn bins_below(s: &analysis::Spectrum, max_hz: f64) -> usize {
+fn bins_below(s: &signal::Spectrum, max_hz: f64) -> usize {
     s.freq_hz
         .iter()
         .take_while(|f| **f <= max_hz + 1e-9)
@@ -443,12 +443,12 @@ fn write_sweep(
         store::dataset(&sg, &format!("mean/{name}"), &means, "um")?;
         for (k, o) in spec.orders.iter().enumerate() {
             let amp: Vec<f64> = (0..set.len()).map(|s| lines[s * no + k]).collect();
-            for (r, p) in analysis::peaks(&speeds, &amp)
+            for (r, p) in signal::peaks(&speeds, &amp)
                 .into_iter()
                 .take(RANKS)
                 .enumerate()
             {
-                let fit = analysis::resolution(&speeds, &amp, &p);
+                let fit = signal::resolution(&speeds, &amp, &p);
                 res.step.push(fit.step_hz);
                 res.note.push(fit.note());
                 res.sweep.push(n as f64);
@@ -522,7 +522,7 @@ fn trial_mass_table(
             let Some(bc) = b.names.iter().position(|n| n == name) else {
                 continue;
             };
-            let r = analysis::trial_response(j.one_x[c], b.one_x[bc]);
+            let r = signal::trial_response(j.one_x[c], b.one_x[bc]);
             id.push(j.id.clone());
             base_id.push(b.id.clone());
             label.push(l.clone());
@@ -562,7 +562,7 @@ fn trial_mass_table(
 /// Analyses an assembled file in place (module doc); replaces an earlier `/analysis`.
 pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
     let text = store::read_str(f, "study_text").unwrap_or_default();
-    let study::StudyAnalysis {
+    let StudyAnalysis {
         spec,
         labelled: axes,
         axis_keys,

@@ -13,9 +13,6 @@ use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
 
-pub mod balancing;
-pub mod orders;
-
 /// The periodic (DFT-even) Hanning window of length n: w_i = ½(1 − cos 2πi/n), Σw = n/2.
 pub fn hanning(n: usize) -> Vec<f64> {
     let tau = std::f64::consts::TAU;

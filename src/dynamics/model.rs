@@ -8,8 +8,8 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use crate::fe::{MeshError, Rotor};
-use crate::reduction::{craig_bampton, ModeSelection, ReducedModel, ReductionError};
+use crate::rotor::fe::{MeshError, Rotor};
+use crate::rotor::reduction::{craig_bampton, ModeSelection, ReducedModel, ReductionError};
 use crate::scene::Scene;
 
 /// Why a scene's model could not be built: the scene file, the scene key to blame where there is

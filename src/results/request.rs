@@ -1,0 +1,117 @@
+//! What the post-analysis of a results file is asked to compute: a study's `[analysis]` table
+//! ([`AnalysisSpec`]) and its labelled axes, as the results stage reads them back from the study
+//! text stored in the file ([`analysis_of_text`]).
+//!
+//! In: the `[analysis]` table (orders of the spin frequency, max frequency [Hz], the baseline
+//! label, the order-tracking block [revolutions]) and the `[[axes]]` of a study's TOML text.
+//! Out: [`StudyAnalysis`]. The study stage parses the same table into the same type when it
+//! loads a study (a stage owns its parameters).
+
+use serde::Deserialize;
+
+/// The study's `[analysis]` table: what the post-processing of the results computes.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisSpec {
+    /// Orders of the spin frequency whose lines are measured in every job (1, 2, 3, 4 by
+    /// default; non-integer orders measure other lines, e.g. 0.92 for rollers turning at
+    /// 115/125 of the roll's speed).
+    #[serde(default = "default_orders")]
+    pub orders: Vec<f64>,
+    /// Highest frequency [Hz] kept in stored spectra and maps (default: 1.25 × the highest order
+    /// × the job's speed, `results::analyse::ORDER_MARGIN`).
+    pub max_freq_hz: Option<f64>,
+    /// The label (on a labelled axis) of the baseline jobs: every other job on that axis gets
+    /// its 1× trial-mass response against the baseline job with the same other keys.
+    pub baseline: Option<String>,
+    /// Order tracking of jobs whose speed changes while recording (`signal::orders`): the
+    /// block length [revolutions] (default 8; blocks overlap by half).
+    pub order_revolutions: Option<f64>,
+}
+
+/// The order-tracking block length [revolutions] when a study names none.
+pub const DEFAULT_ORDER_REVOLUTIONS: f64 = 8.0;
+
+/// Orders 1, 2, 3 and 4: the lines measured when a study names none.
+pub fn default_orders() -> Vec<f64> {
+    vec![1.0, 2.0, 3.0, 4.0]
+}
+
+impl Default for AnalysisSpec {
+    fn default() -> Self {
+        Self {
+            orders: default_orders(),
+            max_freq_hz: None,
+            baseline: None,
+            order_revolutions: None,
+        }
+    }
+}
+
+/// An axis with labels: its keys (the first one names the label) and one label per value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LabelledAxis {
+    /// The axis's keys.
+    pub keys: Vec<String>,
+    /// The labels, one per value.
+    pub labels: Vec<String>,
+}
+
+/// What the post-processing and the report need of a study's text.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StudyAnalysis {
+    /// The `[analysis]` table.
+    pub spec: AnalysisSpec,
+    /// The axes with labels.
+    pub labelled: Vec<LabelledAxis>,
+    /// The keys of every axis (several for a zipped axis), in axis order.
+    pub axis_keys: Vec<Vec<String>>,
+}
+
+/// An axis's keys: `key`, or a non-empty `keys` list; `None` for neither or both.
+pub fn axis_keys(key: &Option<String>, keys: &Option<Vec<String>>) -> Option<Vec<String>> {
+    match (key, keys) {
+        (Some(k), None) => Some(vec![k.clone()]),
+        (None, Some(ks)) if !ks.is_empty() => Some(ks.clone()),
+        _ => None,
+    }
+}
+
+/// The parts of a study file the analysis reads (the study stage validates the rest).
+#[derive(Debug, Deserialize)]
+struct StudyView {
+    #[serde(default)]
+    analysis: AnalysisSpec,
+    #[serde(default)]
+    axes: Vec<AxisView>,
+}
+
+#[derive(Debug, Deserialize)]
+struct AxisView {
+    key: Option<String>,
+    keys: Option<Vec<String>>,
+    labels: Option<Vec<String>>,
+}
+
+/// The `[analysis]` table and the axes of a study's text; `None` when the text is not a study
+/// file.
+pub fn analysis_of_text(text: &str) -> Option<StudyAnalysis> {
+    let raw: StudyView = toml::from_str(text).ok()?;
+    let mut out = StudyAnalysis {
+        spec: raw.analysis,
+        ..StudyAnalysis::default()
+    };
+    for a in &raw.axes {
+        let Some(keys) = axis_keys(&a.key, &a.keys) else {
+            continue;
+        };
+        if let Some(labels) = &a.labels {
+            out.labelled.push(LabelledAxis {
+                keys: keys.clone(),
+                labels: labels.clone(),
+            });
+        }
+        out.axis_keys.push(keys);
+    }
+    Some(out)
+}
