@@ -92,22 +92,21 @@ def _compare(a, b, path, skip_attrs, ctx):
 
 def _masked_json(text, keys):
     """`text` unchanged, or, when it is JSON holding one of `keys`, its JSON with those keys'
-    values replaced by "<masked>", numbers kept as written, re-serialised."""
+    values replaced by "<masked>", numbers kept as written (as strings), re-serialised."""
     try:
-        value = json.loads(text, object_pairs_hook=lambda pairs: pairs,
-                           parse_float=str, parse_int=str, parse_constant=str)
+        value = json.loads(text, parse_float=str, parse_int=str, parse_constant=str)
     except ValueError:
         return text
     found = []
 
     def mask(v):
-        if isinstance(v, list) and all(isinstance(p, tuple) for p in v) and v:
-            found.extend(k for k, _ in v if k in keys)
-            return [(k, "<masked>" if k in keys else mask(u)) for k, u in v]
+        if isinstance(v, dict):
+            found.extend(k for k in v if k in keys)
+            return {k: "<masked>" if k in keys else mask(u) for k, u in v.items()}
         return [mask(u) for u in v] if isinstance(v, list) else v
 
     masked = mask(value)
-    return json.dumps(masked) if found else text
+    return json.dumps(masked, ensure_ascii=False) if found else text
 
 
 def value_difference(x, y, fx, fy):
