@@ -99,8 +99,8 @@ ratio, a balancing speed) are written as ``rotorsweep report`` writes them, by r
 its JSON (:mod:`.tables` says exactly which fields): from ``--tables TABLES.json`` when given
 (the Rust report passes what it printed), else by running ``rotorsweep report FILE --format
 json`` once, when a figure first needs a value (``$ROTORSWEEP_BIN``, else ``rotorsweep`` on
-PATH, else the checkout's ``target/release/rotorsweep``; an error saying what to install when
-there is none). So src/report.rs's ``number_text`` and ``error_class`` stay the one
+PATH, else the checkout's ``target/release/rotorsweep`` or ``target/debug/rotorsweep``; an
+error saying what to install when there is none). So src/report.rs's ``number_text`` and ``error_class`` stay the one
 implementation. (Until the binary prints the JSON's ``labels``, :mod:`._legacy` stands in for
 it.)
 """

@@ -189,7 +189,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         help="the output of `rotorsweep report RESULTS --format json` (with --compare: of "
         "`report RESULTS --compare SIMULATED.h5 --format json`): the error classes and number "
         "text the figures write (default: run $ROTORSWEEP_BIN, else rotorsweep on PATH, else "
-        "this source tree's target/release/rotorsweep, when a figure needs them)",
+        "this source tree's target/release (or debug) rotorsweep, when a figure needs them)",
     )
     a = p.parse_args(argv)
     outdir = a.outdir or a.results.with_name(a.results.stem + "-plots")

@@ -56,8 +56,9 @@ BIN_ENV = "ROTORSWEEP_BIN"
 
 def find_binary() -> str:
     """The rotorsweep binary: ``$ROTORSWEEP_BIN``, else ``rotorsweep`` on ``PATH``, else the
-    checkout's ``target/release/rotorsweep`` (when this package runs from a source tree);
-    :class:`PlotError` saying what to install when there is none."""
+    checkout's ``target/release/rotorsweep``, else its ``target/debug/rotorsweep`` (when this
+    package runs from a source tree: as the binary's ``report --format html`` runs it, from the
+    tree it was built in); :class:`PlotError` saying what to install when there is none."""
     given = os.environ.get(BIN_ENV)
     if given:
         if not Path(given).is_file():
@@ -67,13 +68,14 @@ def find_binary() -> str:
     if on_path:
         return on_path
     tree = Path(__file__).resolve().parents[3]
-    built = tree / "target" / "release" / "rotorsweep"
-    if built.is_file():
-        return str(built)
+    built = [tree / "target" / profile / "rotorsweep" for profile in ("release", "debug")]
+    for path in built:
+        if path.is_file():
+            return str(path)
     raise PlotError(
         "the figures need `rotorsweep report FILE --format json` (error classes and number "
         "text) and found no rotorsweep binary: $ROTORSWEEP_BIN is unset, none is on PATH and "
-        f"there is no {built}. Install the binary (`cargo install --path .` in rotorsweep's "
+        f"there is no {built[0]} (nor debug). Install the binary (`cargo install --path .` in rotorsweep's "
         "source tree, or `cargo build --release` there), set ROTORSWEEP_BIN to it, or pass "
         "--tables TABLES.json saved from `rotorsweep report FILE --format json`"
     )
