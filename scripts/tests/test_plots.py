@@ -332,7 +332,7 @@ def report_json(results: Path, *args: str) -> dict:
 
 def test_error_classes_are_the_reports(solver_results: Path, tmp_path: Path) -> None:
     """The stability matrix is coloured by the error_class column of the report's own stability
-    table (src/report.rs error_class, computed once): the figure has no classes of its own. A
+    table (the Rust error_class, computed once): the figure has no classes of its own. A
     tables file whose classes say otherwise is what the figure shows."""
     doc = report_json(solver_results)
     (table,) = [t for t in doc["tables"] if t["name"] == "stability"]
@@ -383,7 +383,7 @@ def test_the_report_prints_labels(solver_results: Path, roller_sim: Path) -> Non
     labels.roller_ratios) and the error classes' colours (labels.error_classes), as
     rotorsweep.figures.tables describes them. Until the binary prints them (the Rust side of
     issue 19 item 4) this is an expected failure and the figures use figures/_legacy.py, which
-    must agree with src/report.rs's number_text; once it does, _legacy.py must go."""
+    must agree with the Rust number_text; once it does, _legacy.py must go."""
     doc = report_json(solver_results)
     if "labels" not in doc:
         from rotorsweep.figures import _legacy

@@ -29,7 +29,7 @@ def ramp_jobs(path: PathLike) -> list[str]:
 
 
 def waterfall_data(path: PathLike, job: str) -> dict[str, np.ndarray]:
-    """A ramp job's waterfall (src/study/orders.rs): ``time_s`` and ``speed_hz`` [blocks],
+    """A ramp job's waterfall (the run's order tracking): ``time_s`` and ``speed_hz`` [blocks],
     ``freq_hz`` [bins] and ``map/<sensor>/<dir>`` [blocks × bins, µm]."""
     with h5py.File(path, "r") as f:
         g = f[f"jobs/{job}/waterfall"]

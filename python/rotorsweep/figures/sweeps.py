@@ -15,7 +15,7 @@ from rotorsweep import PathLike
 
 from ._common import DIRECTIONS, MAP_DECADES, Numbers, figure
 
-#: Prefix of the job attributes that give each roller's line ratio (src/study/post.rs).
+#: Prefix of the job attributes that give each roller's line ratio (the study writes them).
 ROLLER_RATIO = "roller_ratio:"
 
 

@@ -1,6 +1,6 @@
 """The values the figures take from the Rust report: each job's error class and the text of every
-number a label writes, as ``rotorsweep report FILE --format json`` prints them (src/report.rs
-computes them; Python never computes them again).
+number a label writes, as ``rotorsweep report FILE --format json`` prints them (the Rust report
+computes them, with its ``number_text`` and ``error_class``; Python never computes them again).
 
 In: the report's JSON document, ``{"study": str, "tables": [{"name", "title", "legend",
 "columns", "rows"}, …], "labels": {…}}``, from the file of ``--tables TABLES.json`` (what the
@@ -75,8 +75,9 @@ def find_binary() -> str:
     raise PlotError(
         "the figures need `rotorsweep report FILE --format json` (error classes and number "
         "text) and found no rotorsweep binary: $ROTORSWEEP_BIN is unset, none is on PATH and "
-        f"there is no {built[0]} (nor debug). Install the binary (`cargo install --path .` in rotorsweep's "
-        "source tree, or `cargo build --release` there), set ROTORSWEEP_BIN to it, or pass "
+        f"there is no {built[0]} (nor debug). Install the binary (`cargo install --path .` in "
+        "rotorsweep's source tree, or `cargo build --release` there), set ROTORSWEEP_BIN to it, "
+        "or pass "
         "--tables TABLES.json saved from `rotorsweep report FILE --format json`"
     )
 
@@ -103,7 +104,8 @@ def parse(text: str, where: str) -> dict:
     try:
         doc = json.loads(text)
     except json.JSONDecodeError as e:
-        raise PlotError(f"{where}: not the JSON of `rotorsweep report --format json`: {e}") from None
+        raise PlotError(f"{where}: not the JSON of `rotorsweep report --format json`: "
+                        f"{e}") from None
     if not isinstance(doc, dict) or not isinstance(doc.get("tables"), list):
         raise PlotError(f"{where}: not the JSON of `rotorsweep report --format json` (no "
                         "'tables' list)")
