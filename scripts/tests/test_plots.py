@@ -361,6 +361,12 @@ def test_error_classes_are_the_reports(solver_results: Path, tmp_path: Path) -> 
     (tmp_path / "none.json").write_text(json.dumps({"study": "x", "tables": []}))
     with pytest.raises(figures.PlotError, match=r"none\.json: no 'stability' table"):
         ReportTables(solver_results, tables=tmp_path / "none.json").error_classes()
+    # The tables of another file: a job without a class is an error, not a grey cell.
+    del table["rows"][0]
+    doctored.write_text(json.dumps(doc))
+    with pytest.raises(figures.PlotError, match=r"tables\.json: the stability table has no job"):
+        figures.render(solver_results, tmp_path / "other", tables=doctored)
+    assert not (tmp_path / "other").exists()
     (tmp_path / "bad.json").write_text("[1, 2]")
     with pytest.raises(figures.PlotError, match=r"bad\.json: not the JSON of `rotorsweep report"):
         ReportTables(solver_results, tables=tmp_path / "bad.json")

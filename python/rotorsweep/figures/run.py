@@ -132,7 +132,7 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
     if "solver.integrator" in varying and len(varying) > 1:
         figures.append(("stability.png", stability(
             summary, names([k for k in varying if k != "solver.integrator"]), study,
-            report.error_classes(), report.class_colours())))
+            report.error_classes(list(summary["job_id"])), report.class_colours())))
     figures.append(("campbell.png", campbell(study_systems(path, names(physics)), study)))
     figures += linear_figures(linear_groups(path))
     figures += ramp_figures(path, orders, sensor if chosen else None, names(varying), study,

@@ -4,7 +4,7 @@ computes them, with its ``number_text`` and ``error_class``; Python never comput
 
 In: the report's JSON document, ``{"study": str, "tables": [{"name", "title", "legend",
 "columns", "rows"}, …], "labels": {…}}``, from the file of ``--tables TABLES.json`` (what the
-report prints, saved; the Rust report passes its own) or, without it, from running the binary
+report prints, saved; the binary's ``report --format html`` is to pass its own) or, without it, from running the binary
 (:func:`find_binary`) as ``rotorsweep report FILE --format json`` (``… --compare SIMULATED.h5``
 for a comparison). The binary runs once, the first time a figure needs one of these values: a
 ``rotorsweep linear -o`` file, or a study whose figures write no number of the report, needs
@@ -199,8 +199,9 @@ class ReportTables:
             return _legacy.TEXTS[field]
         return _pairs(doc["labels"], field, where)
 
-    def error_classes(self) -> pd.Series:
-        """The error class of each job (index job_id) from the report's ``stability`` table."""
+    def error_classes(self, jobs: list[str] | None = None) -> pd.Series:
+        """The error class of each job (index job_id) from the report's ``stability`` table;
+        :class:`PlotError` when it lacks one of ``jobs`` (the tables of another file)."""
         doc, where = self.document()
         table = next((t for t in doc["tables"]
                       if isinstance(t, dict) and t.get("name") == "stability"), None)
@@ -209,7 +210,12 @@ class ReportTables:
             raise PlotError(f"{where}: no 'stability' table with the columns job_id and "
                             "error_class (the JSON of `rotorsweep report FILE --format json`)")
         i, c = columns.index("job_id"), columns.index("error_class")
-        return pd.Series({row[i]: row[c] for row in table["rows"]}, name="error_class")
+        classes = pd.Series({row[i]: row[c] for row in table["rows"]}, name="error_class")
+        missing = [j for j in jobs or [] if j not in classes.index]
+        if missing:
+            raise PlotError(f"{where}: the stability table has no job {missing[0]} (the tables "
+                            f"of another results file than {self._results}?)")
+        return classes
 
     def class_colours(self) -> dict[str, str]:
         """Each error class's fill colour, from the best class to the worst."""
