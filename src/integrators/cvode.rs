@@ -104,11 +104,13 @@ unsafe extern "C" fn rhs(
     ydot: sun::N_Vector,
     data: *mut c_void,
 ) -> c_int {
-    // SAFETY: `data` is the `Rhs` that `run` registered and keeps alive; the vectors have 2n
-    // entries (CVODE's own, created with the length of y0).
+    // SAFETY: `data` is the `Rhs` that `run` registered and keeps alive.
     let r = unsafe { &mut *(data as *mut Rhs) };
     let n = r.n;
+    // SAFETY: the vectors have 2n entries (CVODE's own, created with the length of y0); `y` is
+    // only read and `ydot` only written for this call.
     let y = unsafe { std::slice::from_raw_parts(sun::N_VGetArrayPointer(y), 2 * n) };
+    // SAFETY: as for `y`; `ydot` is a different vector, so the slices do not overlap.
     let out = unsafe { std::slice::from_raw_parts_mut(sun::N_VGetArrayPointer(ydot), 2 * n) };
     if !r.load(y) {
         return 1;
@@ -135,10 +137,13 @@ unsafe extern "C" fn jacobian(
     _tmp2: sun::N_Vector,
     _tmp3: sun::N_Vector,
 ) -> c_int {
-    // SAFETY: as in `rhs`; `jac` is the 2n × 2n dense matrix given to CVodeSetLinearSolver.
+    // SAFETY: as in `rhs`: `data` is the `Rhs` that `run` registered and keeps alive.
     let r = unsafe { &mut *(data as *mut Rhs) };
     let n = r.n;
+    // SAFETY: as in `rhs`: `y` is CVODE's vector of 2n entries, only read here.
     let y = unsafe { std::slice::from_raw_parts(sun::N_VGetArrayPointer(y), 2 * n) };
+    // SAFETY: `jac` is the 2n × 2n dense matrix given to CVodeSetLinearSolver (4n² entries,
+    // column-major), apart from `y`.
     let j = unsafe { std::slice::from_raw_parts_mut(sun::SUNDenseMatrix_Data(jac), 4 * n * n) };
     if !r.load(y) {
         return 1;
@@ -176,13 +181,13 @@ unsafe extern "C" fn keep_message(
     data: *mut c_void,
     _ctx: sun::SUNContext,
 ) {
-    // SAFETY: `data` is the `String` that `Sundials` owns; the strings are SUNDIALS' own,
-    // NUL-terminated, valid for this call.
+    // SAFETY: `data` is the `String` that `Sundials` owns.
     let out = unsafe { &mut *(data as *mut String) };
     let text = |p: *const c_char| {
         if p.is_null() {
             String::new()
         } else {
+            // SAFETY: a non-null string of SUNDIALS' own, NUL-terminated, valid for this call.
             unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
         }
     };

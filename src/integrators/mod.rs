@@ -289,19 +289,10 @@ pub struct StepView<'a> {
 /// Called after every accepted step; an `Err(cause)` ends the run `diverged`.
 pub type Observer<'a> = dyn FnMut(&StepView) -> Result<(), String> + 'a;
 
-/// Thread CPU time [s] (CLOCK_THREAD_CPUTIME_ID).
+/// Thread CPU time [s]: the calling thread's CPU clock, which `cpu_time::ThreadTime` reads on
+/// Linux as CLOCK_THREAD_CPUTIME_ID; 0 when the clock cannot be read.
 pub fn thread_cpu_time() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: clock_gettime writes into the timespec we own; the clock id is a constant.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    if rc == 0 {
-        ts.tv_sec as f64 + 1e-9 * ts.tv_nsec as f64
-    } else {
-        0.0
-    }
+    cpu_time::ThreadTime::try_now().map_or(0.0, |t| t.as_duration().as_secs_f64())
 }
 
 /// Budget and failure checks shared by the integrators.
