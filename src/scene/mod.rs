@@ -20,10 +20,10 @@ pub mod keys;
 mod keys_docs;
 pub mod locate;
 pub mod position;
-mod run;
+mod settings;
 pub mod source;
 
-pub use run::{DampingBands, Outputs, SimulationSettings, SpeedProfile, MAX_SPEED_HZ};
+pub use settings::{DampingBands, Outputs, SimulationSettings, SpeedProfile, MAX_SPEED_HZ};
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -603,8 +603,8 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
     }
     let modes =
         ModeSelection::parse(&raw.reduction.modes).map_err(|r| c.err("reduction.modes", r))?;
-    let speed = run::speed(c, &raw.speed)?;
-    let simulation = run::simulation(c, &raw.simulation)?;
+    let speed = settings::speed(c, &raw.speed)?;
+    let simulation = settings::simulation(c, &raw.simulation)?;
     let scene = Scene {
         name: raw.name.clone().unwrap_or_else(|| {
             c.file
@@ -622,11 +622,11 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         sensors,
         supports,
         drive,
-        outputs: run::outputs(&raw.outputs, &speed, &simulation),
+        outputs: settings::outputs(&raw.outputs, &speed, &simulation),
         speed,
-        damping: run::damping(c, &raw.damping)?,
+        damping: settings::damping(c, &raw.damping)?,
         simulation,
-        solver: run::solver(c, &raw.solver)?,
+        solver: settings::solver(c, &raw.solver)?,
     };
     record_size(c, &scene)?;
     Ok(scene)
