@@ -22,8 +22,10 @@ pub mod locate;
 pub mod position;
 mod settings;
 pub mod source;
+mod speed;
 
-pub use settings::{DampingBands, Outputs, SimulationSettings, SpeedProfile, MAX_SPEED_HZ};
+pub use settings::{DampingBands, Outputs, SimulationSettings};
+pub use speed::{SpeedProfile, MAX_SPEED_HZ};
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -603,7 +605,7 @@ fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
     }
     let modes =
         ModeSelection::parse(&raw.reduction.modes).map_err(|r| c.err("reduction.modes", r))?;
-    let speed = settings::speed(c, &raw.speed)?;
+    let speed = speed::profile(c, &raw.speed)?;
     let simulation = settings::simulation(c, &raw.simulation)?;
     let scene = Scene {
         name: raw.name.clone().unwrap_or_else(|| {
