@@ -8,9 +8,9 @@
 //! Method: each value is checked where it is read; an absent `outputs.speed` records the speed
 //! when it changes while recording ([`SpeedProfile::constant_over`]).
 
+use super::check::Check;
 use super::file::{DampingFile, OutputsFile, SimulationFile, SolverFile};
 use super::speed::SpeedProfile;
-use super::Check;
 use crate::error::InputError;
 use crate::integrators::{IntegratorKind, SolverSettings};
 

@@ -16,8 +16,8 @@
 
 use std::f64::consts::PI;
 
+use super::check::Check;
 use super::file::SpeedFile;
-use super::Check;
 use crate::error::InputError;
 
 /// Prescribed spin speed Ω(t) [rad/s] and its integral, the roll angle θ(t) [rad].
