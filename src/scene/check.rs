@@ -1,0 +1,87 @@
+//! The validation context of one scene: every value is checked where it is read, and an error
+//! names the key and the line of the file that wrote it.
+//!
+//! In: the scene's [`Source`] (its files and where each key is written) and the keys set on the
+//! command line (`--set`). Out: the checked value, unchanged (units are converted by the
+//! caller), or an [`InputError`] at the key: in the file and line that wrote it, or at
+//! `<command line --set>` when an override set it. Method: range checks (positive, zero or
+//! positive, finite, within bounds, a count) and axial positions ([`Position`]) resolved on a
+//! [`Frame`] in mm.
+
+use std::path::Path;
+
+use super::position::{Frame, Position};
+use super::source::Source;
+use crate::error::InputError;
+
+/// Checks values and reports errors at their key and line, in the file that wrote the key.
+pub(super) struct Check<'a> {
+    pub file: &'a Path,
+    pub source: &'a Source,
+    pub overridden: &'a [String],
+}
+
+impl Check<'_> {
+    pub(super) fn err(&self, key: &str, reason: impl Into<String>) -> InputError {
+        if self.overridden.iter().any(|k| key.starts_with(k.as_str())) {
+            return InputError::new(Path::new("<command line --set>"), reason).with_key(key);
+        }
+        self.source.err(key, reason)
+    }
+
+    /// An axial position (`position.rs`) in mm on the scene's axis.
+    pub(super) fn position(
+        &self,
+        key: &str,
+        p: &Position,
+        frame: &Frame,
+    ) -> Result<f64, InputError> {
+        p.mm(frame).map_err(|r| self.err(key, r))
+    }
+
+    pub(super) fn positive(&self, key: &str, v: f64) -> Result<f64, InputError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be a positive number, got {v}")))
+        }
+    }
+
+    pub(super) fn non_negative(&self, key: &str, v: f64) -> Result<f64, InputError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be zero or positive, got {v}")))
+        }
+    }
+
+    pub(super) fn finite(&self, key: &str, v: f64) -> Result<f64, InputError> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be a finite number, got {v}")))
+        }
+    }
+
+    pub(super) fn range(&self, key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, InputError> {
+        if v.is_finite() && v >= lo && v <= hi {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must lie in [{lo}, {hi}], got {v}")))
+        }
+    }
+
+    pub(super) fn count(
+        &self,
+        key: &str,
+        v: usize,
+        lo: usize,
+        hi: usize,
+    ) -> Result<usize, InputError> {
+        if (lo..=hi).contains(&v) {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be an integer in [{lo}, {hi}], got {v}")))
+        }
+    }
+}

@@ -1,0 +1,22 @@
+//! What a geometry builder hands to the scene: the rotor spec and what the rest of the scene
+//! refers to in it.
+//!
+//! In: a builder's results (SI). Out: the [`Geometry`]; no method, plain data.
+
+use std::sync::Arc;
+
+use crate::rotor::fe::RotorSpec;
+use crate::rotor::wall::ThicknessMap;
+
+/// The rotor built from `[roll]` or `[rotor]`.
+pub(crate) struct Geometry {
+    /// The rotor to mesh, with its named points.
+    pub rotor: RotorSpec,
+    /// Thickness map of the shell, if the rotor is a roll with a map.
+    pub thickness_map: Option<Arc<ThicknessMap>>,
+    /// Names of the sensor nodes.
+    pub sensors: Vec<String>,
+    /// The Craig–Bampton boundary when `reduction.boundary` names none (the roll's journals);
+    /// empty: the supports' nodes.
+    pub boundary: Vec<String>,
+}

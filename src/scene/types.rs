@@ -1,0 +1,260 @@
+//! The validated scene: what the scene stage hands to the rest of the pipeline.
+//!
+//! In: nothing read here; the builders ([`super::build`], [`super::supports`]) fill these types.
+//! Out: the [`Scene`] (the rotor spec, its supports, drive, reduction, speed, damping, run
+//! window, solver, outputs) and its support models in SI units: m, kg, N, s, rad; stiffness
+//! [N/m], damping [Ns/m], the contact law's k [N/m^e]. Method: plain data, with the few
+//! evaluations the dynamics needs (a speed-dependent spring between its points, a contact's
+//! static penetration and tangent stiffness).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use super::settings::{DampingBands, Outputs, SimulationSettings};
+use super::speed::SpeedProfile;
+use crate::integrators::SolverSettings;
+use crate::rotor::fe::RotorSpec;
+use crate::rotor::reduction::ModeSelection;
+use crate::rotor::wall::ThicknessMap;
+
+/// A validated scene in SI units.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// Scene name.
+    pub name: String,
+    /// Free text from the scene file.
+    pub description: String,
+    /// The file it came from.
+    pub source: PathBuf,
+    /// The files it extends (`extends`), nearest first.
+    pub bases: Vec<PathBuf>,
+    /// The rotor to mesh.
+    pub rotor: RotorSpec,
+    /// Thickness map of the shell, if the rotor is a roll with a map.
+    pub thickness_map: Option<Arc<ThicknessMap>>,
+    /// Names of the Craig–Bampton boundary (journal) nodes.
+    pub boundary: Vec<String>,
+    /// Modes to keep.
+    pub modes: ModeSelection,
+    /// Sensor planes: (name, named node).
+    pub sensors: Vec<String>,
+    /// Supports.
+    pub supports: Vec<Support>,
+    /// Axial drive spring.
+    pub drive: Option<Drive>,
+    /// Spin speed profile.
+    pub speed: SpeedProfile,
+    /// Modal damping by frequency band.
+    pub damping: DampingBands,
+    /// Run window and sampling.
+    pub simulation: SimulationSettings,
+    /// Integrator settings.
+    pub solver: SolverSettings,
+    /// What a run records.
+    pub outputs: Outputs,
+}
+
+/// A support at a named node.
+#[derive(Debug, Clone)]
+pub struct Support {
+    /// Named node of the rotor.
+    pub node: String,
+    /// The support's model.
+    pub model: SupportModel,
+}
+
+impl Support {
+    /// Whether the support has its own moving mass (a stand, or a linear support's mass): two
+    /// more coordinates (x, y) in the dynamic system.
+    pub fn has_mass(&self) -> bool {
+        match &self.model {
+            SupportModel::Rollers(_) => true,
+            SupportModel::Linear(l) => l.mass.is_some(),
+        }
+    }
+}
+
+/// Support models.
+#[derive(Debug, Clone)]
+pub enum SupportModel {
+    /// Linear spring–dampers per direction, optionally through a support mass.
+    Linear(LinearSupport),
+    /// The journal on two rollers on a stand (contact, roundness).
+    Rollers(RollerSupport),
+}
+
+/// Stiffness and damping in the inertial (x horizontal, y vertical) plane [N/m, Ns/m]: the
+/// force on the rotor is −K w − C ẇ with K = [[kx, kxy], [kyx, ky]] and C likewise.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SpringDamper {
+    /// Horizontal stiffness.
+    pub kx: f64,
+    /// Vertical stiffness.
+    pub ky: f64,
+    /// Cross stiffness, x force per y displacement.
+    pub kxy: f64,
+    /// Cross stiffness, y force per x displacement.
+    pub kyx: f64,
+    /// Horizontal damping.
+    pub cx: f64,
+    /// Vertical damping.
+    pub cy: f64,
+    /// Cross damping, x force per y velocity.
+    pub cxy: f64,
+    /// Cross damping, y force per x velocity.
+    pub cyx: f64,
+}
+
+impl SpringDamper {
+    /// The stiffness matrix K.
+    pub fn k_matrix(&self) -> nalgebra::Matrix2<f64> {
+        nalgebra::Matrix2::new(self.kx, self.kxy, self.kyx, self.ky)
+    }
+
+    /// The damping matrix C.
+    pub fn c_matrix(&self) -> nalgebra::Matrix2<f64> {
+        nalgebra::Matrix2::new(self.cx, self.cxy, self.cyx, self.cy)
+    }
+}
+
+/// A linear support: rotor node —(spring)— [support mass —(ground spring)—] ground.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinearSupport {
+    /// Between the rotor node and the support mass (or the ground).
+    pub spring: SpringDamper,
+    /// Speed-dependent values: (Ω [rad/s], spring), ascending; linear between the points and
+    /// constant beyond them. Empty: `spring` at every speed.
+    pub by_speed: Vec<(f64, SpringDamper)>,
+    /// Optional support mass [kg] with its spring to the ground.
+    pub mass: Option<(f64, SpringDamper)>,
+}
+
+impl LinearSupport {
+    /// The spring at spin speed Ω [rad/s].
+    pub fn spring_at(&self, omega: f64) -> SpringDamper {
+        let t = &self.by_speed;
+        if t.is_empty() {
+            return self.spring;
+        }
+        if omega <= t[0].0 {
+            return t[0].1;
+        }
+        for w in t.windows(2) {
+            let ((w0, a), (w1, b)) = (w[0], w[1]);
+            if omega <= w1 {
+                let x = (omega - w0) / (w1 - w0);
+                let mix = |p: f64, q: f64| p + x * (q - p);
+                return SpringDamper {
+                    kx: mix(a.kx, b.kx),
+                    ky: mix(a.ky, b.ky),
+                    kxy: mix(a.kxy, b.kxy),
+                    kyx: mix(a.kyx, b.kyx),
+                    cx: mix(a.cx, b.cx),
+                    cy: mix(a.cy, b.cy),
+                    cxy: mix(a.cxy, b.cxy),
+                    cyx: mix(a.cyx, b.cyx),
+                };
+            }
+        }
+        t[t.len() - 1].1
+    }
+}
+
+/// A stand: rigid upper part on springs to the ground.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stand {
+    /// Mass of the moving upper part [kg].
+    pub mass: f64,
+    /// Its springs and dampers to the ground.
+    pub spring: SpringDamper,
+}
+
+/// The IMPACT contact law of `thesis-data.md` §3 in SI: F = k δ^e − step(δ; 0, d) c_max δ̇.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactLaw {
+    /// k [N/m^e].
+    pub k: f64,
+    /// Exponent e [-].
+    pub exponent: f64,
+    /// Full damping c_max [Ns/m].
+    pub c_max: f64,
+    /// Penetration at which the damping reaches c_max [m].
+    pub d: f64,
+}
+
+impl ContactLaw {
+    /// Penetration [m] that carries the force `f` [N] statically.
+    pub fn penetration(&self, f: f64) -> f64 {
+        (f.max(0.0) / self.k).powf(1.0 / self.exponent)
+    }
+
+    /// Tangent stiffness dF/dδ [N/m] at penetration δ.
+    pub fn tangent(&self, delta: f64) -> f64 {
+        if delta <= 0.0 {
+            0.0
+        } else {
+            self.exponent * self.k * delta.powf(self.exponent - 1.0)
+        }
+    }
+}
+
+/// One roundness harmonic H = c cos(k α + φ).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Harmonic {
+    /// Order k.
+    pub order: u32,
+    /// Amplitude c [m].
+    pub amplitude: f64,
+    /// Phase φ [rad].
+    pub phase: f64,
+}
+
+/// A support roller.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Roller {
+    /// Name (front, rear).
+    pub name: String,
+    /// Angle of the roller centre from straight below the journal, positive toward +x [rad].
+    pub angle: f64,
+    /// Diameter [m].
+    pub diameter: f64,
+    /// Roundness harmonics.
+    pub roundness: Vec<Harmonic>,
+}
+
+/// How roller roundness is driven.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RollerPhase {
+    /// H_r as a function of the roller's own angle (roll angle × R_j/R_r).
+    RollerAngle,
+    /// As the source did: H_r as a function of the roll angle, no phase.
+    RollAngle,
+}
+
+/// A journal on two rollers on a stand.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RollerSupport {
+    /// Journal diameter [m].
+    pub journal_diameter: f64,
+    /// Journal roundness H_j(α).
+    pub journal_roundness: Vec<Harmonic>,
+    /// The rollers.
+    pub rollers: Vec<Roller>,
+    /// Roller roundness drive.
+    pub roller_phase: RollerPhase,
+    /// Contact law.
+    pub contact: ContactLaw,
+    /// The stand.
+    pub stand: Stand,
+}
+
+/// The drive's axial spring on the rotor.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Drive {
+    /// Named node it acts on.
+    pub node: String,
+    /// Axial stiffness [N/m].
+    pub axial_stiffness: f64,
+    /// Axial damping [Ns/m].
+    pub axial_damping: f64,
+}
