@@ -47,7 +47,7 @@
 //! 1. **Harmonics:** H = Σ weight·shape(z)·cos(k(φ − phase − twist·z/L)), shape 1, sin(πz/L) or
 //!    z/L. Weights are relative: only their ratios matter. The thickest wall of harmonic k = 1 sits
 //!    at φ = phase + twist·z/L.
-//! 2. **Random field** (seeded SplitMix64 + Box–Muller, bit-reproducible): angular harmonics
+//! 2. **Random field** (seeded SplitMix64 ([`SplitMix64`]) + Box–Muller, bit-reproducible): angular harmonics
 //!    k = 0…6 (k = 0 is an axial change of the mean wall), coefficient standard deviation 1/2 for
 //!    k = 0 and 1/k above; each cos/sin coefficient is a function of z with unit variance and
 //!    Gaussian axial correlation exp(−Δz²/2ℓ²), ℓ = `correlation_length_m`, built from 16 random
@@ -70,6 +70,7 @@ use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
 use crate::error::InputError;
+use crate::numerics::rng::SplitMix64;
 
 /// Column names of the CSV header, in order.
 const HEADER: [&str; 3] = ["angle_deg", "z_mm", "thickness_mm"];
@@ -728,38 +729,6 @@ fn harmonic_field(harmonics: &[HarmonicSpec], grid: &Grid) -> Vec<f64> {
         .collect()
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a tiny seeded generator, ample for smooth fields (and
-/// the seeded cases of the input mutation test), the same stream on every machine and version.
-pub struct SplitMix64(u64);
-
-impl SplitMix64 {
-    /// The generator started at `seed`.
-    pub fn new(seed: u64) -> Self {
-        Self(seed)
-    }
-
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1), 53 random bits.
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Standard normal (Box–Muller, cosine branch).
-    fn normal(&mut self) -> f64 {
-        let u1 = 1.0 - self.uniform();
-        let u2 = self.uniform();
-        (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
-    }
-}
-
 /// A stationary unit-variance function of z with correlation exp(−Δz²/2ℓ²): random Fourier
 /// modes √(2/M)·Σ cos(κ_m z + ψ_m), κ_m ~ N(0, 1/ℓ²), ψ_m ~ U(0, 2π).
 struct AxialProcess {
@@ -785,7 +754,7 @@ impl AxialProcess {
 
 /// The random part on the grid (module doc, step 2).
 fn random_field(seed: u64, correlation_length_m: f64, grid: &Grid) -> Vec<f64> {
-    let mut rng = SplitMix64(seed);
+    let mut rng = SplitMix64::new(seed);
     let n_angles = grid.phi_rad.len() as u64;
     // Every order's numbers are drawn, resolved or not, so the field does not depend on the grid.
     let terms: Vec<(u32, f64, AxialProcess, AxialProcess)> = (0..=RANDOM_MAX_ORDER)
@@ -1502,6 +1471,44 @@ mod tests {
             .fold(0.0, f64::max);
         // A different random field moves some point by more than 0.01 mm (std 0.30 mm, share 0.3).
         assert!(largest_change > 1e-5, "{largest_change}");
+    }
+
+    #[test]
+    fn seeded_maps_are_bit_identical_to_their_recorded_fingerprints() {
+        use sha2::{Digest, Sha256};
+        // SHA-256 of every station's z, angles and thicknesses (f64 little-endian bits), recorded
+        // from the generator before the RNG moved to `numerics::rng`: the seeded maps must not
+        // change by a bit.
+        let cases = [
+            (
+                reference_roll_spec(),
+                "39c0ecf5a386b6909b48ad97615eafe3a395bdf6190eff6c80e20a2ef4b06f45",
+            ),
+            (
+                table_spec(7, 12, 5),
+                "db3dfda88153879dd45ec009a02fdf6bc33f2b6d97195c2b1c711f5062c0ce1b",
+            ),
+            (
+                SyntheticSpec {
+                    random_share: 1.0,
+                    ..table_spec(3, 72, 61)
+                },
+                "f5d173433b9d96144846288422e6a863651339135593e233b56ca5acab2c9fa5",
+            ),
+        ];
+        for (spec, expected) in cases {
+            let map = ThicknessMap::synthetic(&spec, REFERENCE_LENGTH_M);
+            let mut hash = Sha256::new();
+            for s in &map.stations {
+                hash.update(s.z_m.to_le_bytes());
+                for (phi, t) in s.phi_rad.iter().zip(&s.t_m) {
+                    hash.update(phi.to_le_bytes());
+                    hash.update(t.to_le_bytes());
+                }
+            }
+            let hex: String = hash.finalize().iter().map(|b| format!("{b:02x}")).collect();
+            assert_eq!(hex, expected, "seed {}", spec.seed);
+        }
     }
 
     #[test]
