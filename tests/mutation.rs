@@ -26,7 +26,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use rotorsweep::rotor::wall::SplitMix64;
+use rotorsweep::numerics::rng::SplitMix64;
 
 /// Address-space limit of every case: the 4 GiB.
 const MEMORY_LIMIT_BYTES: u64 = 4 << 30;
