@@ -29,8 +29,8 @@ use std::path::Path;
 
 use rustfft::num_complex::Complex64;
 
-use super::orders::{records, OrderRow};
-use super::{Cell, Report, Table};
+use super::table::{Cell, Report, Table};
+use super::tables::{pick, records, OrderRow};
 use crate::error::InputError;
 use crate::signal;
 
@@ -98,7 +98,7 @@ fn resonance_table(meas: &[OrderRow], sim: &[OrderRow], legend: String) -> Optio
         };
         let s = simulated
             .get(&(String::new(), sensor.clone(), dir.clone(), order))
-            .and_then(|c| super::pick(signal::curve_peaks(c.clone()), Some(m.speed_hz)));
+            .and_then(|c| pick(signal::curve_peaks(c.clone()), Some(m.speed_hz)));
         let (ss, sa) = s.map_or((f64::NAN, f64::NAN), |p| (p.speed_hz, p.amplitude));
         rows.push(vec![
             Cell::Text(job),

@@ -4,21 +4,21 @@
 use hdf5::types::VarLenUnicode;
 use hdf5::File;
 
-use super::{Cell, Table};
+use crate::report::table::{Cell, Table};
 
 /// A row of `/analysis/orders` (HDF5 converts records member by member by name).
 #[derive(hdf5::H5Type, Clone)]
 #[repr(C)]
-pub(super) struct OrderRow {
-    pub(super) job_id: VarLenUnicode,
-    pub(super) sensor: VarLenUnicode,
-    pub(super) direction: VarLenUnicode,
-    pub(super) order: f64,
-    pub(super) block: u64,
-    pub(super) time_s: f64,
-    pub(super) speed_hz: f64,
-    pub(super) amplitude_um: f64,
-    pub(super) phase_deg: f64,
+pub(crate) struct OrderRow {
+    pub(crate) job_id: VarLenUnicode,
+    pub(crate) sensor: VarLenUnicode,
+    pub(crate) direction: VarLenUnicode,
+    pub(crate) order: f64,
+    pub(crate) block: u64,
+    pub(crate) time_s: f64,
+    pub(crate) speed_hz: f64,
+    pub(crate) amplitude_um: f64,
+    pub(crate) phase_deg: f64,
 }
 
 /// A row of `/analysis/order_resonances`.
@@ -39,7 +39,7 @@ fn text(s: &VarLenUnicode) -> Cell {
 }
 
 /// The records of the table at `path`; `None` when the file has none.
-pub(super) fn records<T: hdf5::H5Type>(f: &File, path: &str) -> hdf5::Result<Option<Vec<T>>> {
+pub(crate) fn records<T: hdf5::H5Type>(f: &File, path: &str) -> hdf5::Result<Option<Vec<T>>> {
     let Ok(ds) = f.dataset(path) else {
         return Ok(None);
     };
@@ -50,7 +50,7 @@ pub(super) fn records<T: hdf5::H5Type>(f: &File, path: &str) -> hdf5::Result<Opt
 /// The order-tracking table: one row per job, order, block (speed), sensor and direction.
 /// Only for a file with a tracked job (one whose speed changes: more than one block); the
 /// constant-speed jobs' single rows, equal to the `lines`, then come with it.
-pub fn orders_table(f: &File) -> hdf5::Result<Option<Table>> {
+pub(crate) fn orders_table(f: &File) -> hdf5::Result<Option<Table>> {
     let Some(rows) = records::<OrderRow>(f, "analysis/orders")? else {
         return Ok(None);
     };
@@ -98,7 +98,7 @@ pub fn orders_table(f: &File) -> hdf5::Result<Option<Table>> {
 }
 
 /// The resonance speeds of each tracked job: the highest peaks of each order over speed.
-pub fn order_resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
+pub(crate) fn order_resonance_table(f: &File) -> hdf5::Result<Option<Table>> {
     let Some(rows) = records::<PeakRow>(f, "analysis/order_resonances")? else {
         return Ok(None);
     };

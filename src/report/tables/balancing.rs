@@ -15,12 +15,12 @@
 
 use std::path::Path;
 
-use super::{Cell, Table};
+use crate::report::table::{Cell, Table};
 use crate::signal::influence::PlaneLimits;
 use crate::study::balancing::{self, Correction};
 
 /// The two tables, or None when the file is not a balancing study.
-pub fn tables(path: &Path) -> Option<Vec<Table>> {
+pub(crate) fn balancing_tables(path: &Path) -> Option<Vec<Table>> {
     let b = balancing::balance(path, &PlaneLimits::default()).ok()?;
     let ideal = balancing::ideal(&b, None);
     let mass_rows = |method: &str, cs: &[Correction]| -> Vec<Vec<Cell>> {

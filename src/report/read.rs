@@ -1,0 +1,116 @@
+//! Reading a results file into a [`Report`]: which kind of file it is, its jobs, and every
+//! table it holds data for, in the report's order (`solver`, `resonances`, `trial_mass`,
+//! `balancing` and `balancing_residual`, `orders`, `order_resonances`, `stability`, `linear`).
+//!
+//! In: an assembled results file of `rotorsweep run` or `merge` (attribute `study_name`, group
+//! `jobs`; the stored study text gives the `[analysis]` baseline and the labelled axes), or of
+//! `rotorsweep linear -o` (a `linear` group without `study_name`; its study name is its
+//! systems' names). Out: the [`Report`] with a one-line overview (job count by status, the
+//! varying keys). Errors name the file: missing, not HDF5, not a results file, or unreadable.
+
+use std::path::Path;
+
+use hdf5::File;
+
+use super::jobs::{read_jobs, Job, INTEGRATOR_KEY};
+use super::table::{position_or_push, Report};
+use super::tables::{
+    balancing_tables, linear_table, order_resonance_table, orders_table, resonance_table,
+    solver_table, stability_table, trial_mass_table,
+};
+use crate::error::InputError;
+use crate::results::request::{analysis_of_text, StudyAnalysis};
+use crate::store;
+
+/// The overview line: the job count by status and the varying keys (of a `linear -o` file: that
+/// it has no jobs).
+fn overview(jobs: &[Job], varying: &[String], linear_only: bool) -> String {
+    let (mut names, mut counts): (Vec<&str>, Vec<usize>) = (Vec::new(), Vec::new());
+    for j in jobs {
+        let i = position_or_push(&mut names, &j.status);
+        counts.resize(names.len(), 0);
+        counts[i] += 1;
+    }
+    let statuses: Vec<String> = names
+        .iter()
+        .zip(&counts)
+        .map(|(s, n)| format!("{n} {s}"))
+        .collect();
+    if linear_only {
+        "linear analysis (`rotorsweep linear -o`), no jobs".to_string()
+    } else {
+        format!(
+            "{} job{} ({}); varying: {}",
+            jobs.len(),
+            if jobs.len() == 1 { "" } else { "s" },
+            statuses.join(", "),
+            if varying.is_empty() {
+                "nothing".to_string()
+            } else {
+                varying.join(", ")
+            }
+        )
+    }
+}
+
+/// Reads the tables of the results file at `path`. Errors name the file.
+pub fn read(path: &Path) -> Result<Report, InputError> {
+    std::fs::metadata(path).map_err(|e| InputError::new(path, e.to_string()))?;
+    let f =
+        File::open(path).map_err(|e| InputError::new(path, format!("not an HDF5 file ({e})")))?;
+    let not_results = || {
+        InputError::new(
+            path,
+            "not a study results file of `rotorsweep run` (no `study_name` attribute or no \
+             `jobs` group) nor a `rotorsweep linear -o` file (no `linear` group)",
+        )
+    };
+    let linear_only = store::read_str(&f, "study_name").is_err() && f.group("linear").is_ok();
+    let study = if linear_only {
+        let names = f.group("linear").and_then(|g| g.member_names());
+        format!(
+            "{} (rotorsweep linear)",
+            names.unwrap_or_default().join(", ")
+        )
+    } else {
+        store::read_str(&f, "study_name").map_err(|_| not_results())?
+    };
+    if f.group("jobs").is_err() {
+        return Err(not_results());
+    }
+    let text = store::read_str(&f, "study_text").unwrap_or_default();
+    let StudyAnalysis {
+        spec,
+        labelled: axes,
+        ..
+    } = analysis_of_text(&text).unwrap_or_default();
+    let label_key = spec.baseline.as_ref().and_then(|b| {
+        axes.iter()
+            .find(|a| a.labels.contains(b))
+            .map(|a| a.keys[0].as_str())
+    });
+    let varying = store::varying_keys(&f);
+    let failed = |e: hdf5::Error| InputError::new(path, format!("reading the results: {e}"));
+    let jobs = read_jobs(&f, &varying, &axes).map_err(failed)?;
+    let mut tables = Vec::new();
+    if !jobs.is_empty() {
+        tables.push(solver_table(&jobs, &varying));
+    }
+    tables.extend(resonance_table(&f).map_err(failed)?);
+    tables.extend(trial_mass_table(&f, label_key).map_err(failed)?);
+    if label_key.is_some_and(|k| k.ends_with(".masses")) {
+        tables.extend(balancing_tables(path).into_iter().flatten());
+    }
+    tables.extend(orders_table(&f).map_err(failed)?);
+    tables.extend(order_resonance_table(&f).map_err(failed)?);
+    if varying.iter().any(|k| k == INTEGRATOR_KEY) && varying.len() >= 2 {
+        tables.push(stability_table(&jobs, &varying));
+    }
+    tables.extend(linear_table(&f).map_err(failed)?);
+    Ok(Report {
+        file: path.to_path_buf(),
+        study,
+        overview: overview(&jobs, &varying, linear_only),
+        tables,
+    })
+}

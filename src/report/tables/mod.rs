@@ -1,0 +1,20 @@
+//! The tables of `rotorsweep report`, one builder per table (two for the paired `orders` /
+//! `order_resonances` and `balancing` / `balancing_residual`): each reads what it needs from the
+//! results file (or takes the [`Job`](super::jobs::Job)s) and gives a
+//! [`Table`](super::Table), or none when the file holds nothing for it.
+
+mod balancing;
+mod linear;
+mod orders;
+mod resonances;
+mod solver;
+mod stability;
+mod trial_mass;
+
+pub(crate) use balancing::balancing_tables;
+pub(crate) use linear::linear_table;
+pub(crate) use orders::{order_resonance_table, orders_table, records, OrderRow};
+pub(crate) use resonances::{pick, resonance_table};
+pub(crate) use solver::solver_table;
+pub(crate) use stability::stability_table;
+pub(crate) use trial_mass::trial_mass_table;
