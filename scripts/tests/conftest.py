@@ -1,5 +1,6 @@
-"""Puts scripts/ on sys.path so the tests import plots.py; the results reader `rotorsweep` is the
-installed package (scripts/python-test installs python/ into the .venv)."""
+"""Puts scripts/ on sys.path so the tests import its scripts (work_precision_ratio.py); the
+package `rotorsweep` (the results reader and its figures) is the installed one (scripts/python-test
+installs python/ into the .venv)."""
 
 import sys
 from pathlib import Path

@@ -1,0 +1,110 @@
+"""What every figure family shares: the error type, the canvas, the constants of the layout, the
+check of the input file and the jobs' setting text."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import h5py
+import numpy as np
+import pandas as pd
+
+from rotorsweep import PathLike
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+#: The channel drawn when none is asked for (``--channel``).
+DEFAULT_CHANNEL = "centre/vertical"
+#: Resolution of the PNG files [dots per inch].
+DPI = 110
+#: Directions of the runout channels, in panel order.
+DIRECTIONS = ("vertical", "horizontal")
+#: Decades of amplitude below the map's maximum that the colour scales of the maps span.
+MAP_DECADES = 4
+#: Statuses of a run that reached its end time (its records are complete).
+COMPLETED = ("ok", "untrusted")
+#: Most sensors drawn in the Bode, polar and order-Bode figures (one column or polar axes each).
+MAX_SENSORS = 4
+
+#: The text of each number a figure writes (value → text, :class:`~.tables.NumberTexts`).
+Numbers = Mapping[float, str]
+
+
+class PlotError(Exception):
+    """The file is not a results file the figures read, a requested channel is not in it, or the
+    report's tables (``--tables``, or the binary that prints them) are missing or unfit."""
+
+
+def figure(**kw: object) -> "Figure":
+    """A figure with constrained layout on an Agg canvas of its own (matplotlib's global backend
+    is left alone). matplotlib is imported here, at the first figure: this module, the error
+    type and :mod:`.tables` need none."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(layout="constrained", **kw)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def save(fig: "Figure", path: Path) -> Path:
+    """Writes ``fig`` as a PNG of :data:`DPI` to ``path``; returns ``path``."""
+    fig.savefig(path, dpi=DPI)
+    return path
+
+
+def check_results_file(path: PathLike) -> bool:
+    """Raises :class:`PlotError` naming ``path`` unless it is an HDF5 file written by
+    ``rotorsweep run`` or ``merge`` (tool attribute "rotorsweep" and a ``/summary`` table) or by
+    ``rotorsweep linear -o`` (a ``/linear`` group); True for a study results file."""
+    if not Path(path).is_file():
+        raise PlotError(f"{path}: no such file")
+    try:
+        with h5py.File(path, "r") as f:
+            tool = f.attrs.get("tool")
+            has_summary = "summary" in f
+            has_linear = "linear" in f
+    except OSError as e:
+        raise PlotError(f"{path}: not an HDF5 file ({e})") from None
+    if tool != "rotorsweep" or not (has_summary or has_linear):
+        raise PlotError(
+            f"{path}: not a rotorsweep study results file (no /summary table; "
+            "`rotorsweep run STUDY -o OUT.h5` writes one) nor a `rotorsweep linear -o` file "
+            "(no /linear group)"
+        )
+    return has_summary
+
+
+def settings(summary: pd.DataFrame, labels: pd.DataFrame, keys: list[str],
+             numbers: Numbers) -> pd.Series:
+    """A short text per job (index job_id, summary order) naming its values of the varying
+    ``keys``: the label of each labelled axis among them (``labels`` as
+    :func:`rotorsweep.job_labels` returns it), then ``key=value`` for every key that no shown
+    label determines (a key is determined by a label when all jobs with that label share its
+    value, as the other keys of a zipped axis do); a number's text is ``numbers[value]`` (the
+    report's, :mod:`.tables`). "" for every job when nothing is left."""
+    df = summary.set_index("job_id")
+    shown = [k for k in labels.columns if k in keys]
+    parts = [labels.loc[df.index, k].fillna("").astype(str) for k in shown]
+    by_label = [df.groupby(p.to_numpy()) for p in parts]
+
+    def text(value: object) -> str:
+        return numbers[value] if isinstance(value, float) else str(value)
+
+    for k in keys:
+        if not any(g[k].nunique(dropna=False).max() <= 1 for g in by_label):
+            parts.append(k + "=" + df[k].map(text))
+    if not parts:
+        return pd.Series("", index=df.index)
+    return pd.concat(parts, axis=1).agg(lambda row: ", ".join(p for p in row if p), axis=1)
+
+
+def unwrap_deg(phase: np.ndarray) -> np.ndarray:
+    """Unwrapped phase [°], NaN kept in place."""
+    out = np.full(phase.shape, np.nan)
+    ok = np.isfinite(phase)
+    out[ok] = np.degrees(np.unwrap(np.radians(phase[ok])))
+    return out
