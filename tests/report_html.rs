@@ -369,3 +369,53 @@ fn html_report_is_self_contained_and_follows_the_output_rules() {
     }
     std::fs::remove_dir_all(d).unwrap();
 }
+
+/// Without a Python that has the figures package the page is still written, with its tables and
+/// one line saying how to get the figures (it never fails for want of Python); a figure process
+/// past its time limit is stopped, the report fails, and nothing is left in TMPDIR.
+#[test]
+fn html_report_without_python_or_past_the_time_limit() {
+    let d = scratch_dir("report-html-no-python");
+    let h5 = d.join("run.h5");
+    let scene = repo().join("studies/scenes/timing-case.toml");
+    ok(&rotorsweep(&[
+        "simulate",
+        scene.to_str().unwrap(),
+        "--set",
+        "simulation.t_end_s=0.2",
+        "-o",
+        h5.to_str().unwrap(),
+    ]));
+    let tmp = d.join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let page = d.join("page.html");
+    let report = |python: &Path, limit: &str| {
+        Command::new(env!("CARGO_BIN_EXE_rotorsweep"))
+            .args(["report", h5.to_str().unwrap(), "--format", "html", "-o"])
+            .arg(&page)
+            .arg("--overwrite")
+            .env("TMPDIR", &tmp)
+            .env("ROTORSWEEP_PYTHON", python)
+            .env("ROTORSWEEP_FIGURES_TIMEOUT_S", limit)
+            .output()
+            .expect("run rotorsweep")
+    };
+    let out = report(&d.join("no-such-python"), "600");
+    ok(&out);
+    let hint = "pip install \"./python[figures]\"";
+    assert!(String::from_utf8_lossy(&out.stderr).contains(hint));
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert!(html.contains("Figures: none drawn"), "the page says why");
+    assert!(
+        html.contains("<section id=\"solver\">"),
+        "the page has its tables"
+    );
+    assert!(!html.contains("data:image/png"));
+    if let Some(python) = figure_python() {
+        let out = report(&python, "0.001");
+        assert_eq!(out.status.code(), Some(1));
+        assert!(String::from_utf8_lossy(&out.stderr).contains("took longer than 0.001 s"));
+    }
+    let left: Vec<_> = std::fs::read_dir(&tmp).unwrap().collect();
+    assert!(left.is_empty(), "left in TMPDIR: {left:?}");
+}

@@ -334,7 +334,7 @@ def test_error_classes_are_the_reports(solver_results: Path, tmp_path: Path) -> 
     """The stability matrix is coloured by the error_class column of the report's own stability
     table (the Rust error_class, computed once): the figure has no classes of its own. A
     tables file whose classes say otherwise is what the figure shows."""
-    doc = report_json(solver_results)
+    doc = report_json(solver_results, "--labels")
     (table,) = [t for t in doc["tables"] if t["name"] == "stability"]
     col = {c: i for i, c in enumerate(table["columns"])}
     expected = {row[col["job_id"]]: row[col["error_class"]] for row in table["rows"]}
@@ -385,23 +385,11 @@ def roller_sim(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def test_the_report_prints_labels(solver_results: Path, roller_sim: Path) -> None:
-    """The report's JSON carries the text of the numbers the figures write (labels.numbers,
-    labels.roller_ratios) and the error classes' colours (labels.error_classes), as
-    rotorsweep.figures.tables describes them. Until the binary prints them (the Rust side of
-    issue 19 item 4) this is an expected failure and the figures use figures/_legacy.py, which
-    must agree with the Rust number_text; once it does, _legacy.py must go."""
-    doc = report_json(solver_results)
-    if "labels" not in doc:
-        from rotorsweep.figures import _legacy
-
-        assert [_legacy.number_text(x) for x in (1e-4, 16.4, 10.0, 2.5e-5, 1e7, 0.005)] == [
-            "1e-4", "16.4", "10", "2.5e-5", "1e7", "0.005"
-        ]
-        pytest.xfail("the binary prints no `labels` yet: the figures format numbers with "
-                     "rotorsweep/figures/_legacy.py meanwhile")
-    legacy = Path(figures.__file__).parent / "_legacy.py"
-    assert not legacy.exists(), ("the binary prints labels: delete python/rotorsweep/figures/"
-                                 "_legacy.py and its two imports in tables.py")
+    """`report --format json --labels` carries the text of the numbers the figures write
+    (labels.numbers, labels.roller_ratios) and the error classes' colours
+    (labels.error_classes), as rotorsweep.figures.tables describes them: the Rust number_text
+    and error_class are the one implementation."""
+    doc = report_json(solver_results, "--labels")
     numbers = {v: t for v, t in doc["labels"]["numbers"]}
     # Every job's speed.hz (a varying key here) and the sweeps' orders, as number_text writes
     # them.
@@ -411,7 +399,7 @@ def test_the_report_prints_labels(solver_results: Path, roller_sim: Path) -> Non
     assert [c for c, _ in classes] == ["< 1 µm", "1–10 µm", "10–100 µm", "≥ 100 µm",
                                        "no reference", "untrusted", "diverged", "budget"]
     assert all(re.fullmatch("#[0-9a-f]{6}", colour) for _, colour in classes), classes
-    ratios = {v: t for v, t in report_json(roller_sim)["labels"]["roller_ratios"]}
+    ratios = {v: t for v, t in report_json(roller_sim, "--labels")["labels"]["roller_ratios"]}
     stored = rp.job_attrs(roller_sim).filter(regex="^roller_ratio:").iloc[0]
     assert {ratios[v] for v in stored} == {"0.92", "1"}, ratios
 
@@ -471,7 +459,7 @@ def test_without_a_binary_tables_file_or_error(solver_results: Path, linear_resu
     assert "--tables" in p.stderr and "ROTORSWEEP_BIN" in p.stderr, p.stderr
     assert not (tmp_path / "none").exists()
     # The tables as the binary prints them, saved: the same figures as the binary's run.
-    (tmp_path / "tables.json").write_text(json.dumps(report_json(solver_results)))
+    (tmp_path / "tables.json").write_text(json.dumps(report_json(solver_results, "--labels")))
     p = figures_cli(solver_results, "-o", tmp_path / "t", "--tables", tmp_path / "tables.json")
     assert p.returncode == 0, p.stderr
     names = [*SWEEP_PLOTS, "work_precision.png", "timing.png", "stability.png", "campbell.png"]

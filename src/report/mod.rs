@@ -47,7 +47,9 @@
 
 mod classes;
 mod compare;
+pub mod figures;
 mod jobs;
+mod labels;
 mod read;
 mod render;
 mod table;
@@ -55,6 +57,7 @@ mod tables;
 
 pub use classes::error_class;
 pub use compare::compare;
+pub use labels::{labels, Labels};
 pub use read::read;
 pub use render::{Figure, Format, HTML_MARKER};
 pub use table::{Cell, Grid, Report, Table};

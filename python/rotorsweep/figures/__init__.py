@@ -97,13 +97,12 @@ an Agg canvas of its own; matplotlib's global backend is left alone.
 and the text of a number in a label (``key=value`` of a job's setting, an order "0.92×", a roller
 ratio, a balancing speed) are written as ``rotorsweep report`` writes them, by reading them from
 its JSON (:mod:`.tables` says exactly which fields): from ``--tables TABLES.json`` when given
-(that JSON saved; the binary's ``report --format html`` is to pass its own), else by running
-``rotorsweep report FILE --format json`` once, when a figure first needs a value
+(that JSON saved; the binary's ``report --format html`` passes its own), else by running
+``rotorsweep report FILE --format json --labels`` once, when a figure first needs a value
 (``$ROTORSWEEP_BIN``, else ``rotorsweep`` on PATH, else the checkout's
 ``target/release/rotorsweep`` or ``target/debug/rotorsweep``; an error saying what to install
 when there is none). So the Rust ``number_text`` and ``error_class`` stay the one
-implementation. (Until the binary prints the JSON's ``labels``, :mod:`._legacy` stands in for
-them.)
+implementation.
 """
 
 from __future__ import annotations

@@ -4,7 +4,10 @@ line (:func:`main`, ``python -m rotorsweep.figures``; the package doc describes 
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
 import sys
+import threading
 from pathlib import Path
 
 import pandas as pd
@@ -142,6 +145,21 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
     return _write(figures, outdir)
 
 
+def _end_with_parent(outdir: Path) -> None:
+    """Ends this process, removing ``outdir``, when standard input reaches its end: the parent
+    that holds it open has ended (``--until-stdin-closes``)."""
+
+    def watch() -> None:
+        # os.read on the descriptor, not sys.stdin: a daemon thread blocked in a buffered read
+        # would hold its lock at interpreter shutdown.
+        while os.read(0, 65536):
+            pass
+        shutil.rmtree(outdir, ignore_errors=True)
+        os._exit(3)
+
+    threading.Thread(target=watch, daemon=True).start()
+
+
 def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     """The command line (the package doc): prints each written PNG's path on a line of its own,
     in the order written; exit code 0, 1 on a :class:`PlotError` (its message on standard error
@@ -186,13 +204,23 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         "--tables",
         type=Path,
         metavar="TABLES.json",
-        help="the output of `rotorsweep report RESULTS --format json` (with --compare: of "
-        "`report RESULTS --compare SIMULATED.h5 --format json`): the error classes and number "
+        help="the output of `rotorsweep report RESULTS --format json --labels` (with --compare: "
+        "of `report RESULTS --compare SIMULATED.h5 --format json --labels`): the error classes "
+        "and number "
         "text the figures write (default: run $ROTORSWEEP_BIN, else rotorsweep on PATH, else "
         "this source tree's target/release (or debug) rotorsweep, when a figure needs them)",
     )
+    p.add_argument(
+        "--until-stdin-closes",
+        action="store_true",
+        help="for a parent process (`rotorsweep report --format html`) that holds our standard "
+        "input open while it waits: when it closes (the parent ended, or was killed), stop at "
+        "once and remove OUTDIR (the parent's scratch folder, with all in it)",
+    )
     a = p.parse_args(argv)
     outdir = a.outdir or a.results.with_name(a.results.stem + "-plots")
+    if a.until_stdin_closes:
+        _end_with_parent(outdir)
     try:
         written = render(a.results, outdir, a.channel, a.balance, a.compare, a.tables)
     except PlotError as e:

@@ -3,10 +3,11 @@ number a label writes, as ``rotorsweep report FILE --format json`` prints them (
 computes them, with its ``number_text`` and ``error_class``; Python never computes them again).
 
 In: the report's JSON document, ``{"study": str, "tables": [{"name", "title", "legend",
-"columns", "rows"}, …], "labels": {…}}``, from the file of ``--tables TABLES.json`` (what the
-report prints, saved; the binary's ``report --format html`` is to pass its own) or, without it, from running the binary
-(:func:`find_binary`) as ``rotorsweep report FILE --format json`` (``… --compare SIMULATED.h5``
-for a comparison). The binary runs once, the first time a figure needs one of these values: a
+"columns", "rows"}, …], "labels": {…}}``, from the file of ``--tables TABLES.json`` (what
+``rotorsweep report FILE --format json --labels`` prints, saved; the binary's ``report
+--format html`` passes its own) or, without it, from running the binary (:func:`find_binary`)
+as ``rotorsweep report FILE --format json --labels`` (``… --compare SIMULATED.h5`` for a
+comparison). The binary runs once, the first time a figure needs one of these values: a
 ``rotorsweep linear -o`` file, or a study whose figures write no number of the report, needs
 none.
 
@@ -83,9 +84,9 @@ def find_binary() -> str:
 
 
 def run_report(results: PathLike, compare: PathLike | None = None) -> tuple[dict, str]:
-    """The binary's ``report RESULTS --format json [--compare COMPARE]`` document and a name for
-    it in messages."""
-    cmd = [find_binary(), "report", str(results), "--format", "json"]
+    """The binary's ``report RESULTS --format json --labels [--compare COMPARE]`` document and a
+    name for it in messages."""
+    cmd = [find_binary(), "report", str(results), "--format", "json", "--labels"]
     if compare is not None:
         cmd += ["--compare", str(compare)]
     where = "`" + " ".join(cmd) + "`"
@@ -156,6 +157,16 @@ class NumberTexts(Mapping):
         return len(self._loaded())
 
 
+def _labels_of(doc: dict, where: str) -> dict:
+    """The document's ``labels`` object; :class:`PlotError` when it has none (the JSON of
+    ``report --format json`` without ``--labels``)."""
+    labels = doc.get("labels")
+    if labels is None:
+        raise PlotError(f"{where}: no 'labels' object (save the tables with `rotorsweep report "
+                        "RESULTS --format json --labels`)")
+    return labels
+
+
 def _pairs(labels: dict, field: str, where: str) -> dict[float, str]:
     """``labels[field]`` (``[[value, text], …]``) as a dict."""
     rows = labels.get(field)
@@ -193,11 +204,7 @@ class ReportTables:
 
     def _labels(self, field: str) -> Mapping[float, str]:
         doc, where = self.document()
-        if "labels" not in doc:
-            from . import _legacy  # until the binary prints labels (its module doc)
-
-            return _legacy.TEXTS[field]
-        return _pairs(doc["labels"], field, where)
+        return _pairs(_labels_of(doc, where), field, where)
 
     def error_classes(self, jobs: list[str] | None = None) -> pd.Series:
         """The error class of each job (index job_id) from the report's ``stability`` table;
@@ -220,11 +227,7 @@ class ReportTables:
     def class_colours(self) -> dict[str, str]:
         """Each error class's fill colour, from the best class to the worst."""
         doc, where = self.document()
-        if "labels" not in doc:
-            from . import _legacy  # until the binary prints labels (its module doc)
-
-            return dict(_legacy.CLASS_COLOURS)
-        rows = doc["labels"].get("error_classes")
+        rows = _labels_of(doc, where).get("error_classes")
         if not isinstance(rows, list) or not all(
                 isinstance(r, list) and len(r) == 2 and all(isinstance(x, str) for x in r)
                 for r in rows):

@@ -11,6 +11,7 @@ use serde::Serialize;
 use super::{csv, markdown};
 use crate::error::InputError;
 use crate::report::table::{Report, Table};
+use crate::report::Labels;
 
 /// Output formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -43,7 +44,27 @@ impl Report {
     /// The report as text: every table, or only the table `only` (an error naming the file and
     /// the tables it has when there is no such table).
     pub fn render(&self, format: Format, only: Option<&str>) -> Result<String, InputError> {
-        let tables: Vec<&Table> = match only {
+        let tables = self.pick(only)?;
+        let out = match format {
+            Format::Markdown => markdown::document(self, &tables, only.is_some()),
+            Format::Csv => csv::document(&tables, only.is_some()),
+            Format::Html => self.html(&tables, &[], None),
+            Format::Json => self.json(&tables, None)?,
+        };
+        Ok(out)
+    }
+
+    /// The JSON document of every table, or of the table `only`, with the figures' `labels`
+    /// (module `labels`) when given: what `report --format json --labels` prints.
+    pub fn render_json(&self, only: Option<&str>, labels: &Labels) -> Result<String, InputError> {
+        let tables = self.pick(only)?;
+        self.json(&tables, Some(labels))
+    }
+
+    /// The tables to render: every table, or only the table `only` (an error naming the file
+    /// and the tables it has when there is no such table).
+    fn pick(&self, only: Option<&str>) -> Result<Vec<&Table>, InputError> {
+        Ok(match only {
             None => self.tables.iter().collect(),
             Some(name) => vec![self.tables.iter().find(|t| t.name == name).ok_or_else(|| {
                 InputError::new(
@@ -54,27 +75,26 @@ impl Report {
                     ),
                 )
             })?],
+        })
+    }
+
+    /// The JSON document `{"study", "tables", ["labels"]}`, one line.
+    fn json(&self, tables: &[&Table], labels: Option<&Labels>) -> Result<String, InputError> {
+        #[derive(Serialize)]
+        struct Doc<'a> {
+            study: &'a str,
+            tables: &'a [&'a Table],
+            #[serde(skip_serializing_if = "Option::is_none")]
+            labels: Option<&'a Labels>,
+        }
+        let doc = Doc {
+            study: &self.study,
+            tables,
+            labels,
         };
-        let out = match format {
-            Format::Markdown => markdown::document(self, &tables, only.is_some()),
-            Format::Csv => csv::document(&tables, only.is_some()),
-            Format::Html => self.html(&tables, &[]),
-            Format::Json => {
-                #[derive(Serialize)]
-                struct Doc<'a> {
-                    study: &'a str,
-                    tables: Vec<&'a Table>,
-                }
-                let doc = Doc {
-                    study: &self.study,
-                    tables,
-                };
-                let mut out = serde_json::to_string(&doc)
-                    .map_err(|e| InputError::new(&self.file, e.to_string()))?;
-                out.push('\n');
-                out
-            }
-        };
+        let mut out =
+            serde_json::to_string(&doc).map_err(|e| InputError::new(&self.file, e.to_string()))?;
+        out.push('\n');
         Ok(out)
     }
 }

@@ -155,11 +155,17 @@ impl Report {
     /// The report as one self-contained HTML page: the overview, every figure (PNG embedded as
     /// base64, captioned) and every table with its legend. It carries [`HTML_MARKER`].
     pub fn render_html(&self, figures: &[Figure]) -> String {
-        self.html(&self.tables.iter().collect::<Vec<_>>(), figures)
+        self.html(&self.tables.iter().collect::<Vec<_>>(), figures, None)
     }
 
-    /// The page of `tables` with `figures` (module doc).
-    pub(crate) fn html(&self, tables: &[&Table], figures: &[Figure]) -> String {
+    /// The page without figures, saying in one line (`note`) why they are missing and how to
+    /// get them.
+    pub fn render_html_noting(&self, note: &str) -> String {
+        self.html(&self.tables.iter().collect::<Vec<_>>(), &[], Some(note))
+    }
+
+    /// The page of `tables` with `figures`, and a `note` under the overview (module doc).
+    pub(crate) fn html(&self, tables: &[&Table], figures: &[Figure], note: Option<&str>) -> String {
         use base64::Engine as _;
         let mut out = String::new();
         let title = format!("Study {}", self.study);
@@ -196,6 +202,9 @@ impl Report {
             );
         }
         out.push_str("</ul></nav>\n");
+        if let Some(note) = note {
+            let _ = writeln!(out, "<p class=\"legend\">{}</p>", esc(note));
+        }
         if !figures.is_empty() {
             out.push_str("<section id=\"figures\"><h2>Figures</h2>\n");
             for f in figures {

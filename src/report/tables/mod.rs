@@ -5,7 +5,7 @@
 
 mod balancing;
 mod linear;
-mod orders;
+pub(crate) mod orders;
 mod resonances;
 mod solver;
 mod stability;
