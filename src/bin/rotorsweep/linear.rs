@@ -30,6 +30,8 @@ use rotorsweep::linear::FRAME_NOTE;
 use rotorsweep::scene::Scene;
 use rotorsweep::store;
 
+use crate::error::CliError;
+
 /// Arguments of `rotorsweep linear`.
 #[derive(clap::Args)]
 pub struct Args {
@@ -102,8 +104,8 @@ fn request(a: &Args) -> Result<Request, String> {
 }
 
 /// Runs the command.
-pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
-    let req = request(a)?;
+pub fn run(a: &Args) -> Result<(), CliError> {
+    let req = request(a).map_err(CliError::input)?;
     let (scene, model) = crate::modes::load_model(&a.scene, &a.set, a.modes.as_deref())?;
     // The output is claimed before the work (store::output): one writer, nothing replaced
     // that is not a rotorsweep results file.

@@ -20,6 +20,8 @@ use rotorsweep::rotor::reduction::ModeSelection;
 use rotorsweep::scene::Scene;
 use serde::Serialize;
 
+use crate::error::CliError;
+
 /// Arguments of `rotorsweep modes`.
 #[derive(clap::Args)]
 pub struct Args {
@@ -90,25 +92,25 @@ pub fn load_model(
     path: &std::path::Path,
     set: &[String],
     modes: Option<&str>,
-) -> Result<(Scene, Model), Box<dyn std::error::Error>> {
+) -> Result<(Scene, Model), CliError> {
     let scene = Scene::load(path, set)?;
     let sel = modes
         .map(ModeSelection::parse)
         .transpose()
-        .map_err(|e| format!("--modes {e}"))?;
+        .map_err(|e| CliError::input(format!("--modes {e}")))?;
     let model = Model::build(&scene, sel.as_ref())?;
     Ok((scene, model))
 }
 
 /// Runs the command.
-pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
+pub fn run(a: &Args) -> Result<(), CliError> {
     let speed_hz = a.speed_hz.unwrap_or(0.0);
     if !(speed_hz.is_finite() && speed_hz >= 0.0) {
-        return Err("--speed-hz must be zero or positive".into());
+        return Err(CliError::input("--speed-hz must be zero or positive"));
     }
     let max_speed_hz = a.max_speed_hz.unwrap_or(100.0);
     if !(max_speed_hz.is_finite() && max_speed_hz > 0.0) {
-        return Err("--max-speed-hz must be positive".into());
+        return Err(CliError::input("--max-speed-hz must be positive"));
     }
     let (scene, model) = load_model(&a.scene, &a.set, a.modes.as_deref())?;
     let r = &model.reduced;

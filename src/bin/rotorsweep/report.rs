@@ -20,7 +20,8 @@ use std::process::Command;
 
 use rotorsweep::report::{self, Figure, Format, HTML_MARKER};
 use rotorsweep::store::output::{self, OutputError};
-use rotorsweep::study::campaign::CampaignError;
+
+use crate::error::CliError;
 
 /// Arguments of `rotorsweep report`.
 #[derive(clap::Args)]
@@ -56,7 +57,7 @@ pub struct Args {
 }
 
 /// Runs `report`.
-pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
+pub fn run(a: &Args) -> Result<(), CliError> {
     if a.output.is_some() && a.format != Format::Html {
         return Err(clap_usage(
             "-o writes the HTML report: add --format html (other formats go to standard output)",
@@ -98,8 +99,8 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
 }
 
 /// A usage error (exit code 64).
-fn clap_usage(msg: &str) -> Box<dyn std::error::Error> {
-    Box::new(CampaignError::Usage(msg.to_string()))
+fn clap_usage(msg: &str) -> CliError {
+    CliError::usage(msg)
 }
 
 /// The source tree the figures script is looked for in: the build's, else two folders above
@@ -142,8 +143,8 @@ fn plotter() -> Result<(PathBuf, PathBuf), String> {
 }
 
 /// The figures of `file`, drawn by `scripts/plots.py` in the order it prints them.
-fn figures(file: &Path, compare: Option<&Path>) -> Result<Vec<Figure>, Box<dyn std::error::Error>> {
-    let (script, python) = plotter()?;
+fn figures(file: &Path, compare: Option<&Path>) -> Result<Vec<Figure>, CliError> {
+    let (script, python) = plotter().map_err(CliError::input)?;
     // A fresh folder of our own under the temporary directory, removed with what the script
     // wrote into it when `dir` drops.
     let dir = tempfile::Builder::new()
@@ -164,7 +165,10 @@ fn figures(file: &Path, compare: Option<&Path>) -> Result<Vec<Figure>, Box<dyn s
                 .iter()
                 .flat_map(std::env::split_paths),
         );
-        cmd.env("PYTHONPATH", std::env::join_paths(paths)?);
+        cmd.env(
+            "PYTHONPATH",
+            std::env::join_paths(paths).map_err(CliError::input)?,
+        );
     }
     let run = cmd
         .arg(&script)
@@ -174,21 +178,20 @@ fn figures(file: &Path, compare: Option<&Path>) -> Result<Vec<Figure>, Box<dyn s
         .arg(dir.path())
         .output()
         .map_err(|e| {
-            format!(
+            CliError::input(format!(
                 "cannot run {} for the figures ({e}); set ROTORSWEEP_PYTHON to a Python with \
                  the packages of scripts/requirements.txt, or add --no-figures",
                 python.display()
-            )
+            ))
         })?;
     if !run.status.success() {
-        return Err(format!(
+        return Err(CliError::input(format!(
             "the figures script {} failed ({}):\n{}\n(ROTORSWEEP_PYTHON picks the Python; \
              --no-figures leaves the figures out)",
             script.display(),
             run.status,
             String::from_utf8_lossy(&run.stderr).trim_end()
-        )
-        .into());
+        )));
     }
     String::from_utf8_lossy(&run.stdout)
         .lines()
