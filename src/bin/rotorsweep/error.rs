@@ -13,7 +13,7 @@
 
 use std::error::Error;
 
-use rotorsweep::dynamics::model::ModelError;
+use rotorsweep::dynamics::model::{LoadError, ModelError};
 use rotorsweep::dynamics::LinearError;
 use rotorsweep::error::InputError;
 use rotorsweep::store::output::OutputError;
@@ -59,6 +59,12 @@ impl From<InputError> for CliError {
 
 impl From<ModelError> for CliError {
     fn from(e: ModelError) -> Self {
+        CliError::Input(e.into())
+    }
+}
+
+impl From<LoadError> for CliError {
+    fn from(e: LoadError) -> Self {
         CliError::Input(e.into())
     }
 }
