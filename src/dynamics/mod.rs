@@ -1,14 +1,17 @@
 //! The reduced rotor on its supports, and one simulation of it.
 //!
-//! In: a validated [`Scene`](crate::scene::Scene). Out: its reduced [`model`], the linear system
-//! on supports linearised at the static equilibrium ([`linear_system`], the base of the linear
-//! toolkit and of the simulation's start), the nonlinear roll system with contacts for the
-//! integrators ([`system`]) and one time simulation ([`simulation`]: static equilibrium, then
-//! time integration, sampled outputs). SI units throughout.
+//! In: a validated [`Scene`](crate::scene::Scene). Out: its reduced [`model`] (built, or loaded
+//! from a scene file with overrides), the linear system on supports linearised at the static
+//! equilibrium ([`linear_system`], the base of the linear toolkit and of the simulation's
+//! start), the nonlinear roll system with contacts for the integrators ([`system`]) and one time
+//! simulation ([`simulation`]: static equilibrium, then time integration, sampled outputs). SI
+//! units throughout, except for the model's [`summary`] for a reader (mm, g, Hz: what `modes`
+//! and `check` print).
 
 pub mod linear_system;
 pub mod model;
 pub mod simulation;
+pub mod summary;
 pub mod system;
 
 pub use linear_system::{linear_stages, LinearError, LinearStage, LinearSystem};

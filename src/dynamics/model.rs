@@ -1,13 +1,16 @@
 //! The reduced model of a scene: scene → mesh → FE matrices → orthogonalised Craig–Bampton set.
 //!
-//! In: a validated [`Scene`] (and optionally another mode selection).
+//! In: a validated [`Scene`] (and optionally another mode selection), or with [`Model::load`] a
+//! scene file, its `--set` overrides and a `--modes` selection as text (the start of the `modes`
+//! and `linear` commands).
 //! Out: a [`Model`]: the mesh, the full orthogonalised set and the selected subset, ready for
 //! linear analysis and time integration, SI units; or a [`ModelError`] that names the scene file
-//! (and the scene key to blame where there is one).
+//! (and the scene key to blame where there is one); [`Model::load`] a [`LoadError`].
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::error::InputError;
 use crate::rotor::fe::{MeshError, Rotor};
 use crate::rotor::reduction::{craig_bampton, ModeSelection, ReducedModel, ReductionError};
 use crate::scene::Scene;
@@ -53,6 +56,21 @@ impl ModelError {
     }
 }
 
+/// Why [`Model::load`] failed: the scene, the `--modes` text or the model build. Each reads as
+/// the error behind it; a selection that does not parse reads `--modes REASON`.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The scene file (or an override) is wrong.
+    #[error(transparent)]
+    Scene(#[from] InputError),
+    /// The `--modes` selection does not parse.
+    #[error("--modes {0}")]
+    Modes(String),
+    /// The model cannot be built.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+}
+
 /// A scene's rotor, reduced.
 #[derive(Debug, Clone)]
 pub struct Model {
@@ -87,5 +105,22 @@ impl Model {
             reduced,
             build_seconds: t0.elapsed().as_secs_f64(),
         })
+    }
+
+    /// Reads the scene at `path` with its `key=value` overrides and builds its model with the
+    /// selection `modes` ("30n+12st" or a list "0-4,7"; the scene's own when `None`). The scene
+    /// is read first, so a wrong scene is named before a wrong selection.
+    pub fn load(
+        path: &Path,
+        overrides: &[String],
+        modes: Option<&str>,
+    ) -> Result<(Scene, Model), LoadError> {
+        let scene = Scene::load(path, overrides)?;
+        let sel = modes
+            .map(ModeSelection::parse)
+            .transpose()
+            .map_err(LoadError::Modes)?;
+        let model = Model::build(&scene, sel.as_ref())?;
+        Ok((scene, model))
     }
 }

@@ -17,7 +17,11 @@
 //! - [`statics`]: static equilibrium under gravity (sag, journal positions, support forces);
 //! - [`critical_map`]: undamped critical speeds against a support stiffness;
 //! - [`request`]: all of them on one request, as JSON and as an HDF5 group (the `linear`
-//!   command and a study's `/linear/<id>`).
+//!   command and a study's `/linear/<id>`);
+//! - [`overview`]: the model, supported frequencies, whirl at one speed and critical speeds
+//!   together (the `modes` command; its supported frequencies also `check`'s);
+//! - [`scene_system`]: a scene's system for the commands, failures as input errors naming the
+//!   scene.
 //!
 //! Frames and approximations: every analysis except Floquet works in the **stationary frame**
 //! with the rotor's stationary-frame gyroscopic matrix and its stiffness frozen at roll angle 0:
@@ -32,8 +36,10 @@ pub mod campbell;
 pub mod critical_map;
 pub mod floquet;
 pub mod modes;
+pub mod overview;
 pub mod request;
 pub mod response;
+pub mod scene_system;
 pub mod standstill;
 pub mod statics;
 

@@ -10,6 +10,8 @@ use std::path::PathBuf;
 use rotorsweep::signal::influence::PlaneLimits;
 use rotorsweep::study::balancing;
 
+use crate::error::CliError;
+
 /// Arguments of `rotorsweep balance`.
 #[derive(clap::Args)]
 pub struct Args {
@@ -37,21 +39,21 @@ pub struct Args {
 }
 
 /// Runs `balance`.
-pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
+pub fn run(a: &Args) -> Result<(), CliError> {
     let mut angles: Vec<f64> = a.angles_deg.iter().map(|d| d.to_radians()).collect();
     if let Some(n) = a.holes {
         if !(1..=360).contains(&n) {
-            return Err(usage("--holes must be 1 … 360"));
+            return Err(CliError::usage("--holes must be 1 … 360"));
         }
         angles = (0..n)
             .map(|i| std::f64::consts::TAU * i as f64 / n as f64)
             .collect();
     }
     if angles.iter().any(|x| !x.is_finite()) {
-        return Err(usage("--angles-deg must be finite angles"));
+        return Err(CliError::usage("--angles-deg must be finite angles"));
     }
     if a.max_mass_g.is_some_and(|m| !(m.is_finite() && m > 0.0)) {
-        return Err(usage("--max-mass-g must be a positive mass"));
+        return Err(CliError::usage("--max-mass-g must be a positive mass"));
     }
     let limits = PlaneLimits {
         angles,
@@ -91,11 +93,4 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
         table("check run", c);
     }
     Ok(())
-}
-
-/// A usage error (exit 64).
-fn usage(msg: &str) -> Box<dyn std::error::Error> {
-    Box::new(rotorsweep::study::campaign::CampaignError::Usage(
-        msg.into(),
-    ))
 }

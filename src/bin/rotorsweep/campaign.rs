@@ -78,7 +78,7 @@ fn estimate(job: &rotorsweep::scene::Scene, coords: usize, f_max_hz: f64) -> f64
 }
 
 /// Runs `plan`.
-pub fn plan(a: &PlanArgs) -> Result<(), Box<dyn std::error::Error>> {
+pub fn plan(a: &PlanArgs) -> Result<(), crate::error::CliError> {
     let st = Study::load(&a.study)?;
     println!("study {}: {} jobs", st.name, st.jobs.len());
     if !st.description.is_empty() {
@@ -213,7 +213,7 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
 }
 
 /// Runs `run`; Ok(true) when every job ended ok.
-pub fn run(a: &RunArgs) -> Result<bool, Box<dyn std::error::Error>> {
+pub fn run(a: &RunArgs) -> Result<bool, crate::error::CliError> {
     let st = Study::load(&a.study)?;
     let threads = a.threads.map(usize::from).unwrap_or_else(|| {
         std::thread::available_parallelism()
@@ -289,7 +289,7 @@ pub fn run(a: &RunArgs) -> Result<bool, Box<dyn std::error::Error>> {
 }
 
 /// Runs `merge`.
-pub fn merge(a: &MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
+pub fn merge(a: &MergeArgs) -> Result<(), crate::error::CliError> {
     let opts = campaign::MergeOptions {
         overwrite: a.overwrite,
         partial: a.partial,

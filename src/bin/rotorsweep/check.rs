@@ -21,6 +21,8 @@ use rotorsweep::scene::source::Source;
 use rotorsweep::scene::{with_overrides, Scene, SpeedProfile};
 use rotorsweep::study::Study;
 
+use crate::error::CliError;
+
 /// Arguments of `rotorsweep check`.
 #[derive(clap::Args)]
 pub struct Args {
@@ -35,7 +37,7 @@ pub struct Args {
     no_model: bool,
 }
 
-type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
+type Result<T> = std::result::Result<T, CliError>;
 
 /// Runs the command.
 pub fn run(a: &Args) -> Result<()> {

@@ -6,6 +6,8 @@ use std::path::PathBuf;
 use rotorsweep::results::measured;
 use rotorsweep::store::output::{self, OutputError};
 
+use crate::error::CliError;
+
 /// Arguments of `rotorsweep import`.
 #[derive(clap::Args)]
 pub struct Args {
@@ -29,11 +31,9 @@ pub struct Args {
 }
 
 /// Runs `import`.
-pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
+pub fn run(a: &Args) -> Result<(), CliError> {
     if a.orders.is_empty() || a.orders.iter().any(|o| !(o.is_finite() && *o > 0.0)) {
-        return Err(Box::new(rotorsweep::study::campaign::CampaignError::Usage(
-            "--orders must be positive".into(),
-        )));
+        return Err(CliError::usage("--orders must be positive"));
     }
     let record = measured::read(&a.measured)?;
     let _lock = output::claim(&a.output, a.overwrite)?;

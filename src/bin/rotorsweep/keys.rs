@@ -9,7 +9,7 @@
 pub struct Args {}
 
 /// Prints the reference.
-pub fn run(_: &Args) -> Result<(), Box<dyn std::error::Error>> {
+pub fn run(_: &Args) -> Result<(), crate::error::CliError> {
     print!("{}", rotorsweep::scene::keys::markdown());
     Ok(())
 }

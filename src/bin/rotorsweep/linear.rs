@@ -14,8 +14,9 @@
 //! `floquet` `{unstable_ranges_hz, speeds_hz, growth_per_rev, cutoff_hz, frame}`; `static`
 //! (sag per sensor [µm], journal positions [µm], support and contact forces [N]);
 //! `critical_map` (undamped critical speeds against the supports' stiffness, actual marked);
-//! `frame`, `phase_convention`, `warnings`, `times_s`. `-o OUT.h5` writes it as a study's
-//! `/linear/<scene>` group (module doc of `src/study/campaign.rs`), extended by what `rotorsweep
+//! `frame`, `phase_convention`, `warnings`, `times_s`. `-o OUT.h5` writes it
+//! ([`rotorsweep::results::linear_file`]) as a study's `/linear/<scene>` group (module doc of
+//! `src/study/campaign.rs`), extended by what `rotorsweep
 //! report` and `scripts/plots.py` draw: per Campbell entry the damping ratio, log decrement,
 //! whirl (code) and branch; the critical speeds' whirl and log decrement; the unbalance
 //! response; Floquet growth and ranges; the static sag; the critical-speed map; with `--shapes`
@@ -23,12 +24,15 @@
 
 use std::path::PathBuf;
 
-use rotorsweep::dynamics::LinearSystem;
+use rotorsweep::dynamics::model::Model;
 use rotorsweep::linear::modes::Kind;
 use rotorsweep::linear::request::{self, PointUnbalance, Request, Results, PHASE_NOTE};
+use rotorsweep::linear::scene_system::scene_system;
 use rotorsweep::linear::FRAME_NOTE;
-use rotorsweep::scene::Scene;
+use rotorsweep::results::linear_file;
 use rotorsweep::store;
+
+use crate::error::CliError;
 
 /// Arguments of `rotorsweep linear`.
 #[derive(clap::Args)]
@@ -102,9 +106,9 @@ fn request(a: &Args) -> Result<Request, String> {
 }
 
 /// Runs the command.
-pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
-    let req = request(a)?;
-    let (scene, model) = crate::modes::load_model(&a.scene, &a.set, a.modes.as_deref())?;
+pub fn run(a: &Args) -> Result<(), CliError> {
+    let req = request(a).map_err(CliError::input)?;
+    let (scene, model) = Model::load(&a.scene, &a.set, a.modes.as_deref())?;
     // The output is claimed before the work (store::output): one writer, nothing replaced
     // that is not a rotorsweep results file.
     let _lock = a
@@ -112,15 +116,11 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
         .as_deref()
         .map(|p| store::output::claim(p, a.overwrite))
         .transpose()?;
-    let sys = LinearSystem::of_scene(&scene, &model).map_err(|e| {
-        rotorsweep::error::InputError::new(&a.scene, format!("linear analysis: {e}"))
-    })?;
+    let sys = scene_system(&scene, &model)?;
     let r = request::compute(&req, &scene, &model, &sys)?;
     if let Some(path) = &a.output {
-        if let Err(e) = write_h5(path, &scene, &r) {
-            let _ = std::fs::remove_file(store::with_suffix(path, ".tmp"));
-            return Err(store::output::OutputError::Write(path.clone(), e.to_string()).into());
-        }
+        let command = std::env::args().collect::<Vec<_>>().join(" ");
+        linear_file::write(path, &scene, &r, &command)?;
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r.to_json(true))?);
@@ -232,19 +232,4 @@ fn print_response(r: &request::Response, speeds_hz: &[f64]) {
             );
         }
     }
-}
-
-/// Writes `/linear/<scene>` (module doc).
-fn write_h5(
-    path: &std::path::Path,
-    scene: &Scene,
-    r: &Results,
-) -> Result<(), Box<dyn std::error::Error>> {
-    let text = std::fs::read_to_string(&scene.source).unwrap_or_default();
-    let command = std::env::args().collect::<Vec<_>>().join(" ");
-    let (file, jobs) = store::create_file(path, &command, &text)?;
-    let g = store::subgroup(&file, &format!("linear/{}", scene.name))?;
-    r.write(&g, true)?;
-    store::finish_file(path, file, jobs)?;
-    Ok(())
 }

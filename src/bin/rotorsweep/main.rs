@@ -1,15 +1,20 @@
 //! The `rotorsweep` command line.
 //!
-//! Exit codes (the same for every subcommand; README "Exit codes"):
+//! Exit codes (the same for every subcommand; docs/cli.md "Exit codes"):
 //! 0 done, every job ok; 1 input error (a scene, study, map or results file given as input is
 //! wrong: the message names the file, line and key); 2 done, but some job or reference run did
 //! not end ok; 64 usage error (options, or an output that may not be written); 74 I/O error
 //! while writing (disk full, read-only folder: the message names the path and the OS error);
 //! 75 the output is in use by another rotorsweep process (try again later).
+//!
+//! Each subcommand's file parses its options, calls the library and prints; its `run` returns
+//! `Ok(true)` (exit 0), `Ok(false)` (some job not ok: exit 2) or a [`CliError`], whose variant
+//! is the exit code ([`error`]); `main` maps them in one `match`.
 
 mod balance;
 mod campaign;
 mod check;
+mod error;
 mod import;
 mod keys;
 mod linear;
@@ -20,7 +25,7 @@ mod simulate;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use rotorsweep::store::output::OutputError;
+use error::CliError;
 
 #[derive(Parser)]
 #[command(
@@ -78,6 +83,8 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // The two dispositions go through libc: std has no stable setting for them, and the crates
+    // that wrap signals (nix's `signal`/`sigaction`, signal-hook's `register`) are unsafe too.
     // Behave like other Unix tools when the reader of our output goes away (`| head`).
     // SAFETY: restoring the default disposition of SIGPIPE before any thread starts.
     unsafe {
@@ -110,14 +117,17 @@ fn main() -> ExitCode {
         Command::Balance(a) => balance::run(&a).map(|()| true),
         Command::Import(a) => import::run(&a).map(|()| true),
     };
-    match result {
-        Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => ExitCode::from(EXIT_NOT_OK),
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(exit_code(&*e))
-        }
+    if let Err(e) = &result {
+        eprintln!("error: {e}");
     }
+    ExitCode::from(match result {
+        Ok(true) => 0,
+        Ok(false) => EXIT_NOT_OK,
+        Err(CliError::Input(_)) => EXIT_INPUT,
+        Err(CliError::Usage(_)) => EXIT_USAGE,
+        Err(CliError::Io(_)) => EXIT_IO,
+        Err(CliError::Busy(_)) => EXIT_BUSY,
+    })
 }
 
 /// Some job or reference run did not end ok.
@@ -130,28 +140,3 @@ const EXIT_USAGE: u8 = 64;
 const EXIT_IO: u8 = 74;
 /// The output is held by another process (sysexits EX_TEMPFAIL).
 const EXIT_BUSY: u8 = 75;
-
-/// The exit code of an error (module doc).
-fn exit_code(e: &(dyn std::error::Error + 'static)) -> u8 {
-    use rotorsweep::study::campaign::CampaignError as C;
-    let output = |o: &OutputError| match o {
-        OutputError::Exists(_) | OutputError::Refused(..) => EXIT_USAGE,
-        OutputError::Busy { .. } => EXIT_BUSY,
-        OutputError::Io(..) | OutputError::Write(..) => EXIT_IO,
-    };
-    if let Some(c) = e.downcast_ref::<C>() {
-        return match c {
-            C::Input(_) => EXIT_INPUT,
-            C::Output(o) => output(o),
-            C::Io { .. } => EXIT_IO,
-            C::Usage(_) => EXIT_USAGE,
-        };
-    }
-    if let Some(o) = e.downcast_ref::<OutputError>() {
-        return output(o);
-    }
-    if e.downcast_ref::<std::io::Error>().is_some() || e.downcast_ref::<hdf5::Error>().is_some() {
-        return EXIT_IO;
-    }
-    EXIT_INPUT
-}

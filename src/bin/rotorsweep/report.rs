@@ -18,7 +18,8 @@ use std::path::{Path, PathBuf};
 use rotorsweep::report::figures::{self, Figures};
 use rotorsweep::report::{self, Format, HTML_MARKER};
 use rotorsweep::store::output;
-use rotorsweep::study::campaign::CampaignError;
+
+use crate::error::CliError;
 
 /// Arguments of `rotorsweep report`.
 #[derive(clap::Args)]
@@ -59,7 +60,7 @@ pub struct Args {
 }
 
 /// Runs `report`.
-pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
+pub fn run(a: &Args) -> Result<(), CliError> {
     if a.output.is_some() && a.format != Format::Html {
         return Err(clap_usage(
             "-o writes the HTML report: add --format html (other formats go to standard output)",
@@ -102,7 +103,7 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
         r.render_html(&[])
     } else {
         let tables = r.render_json(None, &report::labels(&files)?)?;
-        match figures::draw(&a.file, a.compare.as_deref(), &tables)? {
+        match figures::draw(&a.file, a.compare.as_deref(), &tables).map_err(CliError::input)? {
             Figures::Drawn(figures) => r.render_html(&figures),
             Figures::Unavailable(note) => {
                 eprintln!("{note}");
@@ -118,6 +119,6 @@ pub fn run(a: &Args) -> Result<(), Box<dyn std::error::Error>> {
 }
 
 /// A usage error (exit code 64).
-fn clap_usage(msg: &str) -> Box<dyn std::error::Error> {
-    Box::new(CampaignError::Usage(msg.to_string()))
+fn clap_usage(msg: &str) -> CliError {
+    CliError::usage(msg)
 }

@@ -65,7 +65,7 @@ struct Summary<'a> {
 }
 
 /// Runs the command; the exit code says whether the job ended ok.
-pub fn run(a: &Args) -> Result<bool, Box<dyn std::error::Error>> {
+pub fn run(a: &Args) -> Result<bool, crate::error::CliError> {
     let scene = Scene::load(&a.scene, &a.set)?;
     let text = std::fs::read_to_string(&a.scene).map_err(output::io_at(&a.scene))?;
     // The output is claimed before the run: a refused or busy output costs nothing.
