@@ -1,0 +1,88 @@
+//! Process helpers: the rotorsweep binary run and its JSON tables read, campaign options for a
+//! test, and the deterministic content of a results file.
+
+/// Runs the rotorsweep binary with `args` and returns its standard output; panics with its
+/// standard error when it fails.
+pub fn rotorsweep_ok(args: &[&str]) -> Vec<u8> {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rotorsweep"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "rotorsweep {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}
+
+/// `rotorsweep report FILE --table NAME --format json`: the one table of that name.
+pub fn report_table(file: &std::path::Path, name: &str) -> serde_json::Value {
+    let out = rotorsweep_ok(&[
+        "report",
+        file.to_str().unwrap(),
+        "--table",
+        name,
+        "--format",
+        "json",
+    ]);
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    doc["tables"][0].clone()
+}
+
+/// Campaign options for a test: `out`, two threads, no resume, overwrite, shard or shared
+/// references.
+pub fn run_options(out: &std::path::Path) -> rotorsweep::study::campaign::RunOptions {
+    rotorsweep::study::campaign::RunOptions {
+        output: out.to_path_buf(),
+        threads: 2,
+        resume: false,
+        overwrite: false,
+        shard: None,
+        command: "test".into(),
+        references: Default::default(),
+    }
+}
+
+/// The deterministic content of a results file: every dataset of every run (bit patterns) and
+/// the runs' attributes other than timings, by path.
+pub fn results_content(path: &std::path::Path) -> Vec<(String, Vec<u64>)> {
+    let f = hdf5::File::open(path).unwrap();
+    let mut out = Vec::new();
+    for group in ["jobs", "references"] {
+        let Ok(g) = f.group(group) else { continue };
+        let mut ids = g.member_names().unwrap();
+        ids.sort();
+        for id in ids {
+            let run = g.group(&id).unwrap();
+            fn walk(g: &hdf5::Group, prefix: &str, out: &mut Vec<(String, Vec<u64>)>) {
+                let mut names = g.member_names().unwrap();
+                names.sort();
+                for n in names {
+                    let p = format!("{prefix}/{n}");
+                    if let Ok(ds) = g.dataset(&n) {
+                        let v: Vec<f64> = ds.read_raw().unwrap();
+                        out.push((p, v.iter().map(|x| x.to_bits()).collect()));
+                    } else if let Ok(sub) = g.group(&n) {
+                        walk(&sub, &p, out);
+                    }
+                }
+            }
+            walk(&run, &format!("{group}/{id}"), &mut out);
+            let mut attrs = run.attr_names().unwrap();
+            attrs.sort();
+            for a in attrs {
+                if a.starts_with("cpu_time_s") || a.starts_with("wall_time_s") {
+                    continue;
+                }
+                let v = match rotorsweep::store::read_param(&run, &a).unwrap() {
+                    rotorsweep::store::Param::Number(x) => vec![x.to_bits()],
+                    rotorsweep::store::Param::Count(n) => vec![n],
+                    rotorsweep::store::Param::Text(t) => t.bytes().map(u64::from).collect(),
+                };
+                out.push((format!("{group}/{id}@{a}"), v));
+            }
+        }
+    }
+    out
+}
