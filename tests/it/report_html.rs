@@ -373,7 +373,7 @@ fn html_report_is_self_contained_and_follows_the_output_rules() {
 /// past its time limit is stopped, the report fails, and nothing is left in TMPDIR.
 #[test]
 fn html_report_without_python_or_past_the_time_limit() {
-    let d = scratch_dir("report-html-no-python");
+    let d = scratch("report-html-no-python");
     let h5 = d.join("run.h5");
     let scene = repo().join("studies/scenes/timing-case.toml");
     ok(&rotorsweep(&[
