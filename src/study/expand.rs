@@ -1,0 +1,183 @@
+//! A study's jobs, expanded: every job of the grid becomes its overrides, its validated scene,
+//! its ids and its reference.
+//!
+//! In: the grid's jobs as overrides ([`super::grid`]), the base scene, `[set]`, the `[budget]`
+//! overrides, the pruning pilot's overrides and the `[reference]` setting. Out: the [`Job`]s in
+//! grid order, each job's overrides being `[set]`, then the budget, then its own keys (a key set
+//! again replaces the earlier value; the pruning pseudo-key becomes the job's share), and the
+//! references they need. Errors point at the axis, `[set]` key or explicit job that set the
+//! offending key, or (for an error in the scene or its map) say which job of which study read
+//! it. Two jobs of the same inputs are an error, whether written alike or not (`10` and
+//! `10.0`).
+
+use std::collections::BTreeMap;
+
+use super::context::{override_key, Ctx};
+use super::grid::Combo;
+use super::ids::{job_id, linear_id, merged, model_id, scene_inputs};
+use super::jobs::Job;
+use super::pruning::{share, PRUNE_KEY};
+use super::reference::References;
+use super::values::{normal_text, value_text, Override};
+use crate::error::InputError;
+use crate::scene::source::Source;
+use crate::scene::Scene;
+
+/// What every job of a study is made from.
+pub(super) struct Expansion<'a> {
+    /// The study file, for errors.
+    pub(super) c: &'a Ctx<'a>,
+    /// The base scene.
+    pub(super) source: &'a Source,
+    /// The `[set]` overrides.
+    pub(super) base: &'a [Override],
+    /// The `[budget]` overrides.
+    pub(super) budget: &'a [Override],
+    /// The pruning pilot's overrides.
+    pub(super) pilot: &'a [Override],
+    /// The axis that sets each swept key.
+    pub(super) axis_of_key: &'a BTreeMap<String, usize>,
+    /// How many jobs come from the axes (the explicit jobs follow).
+    pub(super) axis_combos: usize,
+}
+
+impl Expansion<'_> {
+    /// The jobs of `combos`, in order; their references are added to `references`.
+    pub(super) fn jobs(
+        &self,
+        combos: Vec<Combo>,
+        references: &mut References,
+    ) -> Result<Vec<Job>, InputError> {
+        let mut jobs = Vec::new();
+        let mut physics_of = BTreeMap::new();
+        for (index, (combo, labels)) in combos.into_iter().enumerate() {
+            let (overrides, prune) = self.overrides(index, combo)?;
+            let scene = self.scene(index, &overrides)?;
+            self.new_physics(index, &overrides, prune, &mut physics_of)?;
+            let merged = merged(&self.source.table, &overrides, |k, r| {
+                self.c.err(&self.locate_key(index, k), r)
+            })?;
+            let inputs = scene_inputs(self.source, &merged);
+            let model_id = model_id(&inputs, &merged);
+            let linear_id = linear_id(&inputs, &merged);
+            let id = job_id(&inputs, &merged, prune, self.pilot);
+            let reference_id = references.add(index, &overrides, &inputs, &merged)?;
+            jobs.push(Job {
+                index,
+                id,
+                overrides,
+                prune,
+                model_id,
+                reference_id,
+                linear_id,
+                labels,
+                scene,
+            });
+        }
+        Ok(jobs)
+    }
+
+    /// Where to point errors about key `k` of job `index`: the axis (or explicit job) that set
+    /// it.
+    fn locate_key(&self, index: usize, k: &str) -> String {
+        match self.axis_of_key.get(k) {
+            Some(i) => format!("axes[{i}].values"),
+            None if self.base.iter().any(|(b, _)| b == k) => format!("set.{k}"),
+            None => match index.checked_sub(self.axis_combos) {
+                Some(j) => format!("jobs[{j}].{k}"),
+                None => "jobs".to_string(),
+            },
+        }
+    }
+
+    /// Job `index`'s overrides (`[set]`, the budget, then its own keys) and its pruning share.
+    fn overrides(
+        &self,
+        index: usize,
+        combo: Vec<Override>,
+    ) -> Result<(Vec<Override>, Option<f64>), InputError> {
+        let mut overrides: Vec<Override> = self.base.to_vec();
+        overrides.extend(self.budget.iter().cloned());
+        let mut prune = None;
+        for (k, v) in combo {
+            if k == PRUNE_KEY {
+                match share(&v) {
+                    Some(t) => prune = Some(t),
+                    None => {
+                        return Err(self.c.err(
+                            &self.locate_key(index, &k),
+                            format!("`{PRUNE_KEY}` must be a share in [0, 1), got {v}"),
+                        ))
+                    }
+                }
+            } else {
+                overrides.retain(|(ok, _)| ok != &k);
+                overrides.push((k, v));
+            }
+        }
+        Ok((overrides, prune))
+    }
+
+    /// Job `index`'s validated scene.
+    fn scene(&self, index: usize, overrides: &[Override]) -> Result<Scene, InputError> {
+        let strings: Vec<String> = overrides
+            .iter()
+            .map(|(k, v)| format!("{k}={}", value_text(v)))
+            .collect();
+        Scene::from_source(self.source, &strings).map_err(|mut e| {
+            let key = override_key(&e, overrides);
+            if e.file.as_os_str() == "<command line --set>" {
+                let mut err = self.c.err(
+                    &self.locate_key(index, &key),
+                    format!("job {index}: {}", e.reason),
+                );
+                err.key = Some(key);
+                err
+            } else {
+                // In the scene or its map: say which study and job read it.
+                e.reason += &format!(" (job {index} of {})", self.c.path.display());
+                e
+            }
+        })
+    }
+
+    /// The same physics written twice (`10` and `10.0`): one job. `physics_of` holds the jobs
+    /// before `index` by their normalised inputs.
+    fn new_physics(
+        &self,
+        index: usize,
+        overrides: &[Override],
+        prune: Option<f64>,
+        physics_of: &mut BTreeMap<String, usize>,
+    ) -> Result<(), InputError> {
+        let written = normal_text(overrides) + &format!("|{prune:?}");
+        if let Some(first) = physics_of.insert(written, index) {
+            let at = match index.checked_sub(self.axis_combos) {
+                Some(j) => format!("jobs[{j}]"),
+                None => "axes".to_string(),
+            };
+            return Err(self.c.err(
+                &at,
+                format!(
+                    "jobs {first} and {index} have the same inputs (values that differ only \
+                     in how they are written, such as 10 and 10.0, are the same)"
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// No two jobs may have the same id (the same inputs).
+pub(super) fn distinct_ids(c: &Ctx, jobs: &[Job]) -> Result<(), InputError> {
+    let mut seen = BTreeMap::new();
+    for j in jobs {
+        if let Some(first) = seen.insert(j.id.clone(), j.index) {
+            return Err(c.err(
+                "axes",
+                format!("jobs {first} and {} are identical (same inputs)", j.index),
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,152 @@
+//! The ids of a study's jobs, reduced models, linear systems and reference runs: stable hashes
+//! (the same on every machine and run) of every input that defines each.
+//!
+//! In: the text of every file a job's scene reads ([`scene_inputs`]), the base scene table with
+//! the job's overrides applied ([`merged`]), its pruning share and the pilot's overrides. Out:
+//! ids `m…` (the unpruned reduced model: the model tables), `l…` (the linearised system: the
+//! model on its supports and drive, and gravity), `j…` (the job: the whole scene, and for a
+//! pruned job how its pilot ran) and `r…` (the reference: the job's physics with the reference's
+//! solver keys), each a prefix and 16 hex digits of FNV-1a 64 ([`fnv1a`]) over canonically
+//! serialised subtrees.
+
+use std::path::Path;
+
+use super::values::value_text;
+use crate::error::InputError;
+use crate::scene::set_path;
+use crate::scene::source::Source;
+
+/// Scene tables that make the reduced model (a pruning pilot runs on its jobs' model).
+pub(super) const MODEL_TABLES: [&str; 4] = ["materials", "roll", "rotor", "reduction"];
+
+/// The pilot overrides as one canonical text (for ids).
+pub(crate) fn pilot_text(pilot: &[(String, toml::Value)]) -> String {
+    pilot
+        .iter()
+        .map(|(k, v)| format!("{k}={}", value_text(v)))
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
+/// FNV-1a 64-bit: a stable hash for ids (the same on every machine and run).
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+/// The text of every file a scene reads (the scene, the scenes it extends and its thickness
+/// map), for hashing.
+pub(super) fn scene_inputs(source: &Source, merged: &toml::Value) -> String {
+    let scene_path = source.path();
+    let mut text: String = source.layers.iter().map(|l| l.text.as_str()).collect();
+    if let Some(csv) = merged
+        .get("roll")
+        .and_then(|r| r.get("shell"))
+        .and_then(|s| s.get("thickness_map"))
+        .and_then(|m| m.as_str())
+    {
+        let p = scene_path.parent().unwrap_or(Path::new(".")).join(csv);
+        text.push_str(&crate::error::read_text(&p).unwrap_or_default());
+    }
+    text
+}
+
+fn hash_id(prefix: char, parts: &[&str]) -> String {
+    let joined = parts.join("\u{1f}");
+    format!("{prefix}{:016x}", fnv1a(joined.as_bytes()))
+}
+
+/// Subtree of a merged scene table, serialised canonically.
+fn canonical(merged: &toml::Value, keep: &[&str], drop: &[&str]) -> String {
+    let mut t = merged.as_table().cloned().unwrap_or_default();
+    t.retain(|k, _| {
+        let k: &str = k;
+        (keep.is_empty() || keep.contains(&k)) && !drop.contains(&k)
+    });
+    toml::to_string(&t).unwrap_or_default()
+}
+
+/// The scene table with the overrides applied in order; `err` makes the error of an override
+/// that does not fit (its key, the reason).
+pub(super) fn merged(
+    table: &toml::Table,
+    overrides: &[(String, toml::Value)],
+    err: impl Fn(&str, String) -> InputError,
+) -> Result<toml::Value, InputError> {
+    let mut merged = toml::Value::Table(table.clone());
+    for (k, v) in overrides {
+        set_path(&mut merged, k, v.clone()).map_err(|r| err(k, r))?;
+    }
+    Ok(merged)
+}
+
+/// The id of the unpruned reduced model of a merged scene.
+pub(super) fn model_id(inputs: &str, merged: &toml::Value) -> String {
+    let model_part = canonical(merged, &MODEL_TABLES, &[]);
+    hash_id('m', &[inputs, &model_part])
+}
+
+/// The id of a merged scene's linearised system: its model on its supports and drive, with
+/// gravity.
+pub(super) fn linear_id(inputs: &str, merged: &toml::Value) -> String {
+    let linear_part = canonical(
+        merged,
+        &[
+            "materials",
+            "roll",
+            "rotor",
+            "reduction",
+            "supports",
+            "drive",
+        ],
+        &[],
+    );
+    let gravity = merged
+        .get("simulation")
+        .and_then(|s| s.get("gravity_m_s2"))
+        .map(value_text)
+        .unwrap_or_default();
+    hash_id('l', &[inputs, &linear_part, &gravity])
+}
+
+/// The id of a job: its whole merged scene and, for a pruned job, how its pilot ran.
+pub(super) fn job_id(
+    inputs: &str,
+    merged: &toml::Value,
+    prune: Option<f64>,
+    pilot: &[(String, toml::Value)],
+) -> String {
+    // A pruned job also depends on how its pilot ran.
+    let prune_text = prune
+        .map(|p| format!("{p:e}|{}", pilot_text(pilot)))
+        .unwrap_or_default();
+    let all = canonical(merged, &[], &[]);
+    hash_id('j', &[inputs, &all, &prune_text])
+}
+
+/// The id of a job's reference run: the job's physics (its scene without the solver keys, and
+/// without the mode set when the reference sets its own) and the reference's solver keys.
+pub(super) fn reference_id(
+    inputs: &str,
+    merged: &toml::Value,
+    reference_merged: &toml::Value,
+    sets_modes: bool,
+) -> String {
+    let physics = if sets_modes {
+        canonical(merged, &[], &["solver", "reduction"])
+    } else {
+        canonical(merged, &[], &["solver"])
+    };
+    hash_id(
+        'r',
+        &[
+            inputs,
+            &physics,
+            &canonical(reference_merged, &["solver"], &[]),
+        ],
+    )
+}
