@@ -20,7 +20,6 @@
 use std::time::Instant;
 
 use nalgebra::DVector;
-use ndarray::Array3;
 use rayon::prelude::*;
 use serde_json::{json, Map, Value};
 
@@ -34,7 +33,6 @@ use super::FRAME_NOTE;
 use crate::dynamics::model::Model;
 use crate::dynamics::{LinearError, LinearSystem};
 use crate::scene::Scene;
-use crate::store;
 
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 
@@ -518,148 +516,4 @@ impl Results {
         }
         out
     }
-
-    /// Writes the results into `g` (a study's `/linear/<id>` or a `linear -o` file's
-    /// `/linear/<scene>`): attributes `frame`, `phase_convention`, `vertical_hz`, `horizontal_hz`
-    /// (first bending at standstill), `json` (the [`Results::to_json`] object, times only when
-    /// `with_times`); `campbell/…` ([`super::campbell::write`]); per plane
-    /// `unbalance_response/<sensor>/{vertical,horizontal}/{amplitude_um,phase_deg}` and
-    /// `…/{major_um,minor_um}` (and `unbalance_response_nodes/<node>/…` for named nodes) over
-    /// `campbell/speed_hz`; `floquet/{speed_hz,growth_per_rev,steps_per_rev,converged,
-    /// unstable_ranges_hz}`; `static/{sensors,sag_vertical_um,sag_horizontal_um}`;
-    /// `critical_map/…`; `shapes/{node_z_mm,x_re,x_im,y_re,y_im}` [speeds × modes × nodes].
-    pub fn write(&self, g: &hdf5::Group, with_times: bool) -> hdf5::Result<()> {
-        store::attr_str(g, "frame", FRAME_NOTE)?;
-        store::attr_str(g, "phase_convention", PHASE_NOTE)?;
-        let first = |v: &[f64]| v.first().copied().unwrap_or(f64::NAN);
-        store::attr_f64(g, "vertical_hz", first(&self.supported.0))?;
-        store::attr_f64(g, "horizontal_hz", first(&self.supported.1))?;
-        super::campbell::write(g, &self.campbell)?;
-        if let Some(r) = &self.response {
-            store::attr_str(g, "unbalance", &r.unbalance)?;
-            for (i, plane) in r.planes.iter().enumerate() {
-                let top = if i < r.sensors {
-                    "unbalance_response"
-                } else {
-                    "unbalance_response_nodes"
-                };
-                let col = |f: &dyn Fn(&SensorResponse) -> f64| -> Vec<f64> {
-                    r.values.iter().map(|s| f(&s[i])).collect()
-                };
-                let p = format!("{top}/{plane}");
-                for (dir, pick) in [
-                    ("vertical", (|s: &SensorResponse| s.vertical) as fn(&_) -> _),
-                    ("horizontal", |s: &SensorResponse| s.horizontal),
-                ] {
-                    let amp = col(&|s| 1e6 * pick(s).norm());
-                    let phase = col(&|s| pick(s).arg().to_degrees());
-                    store::dataset(g, &format!("{p}/{dir}/amplitude_um"), &amp, "um")?;
-                    store::dataset(g, &format!("{p}/{dir}/phase_deg"), &phase, "deg")?;
-                }
-                store::dataset(
-                    g,
-                    &format!("{p}/major_um"),
-                    &col(&|s| 1e6 * s.major()),
-                    "um",
-                )?;
-                store::dataset(
-                    g,
-                    &format!("{p}/minor_um"),
-                    &col(&|s| 1e6 * s.minor()),
-                    "um",
-                )?;
-            }
-        }
-        if let Some(f) = &self.floquet {
-            store::dataset(g, "floquet/speed_hz", &f.speeds_hz, "Hz")?;
-            let growth: Vec<f64> = f.growth.iter().map(|g| g.growth).collect();
-            store::dataset(g, "floquet/growth_per_rev", &growth, "1")?;
-            let steps: Vec<f64> = f.growth.iter().map(|g| g.steps as f64).collect();
-            store::dataset(g, "floquet/steps_per_rev", &steps, "1")?;
-            let conv: Vec<f64> = f
-                .growth
-                .iter()
-                .map(|g| f64::from(u8::from(g.converged)))
-                .collect();
-            store::dataset(g, "floquet/converged", &conv, "1")?;
-            store::scales::attach_axis(
-                &store::subgroup(g, "floquet")?,
-                "speed_hz",
-                &["growth_per_rev", "steps_per_rev", "converged"],
-                0,
-            )?;
-            let flat: Vec<f64> = f.ranges.iter().flatten().copied().collect();
-            store::dataset_2d(
-                g,
-                "floquet/unstable_ranges_hz",
-                (f.ranges.len(), 2),
-                &flat,
-                "Hz",
-            )?;
-            if let Some(c) = f.cutoff_hz {
-                let fg = store::subgroup(g, "floquet")?;
-                store::attr_f64(&fg, "cutoff_hz", c)?;
-            }
-        }
-        if let Some(Ok(s)) = &self.statics {
-            let names: Vec<String> = s.sensors.iter().map(|x| x.0.clone()).collect();
-            store::string_dataset(&store::subgroup(g, "static")?, "sensors", &names)?;
-            let v: Vec<f64> = s.sensors.iter().map(|x| 1e6 * x.1.y).collect();
-            let h: Vec<f64> = s.sensors.iter().map(|x| 1e6 * x.1.x).collect();
-            store::dataset(g, "static/sag_vertical_um", &v, "um")?;
-            store::dataset(g, "static/sag_horizontal_um", &h, "um")?;
-        }
-        if let Some((map, nodes)) = &self.map {
-            write_map(g, map, nodes)?;
-        }
-        if let Some(shapes) = &self.shapes {
-            let sg = store::subgroup(g, "shapes")?;
-            let z: Vec<f64> = self.node_z.iter().map(|z| 1e3 * z).collect();
-            store::dataset(&sg, "node_z_mm", &z, "mm")?;
-            let (ns, nb, nn) = (shapes.len(), shapes.first().map_or(0, Vec::len), z.len());
-            for (p, name) in ["x_re", "x_im", "y_re", "y_im"].iter().enumerate() {
-                let a = Array3::from_shape_fn((ns, nb, nn), |(s, k, n)| shapes[s][k][n][p]);
-                dataset_3d(&sg, name, &a, "1")?;
-            }
-        }
-        store::attr_str(g, "json", &self.to_json(with_times).to_string())
-    }
-}
-
-/// The critical-speed map, NaN-padded to the most critical speeds of any stiffness.
-fn write_map(g: &hdf5::Group, map: &CriticalMap, nodes: &[String]) -> hdf5::Result<()> {
-    let width = map.critical_hz.iter().map(Vec::len).max().unwrap_or(0);
-    let padded: Vec<f64> = map
-        .critical_hz
-        .iter()
-        .flat_map(|row| (0..width).map(|i| row.get(i).copied().unwrap_or(f64::NAN)))
-        .collect();
-    store::dataset(g, "critical_map/stiffness_n_per_m", &map.stiffness, "N/m")?;
-    store::dataset_2d(
-        g,
-        "critical_map/critical_speeds_hz",
-        (map.stiffness.len(), width),
-        &padded,
-        "Hz",
-    )?;
-    let kx: Vec<f64> = map.actual.iter().map(|k| k.0).collect();
-    let ky: Vec<f64> = map.actual.iter().map(|k| k.1).collect();
-    store::dataset(g, "critical_map/actual_kx_n_per_m", &kx, "N/m")?;
-    store::dataset(g, "critical_map/actual_ky_n_per_m", &ky, "N/m")?;
-    store::string_dataset(&g.group("critical_map")?, "support_nodes", nodes)
-}
-
-/// A 3-D float dataset `data` under `group` with a `units` attribute (deflated).
-fn dataset_3d(
-    group: &hdf5::Group,
-    name: &str,
-    data: &Array3<f64>,
-    units: &str,
-) -> hdf5::Result<()> {
-    let mut b = group.new_dataset_builder();
-    if !data.is_empty() {
-        b = b.chunk(data.dim()).shuffle().deflate(4);
-    }
-    let ds = b.with_data(data.view()).create(name)?;
-    store::attr_str(&ds, "units", units)
 }

@@ -38,7 +38,7 @@ use std::collections::BTreeMap;
 
 use rustfft::num_complex::Complex64;
 
-use super::request::{analysis_of_text, AnalysisSpec, LabelledAxis, StudyAnalysis};
+use super::request::{analysis_of_text, AnalysisSpec, LabelledAxis, StudyAnalysis, ORDER_MARGIN};
 use crate::integrators::Status;
 use crate::scene::{RollerPhase, Scene, SupportModel};
 use crate::signal;
@@ -50,10 +50,6 @@ pub const SWEEP_KEY: &str = "speed.hz";
 
 /// Peaks kept per order and channel in the resonance table.
 const RANKS: usize = 3;
-
-/// The default spectrum range: this share above the highest analysed order's line, so that the
-/// line and its window skirt show (1.25 × 4 × the speed for the default orders 1–4).
-pub const ORDER_MARGIN: f64 = 1.25;
 
 /// Prefix of the job attributes that give each roller's line ratio (`roller_ratio:<node>/<roller>`).
 pub const ROLLER_RATIO: &str = "roller_ratio:";

@@ -1,11 +1,13 @@
-//! What acts on a results file once its jobs are written: the post-analysis of every job and
-//! over the sweep ([`analyse`]), order tracking of run-ups ([`orders`]), influence-coefficient
-//! balancing from trial-mass runs ([`balancing`]) and a measured record brought in as a job
-//! ([`measured`]); a linear analysis of one scene written as a results file ([`linear_file`]).
+//! What acts on a results file once its jobs are written: what the analysis is asked for
+//! ([`request`], a study's `[analysis]` table), the post-analysis of every job and over the
+//! sweep ([`analyse`]), order tracking of run-ups ([`orders`]), a measured record brought in as
+//! a job ([`measured`]) and a linear analysis of one scene written as a results file
+//! ([`linear_file`]). (Balancing from trial-mass runs re-runs a study job, so it is part of the
+//! study stage: `study::balancing`.)
 //!
 //! In: an HDF5 results file (a study's, `simulate -o`'s or `import`'s). Out: the `/analysis`
-//! groups in the same file (spectra, lines, resonances, orders), balancing solutions; units as in
-//! the results layout (µm, Hz, kg·m). Methods in each module's doc.
+//! groups in the same file (spectra, lines, resonances, orders); units as in the results layout
+//! (µm, Hz). Methods in each module's doc.
 
 pub mod analyse;
 pub mod linear_file;

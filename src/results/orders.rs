@@ -16,7 +16,7 @@
 //! - `/jobs/<id>/waterfall` for a job whose speed changes: `time_s`, `speed_hz` (mean over each
 //!   block), `freq_hz`, `map/<sensor>/<dir>` [blocks × frequencies, µm]: amplitude-correct
 //!   Hanning spectra of the fluctuating part of time blocks of 2^⌊log₂ fs⌋ samples (about 1 s),
-//!   half overlapping, up to `max_freq_hz` (default [`super::analyse::ORDER_MARGIN`] × the highest
+//!   half overlapping, up to `max_freq_hz` (default [`ORDER_MARGIN`] × the highest
 //!   order × the highest speed, as the constant-speed spectra), and `mean/<sensor>/<dir>`
 //!   [blocks, µm]: the static part (sag, offset) removed from each block before its spectrum.
 //!
@@ -34,7 +34,7 @@
 
 use rustfft::num_complex::Complex64;
 
-use super::request::{AnalysisSpec, DEFAULT_ORDER_REVOLUTIONS};
+use super::request::{AnalysisSpec, DEFAULT_ORDER_REVOLUTIONS, ORDER_MARGIN};
 use crate::integrators::Status;
 use crate::signal::{self, orders as track};
 use crate::store::{self, Column};
@@ -144,9 +144,8 @@ fn waterfall(
         .map(|&s| 0.5 * (time[s] + time[s + len - 1]))
         .collect();
     let top_order = orders.iter().copied().fold(1.0, f64::max);
-    let cap = max_freq_hz.unwrap_or(
-        super::analyse::ORDER_MARGIN * top_order * speeds.iter().copied().fold(0.0, f64::max),
-    );
+    let cap = max_freq_hz
+        .unwrap_or(ORDER_MARGIN * top_order * speeds.iter().copied().fold(0.0, f64::max));
     let w = signal::hanning(len);
     if g.link_exists("waterfall") {
         g.unlink("waterfall")?;

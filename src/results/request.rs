@@ -19,7 +19,7 @@ pub struct AnalysisSpec {
     #[serde(default = "default_orders")]
     pub orders: Vec<f64>,
     /// Highest frequency [Hz] kept in stored spectra and maps (default: 1.25 × the highest order
-    /// × the job's speed, `results::analyse::ORDER_MARGIN`).
+    /// × the job's speed, [`ORDER_MARGIN`]).
     pub max_freq_hz: Option<f64>,
     /// The label (on a labelled axis) of the baseline jobs: every other job on that axis gets
     /// its 1× trial-mass response against the baseline job with the same other keys.
@@ -28,6 +28,10 @@ pub struct AnalysisSpec {
     /// block length [revolutions] (default 8; blocks overlap by half).
     pub order_revolutions: Option<f64>,
 }
+
+/// The default spectrum range: this share above the highest analysed order's line, so that the
+/// line and its window skirt show (1.25 × 4 × the speed for the default orders 1–4).
+pub const ORDER_MARGIN: f64 = 1.25;
 
 /// The order-tracking block length [revolutions] when a study names none.
 pub const DEFAULT_ORDER_REVOLUTIONS: f64 = 8.0;

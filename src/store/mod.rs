@@ -18,6 +18,7 @@
 //! (level 4). The axes are HDF5 dimension scales ([`scales`]): `time` is attached to every
 //! sampled channel and hard-linked into each channel group (`runout/<sensor>/time`).
 
+pub mod linear;
 pub mod output;
 pub mod scales;
 pub mod table;
