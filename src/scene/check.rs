@@ -71,6 +71,18 @@ impl Check<'_> {
         }
     }
 
+    /// A node the rotor names (`named`: its named points), as the key `key` gives it.
+    pub(super) fn node(&self, key: &str, n: &str, named: &[&str]) -> Result<String, InputError> {
+        if named.contains(&n) {
+            Ok(n.to_string())
+        } else {
+            Err(self.err(
+                key,
+                format!("unknown node `{n}` (named nodes: {})", named.join(", ")),
+            ))
+        }
+    }
+
     pub(super) fn count(
         &self,
         key: &str,

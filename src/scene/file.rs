@@ -1,4 +1,4 @@
-//! The scene file's raw schema, exactly as written (units in key names); `mod.rs` validates it.
+//! The scene file's raw schema, exactly as written (units in key names); `build.rs` validates it.
 
 use std::collections::BTreeMap;
 

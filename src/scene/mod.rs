@@ -4,16 +4,16 @@
 //! spine; every key is in `docs/scene-keys.md`, from [`keys`]), the scenes it `extends`
 //! ([`source`]), and optional dotted-key overrides (`--set roll.shell.elements=60`). Axial
 //! positions may be written relative to the shell ([`position`]).
-//! Out: a validated [`Scene`] in SI units (m, kg, N, s, rad), or an [`InputError`](crate::error::InputError) naming the file,
-//! the line, the key and the reason. Units live in key names (`length_mm`, `mass_kg`) and are
-//! converted here, once.
+//! Out: a validated [`Scene`] in SI units (m, kg, N, s, rad), or an
+//! [`InputError`](crate::error::InputError) naming the file, the line, the key and the reason.
+//! Units live in key names (`length_mm`, `mass_kg`) and are converted here, once.
 //!
 //! Unknown keys, missing keys, wrong types, out-of-range values and inconsistent geometry are all
 //! errors; nothing panics on bad input. So is anything that would change the physics silently or
 //! exhaust the machine: a nominal wall next to a thickness map, a map that does not cover the
 //! shell, masses outside the material (in the bore, beyond the outer surface), no supports,
-//! an override that replaces an earlier one (`speed.hz` after `speed.hz.x`), a mesh above [`MAX_FE_NODES`], a record
-//! above [`MAX_SAMPLES_PER_CHANNEL`] or [`MAX_RECORD_VALUES`].
+//! an override that replaces an earlier one (`speed.hz` after `speed.hz.x`), a mesh above
+//! [`MAX_FE_NODES`], a record above [`MAX_SAMPLES_PER_CHANNEL`] or [`MAX_RECORD_VALUES`].
 //!
 //! The stage, in the order a scene flows through it: [`source`] reads the file and its bases,
 //! `overrides` applies `--set`, `load` reads the raw schema (`file`), `build` validates it

@@ -1,15 +1,48 @@
-//! The scene's `[materials]`: each named material → a [`Material`] in SI.
+//! The scene's `[materials]`: each named material → a [`Material`] in SI, looked up by name.
 //!
-//! In: a `[materials.NAME]` table (Young's modulus in GPa, Poisson's ratio, density in kg/m³).
-//! Out: the [`Material`] (Pa, -, kg/m³) or an [`InputError`] at the key. Method: range checks
-//! (Poisson's ratio in [-0.99, 0.499]).
+//! In: the `[materials.NAME]` tables (Young's modulus in GPa, Poisson's ratio, density in
+//! kg/m³). Out: [`Materials`], each a [`Material`] (Pa, -, kg/m³), or an [`InputError`] at the
+//! key; a name no table defines is an error where it is used, listing the defined ones. Method:
+//! range checks (Poisson's ratio in [-0.99, 0.499]), in name order.
+
+use std::collections::BTreeMap;
 
 use crate::error::InputError;
 use crate::rotor::fe::Material;
 use crate::scene::check::Check;
 use crate::scene::file::MaterialFile;
 
-pub(crate) fn material(c: &Check, key: &str, m: &MaterialFile) -> Result<Material, InputError> {
+/// The scene's materials by name.
+pub(crate) struct Materials(BTreeMap<String, Material>);
+
+impl Materials {
+    /// Every `[materials.NAME]`, checked in name order.
+    pub(crate) fn new(
+        c: &Check,
+        list: &BTreeMap<String, MaterialFile>,
+    ) -> Result<Self, InputError> {
+        let mut materials = BTreeMap::new();
+        for (name, m) in list {
+            materials.insert(name.clone(), material(c, &format!("materials.{name}"), m)?);
+        }
+        Ok(Self(materials))
+    }
+
+    /// The material `name`, as the key `key` names it.
+    pub(crate) fn get(&self, c: &Check, key: &str, name: &str) -> Result<Material, InputError> {
+        self.0.get(name).copied().ok_or_else(|| {
+            c.err(
+                key,
+                format!(
+                    "unknown material `{name}` (defined: {})",
+                    self.0.keys().cloned().collect::<Vec<_>>().join(", ")
+                ),
+            )
+        })
+    }
+}
+
+fn material(c: &Check, key: &str, m: &MaterialFile) -> Result<Material, InputError> {
     let nu = c.range(&format!("{key}.poisson"), m.poisson, -0.99, 0.499)?;
     Ok(Material {
         youngs_modulus: 1e9

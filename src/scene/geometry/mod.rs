@@ -2,11 +2,12 @@
 //! tube roll, journal to journal) or a general rotor (`[rotor]`: tube segments with disks).
 //!
 //! In: the raw tables (lengths and diameters in mm, masses in g or kg, inertias in kg m²,
-//! moduli in GPa) and the validation context. Out: a [`Geometry`]: the [`RotorSpec`](crate::rotor::fe::RotorSpec)
-//! in SI with its named nodes, the shell's thickness map, the sensors and the default
-//! Craig–Bampton boundary; or an [`InputError`](crate::error::InputError) at the key.
-//! Method: `roll` and `rotor` lay out the segments and named points, `shell` validates a
-//! synthetic wall map, `body` keeps masses in the material, `materials` reads the materials.
+//! moduli in GPa) and the validation context. Out: a [`Geometry`]: the
+//! [`RotorSpec`](crate::rotor::fe::RotorSpec) in SI with its named nodes, the shell's thickness
+//! map, the sensors and the default Craig–Bampton boundary; or an
+//! [`InputError`](crate::error::InputError) at the key. Method: `roll` and `rotor` lay out the
+//! segments and named points, `shell` gives the roll shell's wall (nominal, a CSV map or a
+//! synthetic one), `body` keeps masses in the material, `materials` reads the materials.
 
 mod body;
 mod built;
@@ -16,6 +17,6 @@ mod rotor;
 mod shell;
 
 pub(super) use built::Geometry;
-pub(super) use materials::material;
+pub(super) use materials::Materials;
 pub(super) use roll::build_roll;
 pub(super) use rotor::build_rotor;

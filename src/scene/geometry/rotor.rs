@@ -10,8 +10,9 @@
 
 use super::body::{masses, Body};
 use super::built::Geometry;
+use super::materials::Materials;
 use crate::error::InputError;
-use crate::rotor::fe::{DiskSpec, Material, RotorSpec, SectionSpec, SegmentSpec};
+use crate::rotor::fe::{DiskSpec, RotorSpec, SectionSpec, SegmentSpec};
 use crate::scene::check::Check;
 use crate::scene::file::*;
 use crate::scene::limits::mesh_size;
@@ -20,7 +21,7 @@ use crate::scene::position::{Frame, Position};
 pub(crate) fn build_rotor(
     c: &Check,
     r: &RotorFile,
-    find_mat: &dyn Fn(&str, &str) -> Result<Material, InputError>,
+    materials: &Materials,
 ) -> Result<Geometry, InputError> {
     let mut segments = Vec::new();
     for (i, s) in r.segments.iter().enumerate() {
@@ -38,7 +39,7 @@ pub(crate) fn build_rotor(
             length: 1e-3 * c.positive(&format!("{k}.length_mm"), s.length_mm)?,
             section: SectionSpec::Tube { outer, inner },
             elements: c.count(&format!("{k}.elements"), s.elements, 1, 2000)?,
-            material: find_mat(&format!("{k}.material"), &s.material)?,
+            material: materials.get(c, &format!("{k}.material"), &s.material)?,
         });
     }
     if segments.is_empty() {

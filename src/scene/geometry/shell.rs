@@ -1,19 +1,168 @@
-//! A roll shell's wall as a seeded synthetic thickness map: `roll.shell.synthetic_map` → a
-//! [`SyntheticSpec`] in m.
+//! A roll shell's wall: nominal (`wall_thickness_mm`), a thickness map read from a CSV file
+//! (`thickness_map`) or a seeded synthetic map (`synthetic_map`) → the shell's section.
 //!
-//! In: the synthetic map's table (mean, min, max and standard deviation of the wall in mm,
-//! harmonics with phases in degrees, the random share, the correlation length in mm, the grid).
-//! Out: the [`SyntheticSpec`] (m, rad) that [`ThicknessMap::synthetic`](crate::rotor::wall::ThicknessMap::synthetic)
-//! draws, or an [`InputError`] at the key. Method: range checks; min < mean < max.
+//! In: the `[roll.shell]` table (the wall in mm; a CSV path relative to the scene file; the
+//! synthetic map's mean, min, max and standard deviation in mm, harmonics with phases in
+//! degrees, the random share, the correlation length in mm, the grid), the shell's length and
+//! outer diameter [m]. Out: the nominal wall [m], the [`ThicknessMap`] (m) and the shell's
+//! [`SectionSpec`], or an [`InputError`] at the key (an error inside the CSV names the CSV and
+//! its line, and where the scene names it). Method: a wall is nominal or a map, never both; the
+//! synthetic map is drawn from its [`SyntheticSpec`] (min < mean < max); a map's wall must fit
+//! the tube (0 < t < D/2).
 
 use std::f64::consts::PI;
+use std::path::Path;
+use std::sync::Arc;
 
 use crate::error::InputError;
-use crate::rotor::wall::{AxialShape, HarmonicSpec, SyntheticSpec};
+use crate::rotor::fe::SectionSpec;
+use crate::rotor::wall::{AxialShape, HarmonicSpec, SyntheticSpec, ThicknessMap};
 use crate::scene::check::Check;
-use crate::scene::file::SyntheticMapFile;
+use crate::scene::file::{ShellFile, SyntheticMapFile};
 
-pub(super) fn synthetic_spec(c: &Check, s: &SyntheticMapFile) -> Result<SyntheticSpec, InputError> {
+/// The shell's nominal wall [m], if it gives one (`wall_thickness_mm`): never beside a map, and
+/// thinner than half the tube of diameter `outer` [m].
+pub(super) fn nominal_wall(
+    c: &Check,
+    sh: &ShellFile,
+    outer: f64,
+) -> Result<Option<f64>, InputError> {
+    // The wall is either nominal (uniform) or a map, never both: with a map, a nominal wall would
+    // be ignored in favour of the map's, a silent change of the roll's mass and stiffness.
+    Ok(
+        match (sh.wall_thickness_mm, &sh.thickness_map, &sh.synthetic_map) {
+            (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
+                return Err(c.err(
+                    "roll.shell.wall_thickness_mm",
+                    "give either a nominal wall (wall_thickness_mm) or a thickness map \
+                 (thickness_map or synthetic_map), not both: with a map the wall, and so the \
+                 shell's mass and stiffness, come from the map",
+                ))
+            }
+            (Some(w), None, None) => {
+                let wall = 1e-3 * c.positive("roll.shell.wall_thickness_mm", w)?;
+                if 2.0 * wall >= outer {
+                    return Err(c.err(
+                        "roll.shell.wall_thickness_mm",
+                        format!(
+                            "a wall of {} mm does not fit in a {} mm tube",
+                            wall * 1e3,
+                            outer * 1e3
+                        ),
+                    ));
+                }
+                Some(wall)
+            }
+            (None, _, _) => None,
+        },
+    )
+}
+
+/// The shell's thickness map over its `length` [m], if it has one: read from the CSV file
+/// (relative to the scene file) or drawn from the synthetic map; its wall must fit the tube of
+/// diameter `outer` [m].
+pub(super) fn thickness_map(
+    c: &Check,
+    sh: &ShellFile,
+    length: f64,
+    outer: f64,
+) -> Result<Option<Arc<ThicknessMap>>, InputError> {
+    let map = match (&sh.thickness_map, &sh.synthetic_map) {
+        (Some(_), Some(_)) => {
+            return Err(c.err(
+                "roll.shell.synthetic_map",
+                "give either thickness_map (a CSV file) or synthetic_map, not both",
+            ))
+        }
+        (Some(csv), None) => {
+            let p = c.file.parent().unwrap_or(Path::new(".")).join(csv);
+            // Errors inside the CSV name the CSV and its line, and where the scene names it; an
+            // unreadable file is reported where the scene names it.
+            let key = "roll.shell.thickness_map";
+            let map = ThicknessMap::from_csv(&p, length).map_err(|mut e| match e.line {
+                Some(_) => {
+                    let at = c.err(key, "");
+                    let line = at.line.map(|l| format!(":{l}")).unwrap_or_default();
+                    e.reason += &format!(" (the map of `{key}`, {}{line})", at.file.display());
+                    e
+                }
+                None => c.err(key, format!("{}: {}", p.display(), e.reason)),
+            })?;
+            Some(map)
+        }
+        (None, Some(s)) => {
+            let spec = synthetic_spec(c, s)?;
+            spec.validate(length)
+                .map_err(|r| c.err("roll.shell.synthetic_map", r))?;
+            Some(ThicknessMap::synthetic(&spec, length))
+        }
+        (None, None) => None,
+    };
+    if let Some(m) = &map {
+        fits_tube(c, sh, m, outer)?;
+    }
+    Ok(map.map(Arc::new))
+}
+
+/// A map's wall lies in (0, D/2) for a tube of diameter `outer` [m]; the error names the CSV
+/// file the map came from.
+fn fits_tube(c: &Check, sh: &ShellFile, m: &ThicknessMap, outer: f64) -> Result<(), InputError> {
+    let st = m.stats();
+    if st.min_m <= 0.0 || st.max_m >= 0.5 * outer {
+        let source = match &sh.thickness_map {
+            Some(csv) => format!(
+                " ({})",
+                c.file
+                    .parent()
+                    .unwrap_or(Path::new("."))
+                    .join(csv)
+                    .display()
+            ),
+            None => String::new(),
+        };
+        return Err(c.err(
+            "roll.shell.thickness_map",
+            format!(
+                "map thickness {:.3}..{:.3} mm{source} does not fit a {} mm tube",
+                st.min_m * 1e3,
+                st.max_m * 1e3,
+                outer * 1e3
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The shell's section, of diameter `outer` [m]: mapped when it has a map, else a tube of its
+/// nominal wall; with neither it has no wall.
+pub(super) fn shell_section(
+    c: &Check,
+    outer: f64,
+    map: &Option<Arc<ThicknessMap>>,
+    wall: Option<f64>,
+) -> Result<SectionSpec, InputError> {
+    Ok(match (map, wall) {
+        (Some(m), _) => SectionSpec::Mapped {
+            outer,
+            map: Arc::clone(m),
+            map_z0: 0.0,
+        },
+        (None, Some(w)) => SectionSpec::Tube {
+            outer,
+            inner: outer - 2.0 * w,
+        },
+        (None, None) => {
+            return Err(c.err(
+                "roll.shell",
+                "the shell needs its wall: wall_thickness_mm (uniform) or a thickness map \
+                 (thickness_map or synthetic_map)",
+            ))
+        }
+    })
+}
+
+/// The synthetic map's spec in SI (m, rad) from `roll.shell.synthetic_map`.
+fn synthetic_spec(c: &Check, s: &SyntheticMapFile) -> Result<SyntheticSpec, InputError> {
     let k = "roll.shell.synthetic_map";
     let mean = c.positive(&format!("{k}.mean_mm"), s.mean_mm)?;
     let min = c.positive(&format!("{k}.min_mm"), s.min_mm)?;
