@@ -12,8 +12,10 @@
 //! - optional `speed_hz` [Hz] (stored as a channel; the speed the analysis uses comes from the
 //!   roll angle).
 //!
-//! CSV: UTF-8; lines starting with `#` are comments; the first other line is the header (the
-//! names above); comma-separated numbers, one line per sample.
+//! CSV: UTF-8; lines starting with `#` are comments and blank lines are skipped; the first other
+//! line is the header (the names above); comma-separated numbers, one line per sample. Records
+//! are split by the `csv` crate (quoted fields allowed, a byte-order mark ignored) through
+//! `rotor::wall::data_rows`, which names each record's line.
 //!
 //! HDF5: 1-D numeric datasets (any float or integer type) at the file's root named `time_s`,
 //! `roll_angle_rad` or `keyphasor`, optional `speed_hz`, and `runout/<sensor>/<direction>` in
@@ -34,6 +36,7 @@ use std::path::Path;
 
 use crate::dynamics::simulation::{Channel, JobResult};
 use crate::error::InputError;
+use crate::rotor::wall::data_rows;
 use crate::signal::orders;
 use crate::store::{self, Param};
 
@@ -123,19 +126,15 @@ pub fn read(path: &Path) -> Result<Record, InputError> {
 pub fn read_csv(path: &Path) -> Result<Record, InputError> {
     let text = crate::error::read_text(path).map_err(|e| InputError::new(path, e.to_string()))?;
     let at = |line: usize, reason: String| InputError::new(path, reason).at_line(line);
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-    let (hline, header) = lines
+    let mut rows = data_rows(path, &text);
+    let (hline, header) = rows
         .next()
-        .ok_or_else(|| InputError::new(path, "no header line"))?;
-    let names: Vec<String> = header.split(',').map(|s| s.trim().to_string()).collect();
+        .ok_or_else(|| InputError::new(path, "no header line"))??;
+    let names: Vec<String> = header.iter().map(|s| s.trim().to_string()).collect();
     let lay = layout(&names, "column").map_err(|e| at(hline, e))?;
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
-    for (ln, l) in lines {
-        let cells: Vec<&str> = l.split(',').collect();
+    for row in rows {
+        let (ln, cells) = row?;
         if cells.len() != names.len() {
             return Err(at(
                 ln,

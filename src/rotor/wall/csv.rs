@@ -2,7 +2,8 @@
 //!
 //! **In:** a CSV file and the shell length L ([`ThicknessMap::from_csv`]). **Out:** the
 //! [`ThicknessMap`] of its points (φ in radians, z and t in metres), or an [`InputError`] naming
-//! the file and the line; a map written as CSV ([`ThicknessMap::write_csv`]).
+//! the file and the line; a map written as CSV ([`ThicknessMap::write_csv`]). Records are split by
+//! the `csv` crate (quoted fields allowed); [`data_rows`] gives each record with its 1-based line.
 //!
 //! # Convention
 //! CSV files use the **source's** convention (thesis Table 4.1, Appendix 1): header
@@ -26,6 +27,8 @@ use std::f64::consts::TAU;
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
+
+use ::csv::{ReaderBuilder, StringRecord, Writer};
 
 use super::map::{wrap_angle, Station, ThicknessMap};
 use crate::error::InputError;
@@ -75,7 +78,8 @@ impl ThicknessMap {
 
     /// The header and one row per stored point.
     pub(super) fn write_rows(&self, out: &mut impl Write) -> io::Result<()> {
-        writeln!(out, "{}", HEADER.join(","))?;
+        let mut writer = Writer::from_writer(out);
+        writer.write_record(HEADER)?;
         for station in &self.stations {
             let z_mm = decimal(station.z_m * 1e3);
             let mut rows: Vec<(f64, f64)> = station
@@ -86,11 +90,46 @@ impl ThicknessMap {
                 .collect();
             rows.sort_by(|a, b| a.0.total_cmp(&b.0));
             for (angle_deg, t_mm) in rows {
-                writeln!(out, "{},{z_mm},{}", decimal(angle_deg), decimal(t_mm))?;
+                writer.write_record([decimal(angle_deg), z_mm.clone(), decimal(t_mm)])?;
             }
         }
-        Ok(())
+        writer.flush()
     }
+}
+
+/// The data records of a CSV text (`path` names it in errors), each with its 1-based line: split
+/// by the `csv` crate (commas, quoted fields allowed), every record kept as it is except blank
+/// lines (also of spaces only) and lines whose first non-blank character is `#`. Fields are not
+/// trimmed. The line is where the record ends (its only line but for quoted line breaks), from
+/// the reader's position after it (`csv` counts line feeds; a record read through its `\n` is
+/// one line above the position, one ended at a `\r` or at the end of the text is on it).
+pub(crate) fn data_rows<'a>(
+    path: &'a Path,
+    text: &'a str,
+) -> impl Iterator<Item = Result<(usize, StringRecord), InputError>> + 'a {
+    let mut records = ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes())
+        .into_records();
+    std::iter::from_fn(move || loop {
+        let record = match records.next()? {
+            Ok(record) => record,
+            Err(e) => {
+                let line = e.position().map_or(0, |p| p.line() as usize);
+                return Some(Err(InputError::new(path, e.to_string()).at_line(line)));
+            }
+        };
+        let end = records.reader().position();
+        let through_newline = text.as_bytes()[..end.byte() as usize].ends_with(b"\n");
+        let line = (end.line() - u64::from(through_newline)) as usize;
+        let first = record.get(0).unwrap_or("").trim();
+        if (record.len() == 1 && first.is_empty()) || first.starts_with('#') {
+            continue;
+        }
+        return Some(Ok((line, record)));
+    })
 }
 
 /// Body-frame φ (rad) of a source angle (degrees; both clockwise seen from the tending end).
@@ -126,20 +165,18 @@ struct Point {
 /// Parses header and rows, checking every value on its own.
 fn parse_points(path: &Path, text: &str, length_m: f64) -> Result<Vec<Point>, InputError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut rows = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let mut rows = data_rows(path, text);
     let expected = HEADER.join(",");
-    let Some((header_line, header)) = rows.next() else {
+    let Some(header) = rows.next() else {
         return Err(InputError::new(
             path,
             format!("the file is empty: expected the header `{expected}`"),
         )
         .at_line(text.lines().count() + 1));
     };
-    if !header.split(',').map(str::trim).eq(HEADER) {
+    let (header_line, header) = header?;
+    if !header.iter().map(str::trim).eq(HEADER) {
+        let header = text.lines().nth(header_line - 1).map_or("", str::trim);
         return Err(InputError::new(
             path,
             format!("expected the header `{expected}`, found `{header}`"),
@@ -148,8 +185,9 @@ fn parse_points(path: &Path, text: &str, length_m: f64) -> Result<Vec<Point>, In
     }
     let length_mm = length_m * 1e3;
     let mut points = Vec::new();
-    for (line, row) in rows {
-        let fields: Vec<&str> = row.split(',').map(str::trim).collect();
+    for row in rows {
+        let (line, row) = row?;
+        let fields: Vec<&str> = row.iter().map(str::trim).collect();
         if fields.len() != HEADER.len() {
             return Err(InputError::new(
                 path,
@@ -635,5 +673,31 @@ mod tests {
             .write_rows(&mut written)
             .unwrap();
         assert!(written.as_slice() == rows.as_bytes());
+    }
+
+    #[test]
+    fn data_rows_name_the_line_of_each_record() {
+        // Comments (also indented), blank lines (also of spaces), LF and CRLF line ends, a quoted
+        // field with a comma, and a last record without a line end.
+        let text = "# c\n\n  a , b \n\n1,2\n   \n  # indented\n#x\r\n3,\"4,5\"\r\n\r\n6";
+        let rows: Vec<(usize, Vec<String>)> = data_rows(Path::new("t.csv"), text)
+            .map(|r| {
+                let (line, record) = r.unwrap();
+                (line, record.iter().map(|f| f.trim().to_string()).collect())
+            })
+            .collect();
+        let expected: Vec<(usize, Vec<&str>)> = vec![
+            (3, vec!["a", "b"]),
+            (5, vec!["1", "2"]),
+            (9, vec!["3", "4,5"]),
+            (11, vec!["6"]),
+        ];
+        assert_eq!(rows.len(), expected.len(), "{rows:?}");
+        for ((line, fields), (e_line, e_fields)) in rows.iter().zip(&expected) {
+            assert_eq!(
+                (line, fields),
+                (e_line, &e_fields.iter().map(|f| f.to_string()).collect())
+            );
+        }
     }
 }

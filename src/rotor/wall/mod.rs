@@ -30,6 +30,7 @@ mod synthetic;
 #[cfg(test)]
 mod test_support;
 
+pub(crate) use self::csv::data_rows;
 pub use self::csv::COVERAGE_SHARE;
 pub use map::{MapStats, ThicknessMap};
 pub use synthetic::{AxialShape, HarmonicSpec, SyntheticSpec};
