@@ -57,7 +57,8 @@ impl Report {
         };
         let out = match format {
             Format::Markdown => markdown::document(self, &tables, only.is_some()),
-            Format::Csv => csv::document(&tables, only.is_some()),
+            Format::Csv => csv::document(&tables, only.is_some())
+                .map_err(|e| InputError::new(&self.file, e.to_string()))?,
             Format::Html => self.html(&tables, &[]),
             Format::Json => {
                 #[derive(Serialize)]
