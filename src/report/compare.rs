@@ -176,19 +176,31 @@ fn wrap_deg(d: f64) -> f64 {
     }
 }
 
-/// The comparison report of `measured` against `simulated` (module doc).
-pub fn compare(measured: &Path, simulated: &Path) -> Result<Report, InputError> {
-    let meas = order_rows(measured)?;
-    let sim = order_rows(simulated)?;
-    let mut curves: BTreeMap<(String, String, u64), Curve> = BTreeMap::new();
-    for r in &sim {
-        let key = (
-            r.sensor.to_string(),
-            r.direction.to_string(),
-            r.order.to_bits(),
-        );
+/// The (sensor, direction, order) a row of the order table belongs to.
+type CurveKey = (String, String, u64);
+
+/// The key of row `r`.
+fn curve_key(r: &OrderRow) -> CurveKey {
+    (
+        r.sensor.to_string(),
+        r.direction.to_string(),
+        r.order.to_bits(),
+    )
+}
+
+/// The simulated rows as curves over speed, sorted by speed; an error naming `simulated` when
+/// one curve has two rows at one speed.
+fn simulated_curves(
+    sim: &[OrderRow],
+    simulated: &Path,
+) -> Result<BTreeMap<CurveKey, Curve>, InputError> {
+    let mut curves: BTreeMap<CurveKey, Curve> = BTreeMap::new();
+    for r in sim {
         let v = Complex64::from_polar(r.amplitude_um, r.phase_deg.to_radians());
-        curves.entry(key).or_default().push((r.speed_hz, v));
+        curves
+            .entry(curve_key(r))
+            .or_default()
+            .push((r.speed_hz, v));
     }
     for ((sensor, dir, order), c) in curves.iter_mut() {
         c.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -204,15 +216,20 @@ pub fn compare(measured: &Path, simulated: &Path) -> Result<Report, InputError> 
             ));
         }
     }
+    Ok(curves)
+}
+
+/// The comparison report of `measured` against `simulated` (module doc).
+pub fn compare(measured: &Path, simulated: &Path) -> Result<Report, InputError> {
+    let meas = order_rows(measured)?;
+    let sim = order_rows(simulated)?;
+    let curves = simulated_curves(&sim, simulated)?;
     let rows = meas
         .iter()
         .map(|r| {
-            let key = (
-                r.sensor.to_string(),
-                r.direction.to_string(),
-                r.order.to_bits(),
-            );
-            let s = curves.get(&key).and_then(|c| at_speed(c, r.speed_hz));
+            let s = curves
+                .get(&curve_key(r))
+                .and_then(|c| at_speed(c, r.speed_hz));
             let (sa, sp) = s.map_or((f64::NAN, f64::NAN), |v| (v.norm(), v.arg().to_degrees()));
             vec![
                 Cell::Text(r.job_id.to_string()),

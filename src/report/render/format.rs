@@ -47,7 +47,8 @@ impl Report {
         let tables = self.pick(only)?;
         let out = match format {
             Format::Markdown => markdown::document(self, &tables, only.is_some()),
-            Format::Csv => csv::document(&tables, only.is_some()),
+            Format::Csv => csv::document(&tables, only.is_some())
+                .map_err(|e| InputError::new(&self.file, e.to_string()))?,
             Format::Html => self.html(&tables, &[], None),
             Format::Json => self.json(&tables, None)?,
         };

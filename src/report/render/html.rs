@@ -6,9 +6,13 @@
 //! list of links, every figure embedded as base64 with its caption ([`FIGURE_CAPTIONS`]), and
 //! per table its title, legend (`code` spans between backticks) and grid as markdown shows it;
 //! the stability matrix's cells coloured by their error class ([`CLASS_COLOURS`]) with a legend
-//! of the colours. Text is escaped for HTML (`&`, `<`, `>` and `"`).
+//! of the colours. Text is escaped for HTML (`&`, `<`, `>` and `"`, by the `html-escape` crate).
 
 use std::fmt::Write as _;
+
+// `&`, `<`, `>` and `"` as `&amp;`, `&lt;`, `&gt;` and `&quot;`, nothing else (`'` and `/` as
+// they are): the text of every element and of the double-quoted attributes.
+use html_escape::encode_double_quoted_attribute as esc;
 
 use crate::report::classes::CLASS_COLOURS;
 use crate::report::table::{md_cell, Report, Table};
@@ -25,21 +29,6 @@ pub struct Figure {
 /// The marker every HTML report carries in its head: `report -o --overwrite` replaces only a
 /// file that has it.
 pub const HTML_MARKER: &str = "<meta name=\"generator\" content=\"rotorsweep report\">";
-
-/// `text` with `&`, `<`, `>` and `"` escaped for HTML.
-fn esc(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
 
 /// `text` escaped for HTML, with `code` spans (between backticks) as `<code>`.
 fn esc_code(text: &str) -> String {
@@ -234,5 +223,7 @@ mod tests {
     #[test]
     fn code_spans_and_escapes() {
         assert_eq!(esc_code("a `b` <c>"), "a <code>b</code> &lt;c&gt;");
+        // The four characters the page has always escaped, and no others.
+        assert_eq!(esc("&<>\"'/ µ–"), "&amp;&lt;&gt;&quot;'/ µ–");
     }
 }

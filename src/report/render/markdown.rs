@@ -1,11 +1,11 @@
 //! Markdown: the report's tables under headings.
 //!
 //! In: a [`Report`] and the tables to show. Out: `# Study <name>` with the file and overview
-//! (left out when one table is asked for), then per table `## <title> (`<name>`)`, its legend
-//! and a table whose columns are padded to their widest cell: a table's
-//! [`Grid`](crate::report::Grid) when it has one, else its rows as [`md_cell`] writes them (4
-//! significant digits, `–` for no value) with the all-numeric columns right-aligned. `|` in a
-//! cell is escaped, line breaks become spaces.
+//! (left out when one table is asked for), then per table a `##` heading of its title and its
+//! name (in backticks), its legend and a table whose columns are padded to their widest cell:
+//! a table's [`Grid`](crate::report::Grid) when it has one, else its rows as [`md_cell`] writes
+//! them (4 significant digits, `–` for no value) with the all-numeric columns right-aligned.
+//! `|` in a cell is escaped, line breaks become spaces.
 
 use std::fmt::Write as _;
 
