@@ -19,6 +19,7 @@
 pub mod balancing;
 pub mod campaign;
 pub mod identity;
+pub mod overview;
 pub mod progress;
 
 use std::collections::BTreeMap;
