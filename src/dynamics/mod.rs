@@ -5,9 +5,10 @@
 //! equilibrium ([`linear_system`], the base of the linear toolkit and of the simulation's
 //! start), the nonlinear roll system with contacts for the integrators ([`system`]) and one time
 //! simulation ([`simulation`]: static equilibrium, then time integration, sampled outputs). SI
-//! units throughout, except for the model's [`summary`] for a reader (mm, g, Hz: what `modes`
-//! and `check` print).
+//! units throughout, except for the readers' accounts: the model's [`summary`] and what a scene
+//! asks for, [`derived`] (mm, g, Hz: what `modes` and `check` print).
 
+pub mod derived;
 pub mod linear_system;
 pub mod model;
 pub mod simulation;

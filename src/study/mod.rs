@@ -25,6 +25,7 @@
 pub mod balancing;
 pub mod campaign;
 pub mod identity;
+pub mod overview;
 pub mod progress;
 
 mod analysis;

@@ -9,19 +9,27 @@
 //! the first undamped frequencies on the linearised supports at standstill (vertical,
 //! horizontal), as `rotorsweep modes` computes them. For a study: its jobs, models and
 //! references, the values of every swept key, then the first job's scene (the study's `[set]`
-//! and `[budget]` with that job's swept values) as above. Errors as in every command (exit 1 names the file, line and key).
+//! and `[budget]` with that job's swept values) as above. Errors as in every command (exit 1
+//! names the file, line and key).
+//!
+//! The values come from the library ([`rotorsweep::study::overview`],
+//! [`rotorsweep::dynamics::derived`], [`rotorsweep::dynamics::summary`],
+//! [`rotorsweep::linear::overview::SupportedHz`]); this file prints each part as soon as it is
+//! known, so what precedes a failing model build or linearisation is still shown.
 
 use std::path::{Path, PathBuf};
 
+use rotorsweep::dynamics::derived::{Derived, Positions, Speed, Wall};
 use rotorsweep::dynamics::model::Model;
-use rotorsweep::dynamics::LinearSystem;
+use rotorsweep::dynamics::summary::ModelSummary;
 use rotorsweep::error::InputError;
-use rotorsweep::rotor::fe::SectionSpec;
+use rotorsweep::linear::overview::SupportedHz;
 use rotorsweep::scene::source::Source;
-use rotorsweep::scene::{with_overrides, Scene, SpeedProfile};
+use rotorsweep::scene::{with_overrides, Scene};
 use rotorsweep::study::Study;
 
 use crate::error::CliError;
+use crate::modes::list;
 
 /// Arguments of `rotorsweep check`.
 #[derive(clap::Args)]
@@ -37,10 +45,8 @@ pub struct Args {
     no_model: bool,
 }
 
-type Result<T> = std::result::Result<T, CliError>;
-
 /// Runs the command.
-pub fn run(a: &Args) -> Result<()> {
+pub fn run(a: &Args) -> Result<(), CliError> {
     let text = rotorsweep::error::read_text(&a.file)
         .map_err(|e| InputError::new(&a.file, format!("cannot read: {e}")))?;
     if rotorsweep::error::toml_kind(&text) == Some("study") {
@@ -58,63 +64,36 @@ pub fn run(a: &Args) -> Result<()> {
     scene(&source, &a.set, !a.no_model)
 }
 
-fn study(path: &Path, model: bool) -> Result<()> {
+fn study(path: &Path, model: bool) -> Result<(), CliError> {
     let st = Study::load(path)?;
-    let models: std::collections::BTreeSet<&str> =
-        st.jobs.iter().map(|j| j.model_id.as_str()).collect();
+    let o = st.overview();
     println!(
         "study {}: {} jobs, {} distinct models, {} reference runs{}",
         path.display(),
-        st.jobs.len(),
-        models.len(),
-        if st.has_reference {
-            st.references.len()
-        } else {
-            0
-        },
-        if st.has_reference {
+        o.jobs,
+        o.models,
+        o.references.unwrap_or(0),
+        if o.references.is_some() {
             ""
         } else {
             " (no [reference]: no errors computed)"
         }
     );
-    if !st.varying.is_empty() {
+    if !o.swept.is_empty() {
         println!("swept keys (values in job order):");
     }
-    for k in &st.varying {
-        let mut values: Vec<String> = Vec::new();
-        for j in &st.jobs {
-            let v = st.value_text(j, k).unwrap_or_else(|| "(scene's)".into());
-            if !values.contains(&v) {
-                values.push(v);
-            }
-        }
+    for (k, values) in &o.swept {
         println!("  {k}: {}", values.join(", "));
     }
-    // The first job's scene, not the base alone: a swept key may be what makes the scene valid
-    // (a ramp's speed.rate_hz_per_s on an axis, without which the base lacks ramp_end_s).
-    let first = &st.jobs[0];
-    let base: Vec<String> = first
-        .overrides
-        .iter()
-        .map(|(k, v)| format!("{k}={}", toml_text(v)))
-        .collect();
     println!(
         "\nthe first job's scene: the study's [set] and [budget] with its swept values (the \
          other jobs differ in the swept keys above):"
     );
     let source = Source::load(&st.scene_path)?;
-    scene(&source, &base, model)
+    scene(&source, &o.first_job, model)
 }
 
-fn toml_text(v: &toml::Value) -> String {
-    match v {
-        toml::Value::String(s) => format!("{s:?}"),
-        other => other.to_string(),
-    }
-}
-
-fn scene(source: &Source, set: &[String], model: bool) -> Result<()> {
+fn scene(source: &Source, set: &[String], model: bool) -> Result<(), CliError> {
     let sc = Scene::from_source(source, set)?;
     let (table, _) = with_overrides(source, set)?;
     println!("scene {}", source.path().display());
@@ -127,167 +106,134 @@ fn scene(source: &Source, set: &[String], model: bool) -> Result<()> {
     println!("\n# The effective scene: the files merged, overrides applied (units in key names).");
     print!("{}", toml::to_string(&table)?);
     println!("\n# Derived");
-    positions(&sc);
-    wall(&sc, &table);
-    run_window(&sc);
+    let d = Derived::of(&sc, &table);
+    print_positions(&d.positions);
+    print_wall(d.wall.as_ref());
+    print_run(&d);
     if model {
-        model_part(&sc)?;
+        let m = Model::build(&sc, None)?;
+        print_model(&m.summary());
+        let hz = SupportedHz::of_scene(&sc, &m)?;
+        println!("first frequencies on the linearised supports at standstill [Hz]:");
+        println!("  vertical:   {}", list(&hz.vertical, 4));
+        println!("  horizontal: {}", list(&hz.horizontal, 4));
     }
     Ok(())
 }
 
-fn positions(sc: &Scene) {
-    let r = &sc.rotor;
-    let roll =
-        sc.thickness_map.is_some() || r.named_points.iter().any(|(n, _)| n == "shell_tending_end");
-    let frame = if roll {
+fn print_positions(p: &Positions) {
+    let frame = if p.roll_frame {
         "z from the shell's tending end"
     } else {
         "z on the rotor's axis"
     };
     println!("axial positions [mm, {frame}]:");
-    for (name, z) in &r.named_points {
-        let what = if sc.sensors.contains(name) {
-            " (sensor)"
-        } else {
-            ""
-        };
-        println!("  node {name}{what}: {:.1}", z * 1e3);
+    for n in &p.nodes {
+        let what = if n.sensor { " (sensor)" } else { "" };
+        println!("  node {}{what}: {:.1}", n.name, n.z_mm);
     }
-    if let Some(b) = &r.balancing {
-        let z: Vec<String> = b.planes.iter().map(|z| format!("{:.1}", z * 1e3)).collect();
+    if let Some(b) = &p.balancing {
+        let z: Vec<String> = b.z_mm.iter().map(|z| format!("{z:.1}")).collect();
         println!(
             "  balancing planes: {} at radius {:.1}",
             z.join(", "),
-            b.radius * 1e3
+            b.radius_mm
         );
     }
-    for m in &r.point_masses {
+    for m in &p.point_masses {
         println!(
             "  point mass {:.1} g at z {:.1}, radius {:.1}, {:.1}° (body frame)",
-            m.mass * 1e3,
-            m.z * 1e3,
-            m.radius * 1e3,
-            m.angle.to_degrees()
+            m.mass_g, m.z_mm, m.radius_mm, m.angle_deg
         );
     }
 }
 
-fn wall(sc: &Scene, table: &toml::Value) {
-    let shell = table.get("roll").and_then(|r| r.get("shell"));
-    match (&sc.thickness_map, shell) {
-        (Some(m), _) => {
-            let st = m.stats();
-            let from = shell
-                .and_then(|s| s.get("thickness_map"))
-                .and_then(|p| p.as_str())
+fn print_wall(wall: Option<&Wall>) {
+    match wall {
+        Some(Wall::Map {
+            file,
+            mean_mm,
+            std_mm,
+            min_mm,
+            max_mm,
+        }) => {
+            let from = file
+                .as_ref()
                 .map_or("synthetic_map".to_string(), |p| format!("map {p}"));
             println!(
-                "wall ({from}): mean {:.3} mm, std {:.3} mm, min {:.3} mm, max {:.3} mm",
-                st.mean_m * 1e3,
-                st.std_m * 1e3,
-                st.min_m * 1e3,
-                st.max_m * 1e3
+                "wall ({from}): mean {mean_mm:.3} mm, std {std_mm:.3} mm, min {min_mm:.3} mm, \
+                 max {max_mm:.3} mm"
             );
         }
-        (None, Some(s)) => {
-            if let Some(w) = s.get("wall_thickness_mm") {
-                println!("wall: uniform {w} mm");
-            }
-        }
-        (None, None) => {
-            let tubes: Vec<String> = sc
-                .rotor
-                .segments
+        Some(Wall::Uniform(w)) => println!("wall: uniform {w} mm"),
+        Some(Wall::Segments(tubes)) => {
+            let tubes: Vec<String> = tubes
                 .iter()
-                .filter_map(|s| match s.section {
-                    SectionSpec::Tube { outer, inner } => {
-                        Some(format!("{:.1}/{:.1}", outer * 1e3, inner * 1e3))
-                    }
-                    SectionSpec::Mapped { .. } => None,
-                })
+                .map(|(outer, inner)| format!("{outer:.1}/{inner:.1}"))
                 .collect();
             println!("segments (outer/inner diameter mm): {}", tubes.join(", "));
         }
+        None => {}
     }
 }
 
-fn run_window(sc: &Scene) {
-    let hz = |w: f64| w / std::f64::consts::TAU;
-    let speed = match &sc.speed {
-        SpeedProfile::Constant(w) => format!("constant {:.4} Hz", hz(*w)),
-        SpeedProfile::Ramp { from, to, t0, t1 } => format!(
-            "ramp {:.4} → {:.4} Hz over {t0} … {t1} s",
-            hz(*from),
-            hz(*to)
-        ),
-        SpeedProfile::Steps { times, speeds } => format!(
+fn print_run(d: &Derived) {
+    let speed = match &d.speed {
+        Speed::Constant(hz) => format!("constant {hz:.4} Hz"),
+        Speed::Ramp {
+            from_hz,
+            to_hz,
+            t0_s,
+            t1_s,
+        } => format!("ramp {from_hz:.4} → {to_hz:.4} Hz over {t0_s} … {t1_s} s"),
+        Speed::Steps(steps) => format!(
             "steps: {}",
-            times
+            steps
                 .iter()
-                .zip(speeds)
-                .map(|(t, w)| format!("{:.4} Hz from {t} s", hz(*w)))
+                .map(|(hz, t)| format!("{hz:.4} Hz from {t} s"))
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
-        SpeedProfile::Table { times, speeds, .. } => format!(
-            "table of {} points, {:.4} Hz at {} s … {:.4} Hz at {} s (linear between)",
-            times.len(),
-            speeds.first().map_or(f64::NAN, |w| hz(*w)),
-            times.first().copied().unwrap_or(f64::NAN),
-            speeds.last().map_or(f64::NAN, |w| hz(*w)),
-            times.last().copied().unwrap_or(f64::NAN)
+        Speed::Table {
+            points,
+            first_hz,
+            first_s,
+            last_hz,
+            last_s,
+        } => format!(
+            "table of {points} points, {first_hz:.4} Hz at {first_s} s … {last_hz:.4} Hz at \
+             {last_s} s (linear between)"
         ),
     };
-    let sim = &sc.simulation;
+    let r = &d.record;
     println!("speed: {speed}");
     println!(
         "record: {} … {} s at {} Hz: {} samples × {} channels; {} modal coordinates; solver {}",
-        sim.settle,
-        sim.t_end,
-        sim.sample_rate,
-        sc.samples(),
-        sc.channels(),
-        sc.modal_coordinates(),
-        sc.solver.integrator.name()
+        r.settle_s,
+        r.t_end_s,
+        r.sample_rate_hz,
+        r.samples,
+        r.channels,
+        r.modal_coordinates,
+        r.solver
     );
 }
 
-fn model_part(sc: &Scene) -> Result<()> {
-    let model = Model::build(sc, None)?;
-    let r = &model.rotor;
+fn print_model(m: &ModelSummary) {
     println!(
         "model: {:.2} kg, {} elements, {} nodes, {} DOFs, reduced to {} = {} coordinates ({:.2} s)",
-        r.mass(),
-        r.elements.len(),
-        r.node_z.len(),
-        r.ndof(),
-        model.reduced.counts_label(),
-        model.reduced.len(),
-        model.build_seconds
+        m.mass_kg,
+        m.elements,
+        m.nodes,
+        m.dofs,
+        m.modes_selected,
+        m.modes.len(),
+        m.build_time_s
     );
-    for b in &r.balancing_masses {
+    for b in &m.balancing_masses {
         println!(
             "balancing mass: {:.2} g at z {:.1} mm, radius {:.1} mm, {:.1}° (body frame)",
-            b.mass * 1e3,
-            b.z * 1e3,
-            b.radius * 1e3,
-            b.angle.to_degrees()
+            b.mass_g, b.z_mm, b.radius_mm, b.angle_deg
         );
     }
-    let named =
-        |e: &dyn std::fmt::Display| InputError::new(&sc.source, format!("linear analysis: {e}"));
-    let sys = LinearSystem::of_scene(sc, &model).map_err(|e| named(&e))?;
-    let (v, h) = sys.supported_hz().map_err(|e| named(&e))?;
-    let first = |f: &[f64]| {
-        f.iter()
-            .take(4)
-            .map(|x| format!("{x:.2}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    println!("first frequencies on the linearised supports at standstill [Hz]:");
-    println!("  vertical:   {}", first(&v));
-    println!("  horizontal: {}", first(&h));
-    Ok(())
 }

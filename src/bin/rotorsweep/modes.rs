@@ -66,8 +66,8 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The first `n` frequencies of `v` [Hz], two decimals, comma-separated.
-fn list(v: &[f64], n: usize) -> String {
+/// The first `n` frequencies of `v` [Hz], two decimals, comma-separated (also `check`'s).
+pub fn list(v: &[f64], n: usize) -> String {
     v.iter()
         .take(n)
         .map(|f| format!("{f:.2}"))
