@@ -17,22 +17,7 @@ use serde::Deserialize;
 
 use super::file::SceneFile;
 
-/// One documented key.
-pub struct KeyDoc {
-    /// The path: `a.b` for tables, `a[]` for the entries of an array, `<name>` for a name of
-    /// the user's choice.
-    pub key: &'static str,
-    /// Units ("" for none).
-    pub units: &'static str,
-    /// The default when left out ("required", "none" or a value).
-    pub default: &'static str,
-    /// Allowed values.
-    pub range: &'static str,
-    /// What it means.
-    pub meaning: &'static str,
-}
-
-pub use super::keys_docs::DOCS;
+pub use super::keys_docs::{KeyDoc, DOCS};
 
 /// The keys the parser accepts with the type it reads, in schema order: `extends`
 /// (`source.rs`) and the fields of the scene's tables.

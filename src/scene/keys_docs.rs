@@ -1,8 +1,23 @@
 //! The descriptions of the scene keys (`keys.rs`): units, default, allowed values and meaning.
 //!
 //! One line per key the parser accepts (a test checks both ways); the type comes from the schema.
+//! The row type, [`KeyDoc`], lives here with its rows, so that `keys.rs` reads this table and
+//! this table imports nothing from it.
 
-use super::keys::KeyDoc;
+/// One documented key.
+pub struct KeyDoc {
+    /// The path: `a.b` for tables, `a[]` for the entries of an array, `<name>` for a name of
+    /// the user's choice.
+    pub key: &'static str,
+    /// Units ("" for none).
+    pub units: &'static str,
+    /// The default when left out ("required", "none" or a value).
+    pub default: &'static str,
+    /// Allowed values.
+    pub range: &'static str,
+    /// What it means.
+    pub meaning: &'static str,
+}
 
 /// Every key the parser accepts, with what its type does not say, in reading order.
 pub const DOCS: &[KeyDoc] = &[
