@@ -27,6 +27,7 @@ mod dynamics_checks;
 mod error_trust;
 mod import;
 mod integrator_order;
+mod layering;
 mod linear_cli;
 mod linear_consistency;
 mod linear_floquet;
