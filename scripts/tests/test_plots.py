@@ -574,7 +574,7 @@ def test_campbell_is_labelled_and_nothing_is_clipped(solver_results: Path) -> No
 def test_html_report_with_figures_in_chromium(solver_results: Path, tmp_path: Path) -> None:
     """`rotorsweep report --format html -o` with this Python drawing the figures: every figure
     embedded as a PNG; rendered by headless Chromium (Debian's, when installed: the Rust test
-    tests/report_html.rs installs it where it can) into a PNG with figures on it."""
+    tests/it/report_html.rs installs it where it can) into a PNG with figures on it."""
     import base64
     import os
     import shutil

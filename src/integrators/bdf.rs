@@ -51,7 +51,7 @@ struct Point {
 
 /// The highest order after a step across a contact event (`solver.contact_events`): at a kink of
 /// the force q̈ is continuous but q⃛ jumps, so a predictor of order ≤ 2 spans it without error.
-/// Measured on the bouncing mass of tests/contact_events.rs (tolerance 1e-9 m, three bounces):
+/// Measured on the bouncing mass of tests/it/contact_events.rs (tolerance 1e-9 m, three bounces):
 /// restarting at order 2 takes 221 steps, 13 rejections and 525 iterations against 236, 23 and
 /// 648 without a restart, and order 1 238, 10 and 525; on the timing case a restart at order 1
 /// left a larger error than at order 2 (4.3 against 2.2 µm, hmax 100 µs, one run each).

@@ -232,7 +232,7 @@ impl Tracker {
     /// an event and the event, located again on this shorter step, lies within its last
     /// [`LAND_SHARE`] (or [`MAX_TRIES`] were made). The second look matters: the dense output
     /// of a step that crossed the kink bends across it (on the bouncing mass of
-    /// tests/contact_events.rs the first look put the onset 37 µs late, 3.7 % of the 1 ms step;
+    /// tests/it/contact_events.rs the first look put the onset 37 µs late, 3.7 % of the 1 ms step;
     /// the next three 3.1 µs, 0.2 µs and 0.02 µs).
     pub(super) fn shorten(&mut self, pb: &dyn SecondOrder, step: &Step, hmin: f64) -> Option<f64> {
         pb.events(step.t1, step.q1, step.v1, &mut self.end);

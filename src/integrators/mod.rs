@@ -41,8 +41,8 @@
 //! the timing case it does not pay: its kinks are mild (the fitted Hertz law has exponent 1.07
 //! and its damping ramps in over 5 µm), only about 60 steps of a run cross a contact change, and
 //! location costs 13–30 % more CPU at no smaller error, whose size depends on the exact step
-//! sequence more than on location (README, "Contacts and hmax", has the measurements). Where
-//! kinks are sharp location pays: on the bouncing mass of tests/contact_events.rs it takes 13
+//! sequence more than on location (docs/solvers.md, "Contacts and hmax", has the measurements). Where
+//! kinks are sharp location pays: on the bouncing mass of tests/it/contact_events.rs it takes 13
 //! rejections and 525 iterations instead of 29 and 601.
 //! What costs at a long step on the timing case is elsewhere: at hmax 500 µs the roll turns 3°
 //! per step and the contact directions turn with it in the body frame, so a reused Newton

@@ -23,7 +23,7 @@
 //! Truncation is an approximation to use with care: the modes of the modal damping's 100 %
 //! band carry rotating damping, and cutting them changes the stability above the first critical
 //! speed (on the reference roll a 1 kHz cut-off turned it unstable above 44.8 Hz, 5 kHz or none
-//! left it stable); on the Jeffcott rotor of tests/linear_floquet.rs a 2 kHz cut-off moves the
+//! left it stable); on the Jeffcott rotor of tests/it/linear_floquet.rs a 2 kHz cut-off moves the
 //! growth of its least damped mode by 0.35 %.
 
 use nalgebra::{Complex, DMatrix, Matrix2};

@@ -409,7 +409,7 @@ fn static_json(s: &Result<Static, String>) -> Value {
 }
 
 impl Results {
-    /// The `rotorsweep linear --json` object (README; analyses not asked for are `null`, the
+    /// The `rotorsweep linear --json` object (docs/linear.md; analyses not asked for are `null`, the
     /// lists of `unbalance_response` and `floquet.unstable_ranges_hz` empty, with the reason).
     pub fn to_json(&self, with_times: bool) -> Value {
         let c = &self.campbell;

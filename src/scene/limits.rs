@@ -116,7 +116,7 @@ impl Scene {
 
 /// Most FE nodes a model may have (6 DOFs each). The reduction solves dense eigenproblems of the
 /// interior DOFs and holds the assembled matrices densely: memory grows with DOFs² and time with
-/// DOFs³. Measured with `rotorsweep modes` on the 2-core machine of the README (busy with other
+/// DOFs³. Measured with `rotorsweep modes` on a 2-core machine (docs/benchmarks.md, 2026-12-01) (busy with other
 /// builds): the reference roll at the limit (`roll.shell.elements = 482`, 493 nodes, 2958 DOFs)
 /// built in 13.8 s with a peak of 0.74 GB, the Jeffcott rotor at it (2 × 243 elements, 487
 /// nodes) in 18.0 s and 0.72 GB; at 600 shell elements it took 28.6 s and 1.1 GB, at 800 74 s

@@ -150,7 +150,7 @@ pub(super) fn solver(c: &Check, s: &SolverFile) -> Result<SolverSettings, InputE
             return Err(c.err(
                 "solver.integrator",
                 "`cvode`: this rotorsweep was built without CVODE \
-                 (cargo build --release --features cvode; README, solvers, CVODE)",
+                 (cargo build --release --features cvode; docs/solvers.md, CVODE)",
             ))
         }
         other => {

@@ -12,7 +12,7 @@ use rotorsweep::dynamics::model::Model;
 use rotorsweep::study::{campaign, Study};
 use support::{first_bending_hz, scene_from_text, scratch, write_file, JEFFCOTT_ROTOR};
 
-/// The Jeffcott rotor of check 7 (tests/dynamics_checks.rs: shaft Ø30 × 700 mm, 12.331 kg disk,
+/// The Jeffcott rotor of check 7 (tests/it/dynamics_checks.rs: shaft Ø30 × 700 mm, 12.331 kg disk,
 /// bearings 1e9 N/m, a stationary damper `c` at the disk, gravity off), without unbalance.
 fn scene(c: f64) -> String {
     let rotor = JEFFCOTT_ROTOR.replace(

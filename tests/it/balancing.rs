@@ -3,7 +3,7 @@
 //! the corrections that cancel the static and the couple unbalance (any balancing text, e.g.
 //! Friswell et al., *Dynamics of Rotating Machines*, 2010, §12.2):
 //!   W₁ + W₂ = −Σ Uᵢ,   z₁ W₁ + z₂ W₂ = −Σ zᵢ Uᵢ   (U = m r e^{iφ}).
-//! The rotor is the stiff Jeffcott cylinder of tests/linear_jeffcott.rs (Ø200 × 400 mm steel,
+//! The rotor is the stiff Jeffcott cylinder of tests/it/linear_jeffcott.rs (Ø200 × 400 mm steel,
 //! bending above 1 kHz, 10⁵ times stiffer than its supports k = 1e5 N/m, c = 450 N s/m): its
 //! 1× runout at both bearings, from the frequency-domain unbalance response
 //! (`linear::response`, itself tested against the Jeffcott closed form), is the measurement; a

@@ -63,7 +63,7 @@ fn bdf_steps_and_error_follow_the_tolerance_on_undamped_high_modes() {
     // The error grows with the tolerance, and stays within 400 × the tolerance over the run
     // (measured here: 11.5, 6.97, 2.94, 0.675, 0.140 µm from 1e-5 to 1e-9 m: factors 1.2 to
     // 140, growing like the step count, the accumulation of a per-step tolerance on an
-    // undamped mode, README "Solvers"; 500 at 1e-9 m before the 1 % corrector test).
+    // undamped mode, docs/solvers.md; 500 at 1e-9 m before the 1 % corrector test).
     for w in errors.windows(2) {
         assert!(w[0] > w[1], "{errors:?}");
     }
@@ -76,7 +76,7 @@ fn bdf_steps_and_error_follow_the_tolerance_on_undamped_high_modes() {
 fn bdf_needs_at_most_twice_the_steps_of_fixed_step_generalized_alpha_at_equal_error() {
     // Issue 13: "at equal error [BDF] is within 2× of fixed-step generalized-α's cost". Steps
     // stand for the cost here (a test must not time); both take 1.0-1.3 Newton iterations per
-    // step on this case. Measured over 2 s (README "Solvers"): 1.3-1.55 × the steps, 1.3-2.0 ×
+    // step on this case. Measured over 2 s (docs/solvers.md): 1.3-1.55 × the steps, 1.3-2.0 ×
     // the CPU time.
     let reference = run(&[
         "solver.integrator=\"gen-alpha\"",

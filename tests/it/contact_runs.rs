@@ -37,7 +37,7 @@ fn unbalance_per_journal(grams: f64, hz: f64) -> f64 {
 
 #[test]
 fn a_large_unbalance_lifts_the_roll_off_its_rollers_and_it_lands_again() {
-    // The journal reactions at rest are 3665 N and 3661 N (lever rule, tests/dynamics_checks.rs).
+    // The journal reactions at rest are 3665 N and 3661 N (lever rule, tests/it/dynamics_checks.rs).
     let reaction = 3661.0;
     let grams = 3000.0;
     let outputs = "\n[simulation]\nt_end_s = 1.0\nsettle_s = 0.5\n[outputs]\ncontact_forces = true\njournal_orbits = true\n";

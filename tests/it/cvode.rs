@@ -1,6 +1,6 @@
 //! CVODE (`solver.integrator = "cvode"`, the `cvode` feature) against closed forms: a damped
 //! oscillator with a non-unit mass (its exact free decay), and the Jeffcott rotor's unbalance
-//! response (the closed form of tests/dynamics_checks.rs check 7) through a whole job; plus the
+//! response (the closed form of tests/it/dynamics_checks.rs check 7) through a whole job; plus the
 //! settings it shares with our integrators (budgets, hmin, the observer's steps).
 #![cfg(feature = "cvode")]
 
@@ -103,7 +103,7 @@ fn cvode_keeps_the_budgets_and_hmin() {
 
 #[test]
 fn cvode_jeffcott_unbalance_response_matches_the_closed_form() {
-    // The Jeffcott rotor of check 7 (tests/dynamics_checks.rs): 20 g at 100 mm on the disk, stiff
+    // The Jeffcott rotor of check 7 (tests/it/dynamics_checks.rs): 20 g at 100 mm on the disk, stiff
     // isotropic bearings, a stationary damper c = 2ζMω at the disk, ζ = 5 %, no gravity.
     let text = |hz: f64, c: f64, t_end: f64, settle: f64| {
         format!(

@@ -2,7 +2,7 @@
 //! `ok`, and the error-controlled runs of a lightly damped rotor are not such runs.
 //!
 //! The rule (`integrators::review_trust`): more than 10 % of the accepted steps rejected by the
-//! error test (at least 50). Measured on this machine (README "Solvers"): rk45 on the timing
+//! error test (at least 50). Measured on this machine (docs/solvers.md): rk45 on the timing
 //! case with the contact stiffness ×100 (studies/stiff-and-extreme.toml) rejects 7 454 steps for
 //! 18 500 accepted (40 %): an explicit method on a stiff contact, whose step swings about its
 //! stability limit. On the same physics BDF rejects 88 of 10 223 (0.9 %).
@@ -63,7 +63,7 @@ fn error_controlled_runs_of_a_lightly_damped_rotor_are_trusted() {
     // generalized-α took 91 000-121 000 steps over 2 s with 29-32 % rejected at every
     // tolerance from 1e-6 to 1e-9 m while its corrector stopped at 5 % of the tolerance
     // (the corrector's step-to-step noise in the acceleration was what its error estimate
-    // saw); at 1 % it takes 1 551 steps over 2 s at 1e-7 m (README "Solvers").
+    // saw); at 1 % it takes 1 551 steps over 2 s at 1e-7 m (docs/solvers.md).
     for integrator in ["bdf", "gen-alpha", "rk45"] {
         let r = run(
             "studies/scenes/linear-unbalance.toml",

@@ -307,12 +307,12 @@ fn compare_of_the_synthetic_run_up_with_the_model_shows_the_added_out_of_roundne
             r[dphase].as_f64().unwrap(),
         );
         if k == 1.0 {
-            // Noise and keyphasor jitter only: README's worst 1× deviation from the noise-free
+            // Noise and keyphasor jitter only: docs/runups-and-balancing.md's worst 1× deviation from the noise-free
             // model, 1.6 µm; phase within one sample of pulse timing, 360° × 38 Hz × 1 ms.
             assert!(d.abs() < 1.6 && p.abs() < 13.7, "{r}");
         }
         // The out-of-roundness added by make-synthetic.py: 3 µm at 2×, 1 µm at 3× (the model's
-        // own are below 0.2 µm), with tests/import.rs's bounds for the import alone.
+        // own are below 0.2 µm), with tests/it/import.rs's bounds for the import alone.
         if k == 2.0 {
             assert!((d - 3.0).abs() < 0.35, "{r}");
         }
@@ -351,7 +351,7 @@ fn compare_of_the_synthetic_critical_crossing_puts_the_resonances_side_by_side()
     for r in rows.iter().filter(|r| r[col("order")] == 1.0) {
         found.push(r[col("direction")].as_str().unwrap().to_string());
         let (m, s) = (num(r, "measured_hz"), num(r, "simulated_hz"));
-        // Both peak past the criticals (the 2 Hz/s passage shifts them up, README: 45.8 Hz
+        // Both peak past the criticals (the 2 Hz/s passage shifts them up, docs/runups-and-balancing.md: 45.83 Hz
         // vertical for the 30 → 60 Hz run).
         assert!((44.4..47.0).contains(&s), "{r}");
         // The measured block speeds come from keyphasor pulses timed to the 1 ms sample: an

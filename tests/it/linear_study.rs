@@ -1,11 +1,11 @@
 //! A study's `[linear]` table: the linear analyses stored per linear system under
 //! `/linear/<id>`, checked against the time simulations of the same study. The rotor is the
-//! Jeffcott rotor of tests/linear_consistency.rs (studies/scenes/jeffcott.toml's shaft and disk on
+//! Jeffcott rotor of tests/it/linear_consistency.rs (studies/scenes/jeffcott.toml's shaft and disk on
 //! damped bearings with pedestal masses and anisotropic ground springs, a stationary damper at
 //! the disk), run at 30 and 60 Hz (below and above its first critical speed, ≈ 44 Hz). Two
 //! independent computations must agree: the frequency-domain unbalance response of `[linear]`
 //! and the 1× line the study analysis fits to each job's simulated runout (`/analysis/lines`),
-//! within 1 % and 1° (the tolerance of tests/linear_consistency.rs); gravity makes the static
+//! within 1 % and 1° (the tolerance of tests/it/linear_consistency.rs); gravity makes the static
 //! sag negative (downwards); the axisymmetric rotor is Floquet-stable at every speed.
 
 use crate::support;

@@ -216,7 +216,7 @@ fn report_tables_in_markdown_csv_and_json() {
     // The linear table of the study's one linearised system (one model, one set of supports):
     // its stored Campbell data, 201 speeds 0–100 Hz × the lateral modes with their damping
     // (the layout of `rotorsweep linear -o`), then its critical speeds and its threshold: none,
-    // the reference roll is stable over 0–100 Hz (README, `rotorsweep linear`).
+    // the reference roll is stable over 0–100 Hz (docs/linear.md, "The reference roll").
     let linear = &tables[3];
     let lrows = linear["rows"].as_array().unwrap();
     let quantity = |q: &'static str| lrows.iter().filter(move |row| row[1] == q);
@@ -227,7 +227,7 @@ fn report_tables_in_markdown_csv_and_json() {
     assert!(modes.iter().all(|row| {
         row[5].as_f64().is_some_and(|f| f > 0.0) && row[7].as_f64().is_some_and(|d| d > 0.0)
     }));
-    // The first bending pair of the reference roll on its stands (README: 30.5 / 32.3 Hz).
+    // The first bending pair of the reference roll on its stands (docs/linear.md, "The reference roll": 30.52 / 32.35 Hz).
     let f1 = modes[0][5].as_f64().unwrap();
     assert!((f1 - 30.5).abs() < 0.5, "{f1}");
     let crit: Vec<f64> = quantity("critical_speed")

@@ -1,7 +1,7 @@
 //! Run-ups and coast-downs through a critical speed, order-tracked (issue 11), against the
 //! closed form of a Jeffcott rotor: a stiff steel cylinder Ø200 × 400 mm (bending above 1 kHz)
 //! on two equal isotropic linear supports k, c, so its bounce mode is a Jeffcott rotor of the
-//! whole mass m on 2k, 2c (tests/linear_jeffcott.rs; Friswell et al., *Dynamics of Rotating
+//! whole mass m on 2k, 2c (tests/it/linear_jeffcott.rs; Friswell et al., *Dynamics of Rotating
 //! Machines*, 2010, §3.5): a central unbalance m_u e at body angle α whirls forward with
 //! x + iy = m_u e Ω² e^{i(θ + α)} / (2k − mΩ² + 2icΩ), so the horizontal 1× is
 //! X = m_u e Ω² e^{iα} / (2k − mΩ² + 2icΩ) and the vertical Y = −iX (x = Re(X e^{iθ})).

@@ -900,7 +900,7 @@ fn disk_inertias_of_no_body() {
     );
 }
 
-/// Spin speeds are bounded (module doc of src/scene/run.rs: 1e5 Hz): 1e308 Hz overflowed Ω².
+/// Spin speeds are bounded (src/scene/speed.rs, MAX_SPEED_HZ: 1e5 Hz): 1e308 Hz overflowed Ω².
 #[test]
 fn spin_speed_beyond_the_bound() {
     let text = reference_text();

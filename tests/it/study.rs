@@ -1,5 +1,5 @@
 //! The study engine: expansion and validation of study files, and bit-identical job datasets at 1
-//! and 2 threads and through 2 shards + merge (crash safety is in tests/study_kill.rs).
+//! and 2 threads and through 2 shards + merge (crash safety is in tests/it/study_kill.rs).
 
 use crate::support;
 

@@ -20,7 +20,7 @@
 //! report` and `scripts/plots.py` draw: per Campbell entry the damping ratio, log decrement,
 //! whirl (code) and branch; the critical speeds' whirl and log decrement; the unbalance
 //! response; Floquet growth and ranges; the static sag; the critical-speed map; with `--shapes`
-//! the mode shapes at the nodes [speeds × modes × nodes] (README, `rotorsweep linear`).
+//! the mode shapes at the nodes [speeds × modes × nodes] (docs/results.md, "Linear groups").
 
 use std::path::PathBuf;
 

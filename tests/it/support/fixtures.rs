@@ -41,13 +41,13 @@ pub fn jeffcott_mounting(c: f64) -> String {
     include_str!("../../fixtures/jeffcott-mounting.toml").replace("{c}", &c.to_string())
 }
 
-/// The Jeffcott rotor's damped mounting of tests/linear_consistency.rs and linear_study.rs as
+/// The Jeffcott rotor's damped mounting of tests/it/linear_consistency.rs and linear_study.rs as
 /// scene text: bearings 2e7 N/m and 2000 N·s/m on 5 kg pedestals with anisotropic ground springs
 /// (3e7 / 6e7 N/m, 3000 N·s/m: elliptic orbits with a backward part), a stationary 400 N·s/m
 /// damper at the disk, the drive's axial spring, 8n+12st modes.
 pub const JEFFCOTT_PEDESTALS: &str = include_str!("../../fixtures/jeffcott-pedestals.toml");
 
-/// The stiff Jeffcott rotor of tests/linear_jeffcott.rs and tests/runup.rs as scene text: a
+/// The stiff Jeffcott rotor of tests/it/linear_jeffcott.rs and tests/it/runup.rs as scene text: a
 /// steel cylinder Ø200 × 400 mm (bending above 1 kHz) with 10 g at r = 100 mm, 30°, at its
 /// centre, on two linear supports with `spring` (TOML inline-table body) and `extra` support
 /// lines at both ends; `tail` is appended (further sections).
