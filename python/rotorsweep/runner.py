@@ -152,12 +152,16 @@ def _invoke(
 # --- arguments ---------------------------------------------------------------------------------
 
 
-def _scene_args(scene: SceneLike, set: Mapping[str, Any] | Sequence[str] | None) -> tuple[Path, list[str]]:
-    """The scene's path and its ``--set`` arguments: a Scene's overrides, then ``set``."""
+def _scene_args(
+    scene: SceneLike, set: Mapping[str, Any] | Sequence[str] | None, binary: PathLike | None
+) -> tuple[Path, list[str]]:
+    """The binary (``binary``, else a Scene's own, else found) and the arguments that name the
+    scene: its path and ``--set`` arguments (a Scene's overrides, then ``set``)."""
     from .scene import Scene, toml_value
 
     if isinstance(scene, Scene):
         path, overrides = scene.path, list(scene.overrides)
+        binary = binary if binary is not None else scene.binary
     else:
         path, overrides = Path(scene), []
     if isinstance(set, Mapping):
@@ -169,7 +173,7 @@ def _scene_args(scene: SceneLike, set: Mapping[str, Any] | Sequence[str] | None)
     args = [str(path)]
     for o in overrides:
         args += ["--set", o]
-    return path, args
+    return _find_binary(binary), args
 
 
 def _flags(**kwargs: Any) -> list[str]:
@@ -205,6 +209,17 @@ class _Output:
             self._tmp.cleanup()
 
 
+def _written(p: subprocess.CompletedProcess[str], out: Path) -> None:
+    """A command that ended with exit code 2 but wrote no results is an error."""
+    if not out.is_file():
+        raise RotorsweepError(
+            f"{p.stderr.strip() or 'rotorsweep ' + p.args[1] + ' wrote no results'} (exit code {p.returncode}; no {out})",
+            returncode=p.returncode,
+            stderr=p.stderr,
+            command=p.args,
+        )
+
+
 def _warn_not_ok(p: subprocess.CompletedProcess[str], what: str) -> None:
     if p.returncode == EXIT_NOT_OK:
         detail = p.stderr.strip()
@@ -237,9 +252,9 @@ def modes(
     ``speed_hz``), ``critical_speeds_hz`` (None with ``speed_hz`` alone), ``frame``,
     ``warnings``. ``modes`` ("30n+12st", "0-4,7"), ``speed_hz`` and ``max_speed_hz`` are the
     command's flags."""
-    _, args = _scene_args(scene, set)
+    exe, args = _scene_args(scene, set, binary)
     p = _invoke(
-        _find_binary(binary),
+        exe,
         ["modes", *args, *_flags(modes=modes, speed_hz=speed_hz, max_speed_hz=max_speed_hz), "--json"],
         timeout=timeout,
     )
@@ -285,7 +300,7 @@ def linear(
     if speeds is not None and not isinstance(speeds, str):
         start, stop, count = speeds
         speeds = f"{start}:{stop}:{int(count)}"
-    _, args = _scene_args(scene, set)
+    exe, args = _scene_args(scene, set, binary)
     flags = _flags(
         speed_hz=speed_hz,
         speeds=speeds,
@@ -297,7 +312,7 @@ def linear(
         overwrite=overwrite,
     )
     with _Output(output, "linear.h5") as out:
-        _invoke(_find_binary(binary), ["linear", *args, *flags, "-o", str(out)], timeout=timeout)
+        _invoke(exe, ["linear", *args, *flags, "-o", str(out)], timeout=timeout)
         return results.campbell(out)
 
 
@@ -315,14 +330,15 @@ def simulate(
     solver statistics in ``attrs``). ``output`` keeps the file (for :func:`rotorsweep.spectrum`,
     :func:`rotorsweep.summary`, :func:`rotorsweep.orbits`, …). A run that did not end ok
     (exit code 2) is returned with a :class:`RotorsweepWarning`."""
-    _, args = _scene_args(scene, set)
+    exe, args = _scene_args(scene, set, binary)
     with _Output(output, "simulate.h5") as out:
         p = _invoke(
-            _find_binary(binary),
+            exe,
             ["simulate", *args, *_flags(overwrite=overwrite), "-o", str(out)],
             timeout=timeout,
             ok=(0, EXIT_NOT_OK),
         )
+        _written(p, out)
         _warn_not_ok(p, "simulate")
         (job,) = results.job_ids(out)
         return results.runout(out, job)
@@ -361,5 +377,6 @@ def run(
             timeout=timeout,
             ok=(0, EXIT_NOT_OK),
         )
+        _written(p, out)
         _warn_not_ok(p, "run")
         return results.summary(out)

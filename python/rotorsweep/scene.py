@@ -229,9 +229,9 @@ class Scene:
     ``scene["speed.hz"]``, ``scene.get("speed.hz", default)``, ``"speed.hz" in scene``,
     ``scene["speed.hz"] = 14.0`` (= ``set``); ``scene.overrides`` are the ``--set`` arguments
     so far, ``scene.path`` the file (absolute), ``scene.text`` the file as :meth:`save` writes
-    it. ``binary`` names the rotorsweep binary that validates :meth:`set` (default: found as the
-    runners find it; with ``check=False`` there, or no binary found, values are not validated
-    until a run).
+    it. ``binary`` names the rotorsweep binary that validates :meth:`set` and that the runners
+    use for this scene (default: found as the runners find it; with ``check=False`` there, or
+    no binary found, values are not validated until a run).
     """
 
     def __init__(self, path: PathLike, *, binary: PathLike | None = None) -> None:
@@ -246,7 +246,7 @@ class Scene:
             raise SceneError(f"{path}: {e}", key="") from e
         base = self._doc.get("extends")
         self._base = _base_table(self.path, _plain(base), [self.path.resolve()]) if base is not None else {}
-        self._binary = binary
+        self.binary = binary
         self._overrides: list[tuple[str, str]] = []
 
     def __repr__(self) -> str:
@@ -360,7 +360,7 @@ class Scene:
         :class:`SceneValueError` (wrong type, out of range, inconsistent), with the binary's
         message, which names the key. Does nothing when no binary is found."""
         try:
-            binary = _find_binary(self._binary)
+            binary = _find_binary(self.binary)
         except RotorsweepError:
             return
         args = ["check", str(self.path), "--no-model"]
