@@ -5,6 +5,12 @@
 >>> r = rs.runout("smoke.h5", df.job_id[0])           # xarray: vertical, horizontal over (sensor, time [s])
 >>> s = rs.spectrum("smoke.h5", df.job_id[0])         # over (sensor, freq_hz [Hz])
 >>> m = rs.spectral_map("smoke.h5", 0)                # over (sensor, speed_hz, freq_hz)
+
+Driving the binary (:mod:`rotorsweep.scene`, :mod:`rotorsweep.runner`):
+
+>>> s = rs.Scene("studies/scenes/reference-roll.toml")
+>>> s.set("roll.shell.outer_diameter_mm", 300.0)      # --set semantics, checked by the binary
+>>> c = rs.linear(s, speeds="0:60:61")                # what rs.campbell reads from `linear -o`
 """
 
 from .results import (
@@ -39,14 +45,34 @@ from .results import (
     sweeps,
     varying_keys,
 )
+from .runner import (
+    DEFAULT_TIMEOUT,
+    RotorsweepError,
+    RotorsweepTimeout,
+    RotorsweepWarning,
+    find_binary,
+    linear,
+    modes,
+    run,
+    simulate,
+)
+from .scene import Scene, SceneError, SceneKeyError, SceneValueError
 
 __all__ = [
     "COUNT_COLUMNS",
+    "DEFAULT_TIMEOUT",
     "RUN_GROUPS",
     "Job",
     "JobRef",
     "Model",
     "PathLike",
+    "RotorsweepError",
+    "RotorsweepTimeout",
+    "RotorsweepWarning",
+    "Scene",
+    "SceneError",
+    "SceneKeyError",
+    "SceneValueError",
     "Sweep",
     "analysis",
     "analysis_table",
@@ -55,17 +81,22 @@ __all__ = [
     "channels",
     "contact_forces",
     "file_attrs",
+    "find_binary",
     "job_attrs",
     "job_id",
     "job_ids",
     "job_labels",
     "line_amplitudes",
+    "linear",
     "linear_systems",
     "load_job",
     "load_summary",
     "models",
+    "modes",
     "orbits",
+    "run",
     "runout",
+    "simulate",
     "spectral_map",
     "spectrum",
     "summary",
