@@ -8,7 +8,8 @@
 #    `real-slurm-test: SKIP:` with the reason and exits 0; it needs root to run slurmd.
 # 2. Starts its own munged (own key and socket), slurmctld and slurmd from a slurm.conf it writes
 #    into a temporary folder, on free ports, for the node `hostname -s` as `slurmd -C` describes
-#    it (nothing under /etc is written; clients find the cluster through SLURM_CONF).
+#    it (nothing under /etc is written; clients find the cluster through SLURM_CONF), with
+#    MaxArraySize=3 (array indices 0..2).
 # 3. Runs a small study (studies/smoke.toml with 6 speeds and 3 s records: 18 jobs, 6
 #    reference runs) unsharded, then through submit.sh as references job + array of 2 shards
 #    (1 CPU each) + afterok merge; requeues shard 1 while it runs (after it saved a job) and
@@ -17,12 +18,17 @@
 #    waits for the merge; compares the merged file with the unsharded run job by job
 #    (compare-results.py: every dataset and attribute but the timings); resubmits the finished
 #    shard 0 and checks that it is a no-op (its file unchanged).
+#    Then packing: checks that Slurm refuses `--array=0-11` under MaxArraySize=3 and that
+#    `submit.sh --dry-run --max-submit 4` packs into 2 tasks and prints 3 sbatch lines; submits
+#    studies/smoke.toml (12 jobs, 4 reference runs) asking for 12 tasks with --throttle 2, checks
+#    that submit.sh read MaxArraySize=3 and packed the jobs into 3 array tasks of 4 (shards i/3,
+#    ArrayTaskThrottle=2), and compares the merged file with an unsharded run of it.
 # 4. Prints the wall times and the CPU time of every step against the unsharded run.
 # On exit it cancels its jobs and stops the daemons it started (by their PID files, slurmctld
 # first), and removes its folder (kept, and named, when the test failed).
 #
 # Uses target/release/rotorsweep (built if needed) or $ROTORSWEEP_BIN, and the Python of .venv
-# (scripts/python-test makes it) or python3 for h5py.
+# (scripts/python-test makes it), $PYTHON or python3 for h5py.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -63,8 +69,8 @@ if [ -z "${ROTORSWEEP_BIN:-}" ]; then
   ROTORSWEEP_BIN="$root/target/release/rotorsweep"
 fi
 real_bin="$(realpath "$ROTORSWEEP_BIN")"
-py=python3
-[ -x "$root/.venv/bin/python" ] && py="$root/.venv/bin/python"
+py="${PYTHON:-python3}"
+[ -z "${PYTHON:-}" ] && [ -x "$root/.venv/bin/python" ] && py="$root/.venv/bin/python"
 "$py" -c 'import h5py' 2>/dev/null || fail "$py has no h5py: run scripts/python-test first (it makes .venv)"
 
 # 2. The cluster.
@@ -140,6 +146,8 @@ wait_for 10 test -s "$base/munge/munged.pid" || fail "munged did not start (log:
 munge -S "$sock" -n | unmunge -S "$sock" | grep -q 'STATUS: *Success' || fail "munge -n | unmunge failed"
 
 host="$(hostname -s)"
+# Array indices 0..2 only: below the 12 tasks the packed campaign asks for.
+max_array_size=3
 node="$(slurmd -C | sed -n '1p' | sed -E 's/ UpTime=.*//')"
 case "$node" in NodeName=*) ;; *) fail "slurmd -C printed '$node'" ;; esac
 cat >"$base/slurm.conf" <<EOF
@@ -171,6 +179,7 @@ SelectTypeParameters=CR_Core_Memory
 DefMemPerCPU=1024
 ReturnToService=2
 EnforcePartLimits=ALL
+MaxArraySize=$max_array_size
 MinJobAge=600
 KillWait=5
 $node NodeAddr=127.0.0.1 State=UNKNOWN
@@ -243,8 +252,8 @@ restarted() {
 }
 wait_for 60 restarted || fail "$task did not start again after scontrol update StartTime=now"
 
-done_state() { case "$(state "$merge")" in COMPLETED | FAILED | CANCELLED | TIMEOUT | OUT_OF_MEMORY | NODE_FAIL) return 0 ;; *) return 1 ;; esac }
-wait_for 600 done_state || fail "the merge job did not end in 600 s (state $(state "$merge"))"
+done_state() { case "$(state "$1")" in COMPLETED | FAILED | CANCELLED | TIMEOUT | OUT_OF_MEMORY | NODE_FAIL) return 0 ;; *) return 1 ;; esac }
+wait_for 600 done_state "$merge" || fail "the merge job did not end in 600 s (state $(state "$merge"))"
 wall_campaign=$(elapsed "$t0")
 for j in "$refs" "${array}_0" "${array}_1" "$merge"; do
   [ "$(state "$j")" = COMPLETED ] || fail "job $j ended $(state "$j"): $(cat "$outdir"/slurm-*.out)"
@@ -271,6 +280,54 @@ grep -q '9 jobs, 9 ok, 0 failed (9 resumed)' "$outdir"/slurm-again-*.out ||
   fail "the resubmitted shard 0 did not find itself complete: $(cat "$outdir"/slurm-again-*.out)"
 say "resubmitted finished shard 0: no-op, file unchanged"
 
+# A study of more jobs than the cluster's arrays allow: studies/smoke.toml (12 jobs, 4 reference
+# runs) asked for 12 tasks, one job each, under MaxArraySize=3. Slurm itself refuses such an
+# array; submit.sh packs the jobs into 3 tasks of 4.
+if sbatch --array=0-11 --hold --wrap=true >"$base/too-big.txt" 2>&1; then
+  fail "Slurm accepted --array=0-11 under MaxArraySize=$max_array_size: $(cat "$base/too-big.txt")"
+fi
+say "Slurm refuses --array=0-11 under MaxArraySize=$max_array_size: $(tr '\n' ' ' <"$base/too-big.txt")"
+small="$root/studies/smoke.toml"
+small_jobs=$("$real_bin" plan "$small" | sed -n -E '1s/^study .*: ([0-9]+) jobs$/\1/p')
+[ "$small_jobs" = 12 ] || fail "studies/smoke.toml has $small_jobs jobs, not 12"
+"$base/bin/rotorsweep" run "$small" -o "$base/smoke-unsharded.h5" --threads 1 2>"$base/smoke-unsharded.log" ||
+  fail "the unsharded run of smoke.toml failed: $(tail -n 3 "$base/smoke-unsharded.log")"
+dry=$(ROTORSWEEP_BIN="$real_bin" "$here/submit.sh" --dry-run --tasks 12 --max-submit 4 "$small" "$base/dry") ||
+  fail "submit.sh --dry-run failed: $dry"
+grep -q '^chose: 2 tasks .*capped to 2 by the submit limit (4 jobs less 2 for references and merge)' <<<"$dry" ||
+  fail "submit.sh --max-submit 4 did not pack into 2 tasks: $dry"
+{ [ "$(grep -c '^sbatch ' <<<"$dry")" -eq 3 ] && [ ! -e "$base/dry" ]; } ||
+  fail "submit.sh --dry-run did not print 3 sbatch lines, or made its OUTDIR: $dry"
+say "dry run with --max-submit 4: $(grep '^chose: ' <<<"$dry")"
+packed="$base/packed"
+t0=$(date +%s.%N)
+sub=$(ROTORSWEEP_BIN="$base/bin/rotorsweep" SBATCH_OPTS="--time=10" \
+  "$here/submit.sh" --tasks 12 --throttle 2 "$small" "$packed") || fail "submit.sh (packed) failed: $sub"
+echo "$sub"
+grep -q "^cluster: MaxArraySize=$max_array_size," <<<"$sub" || fail "submit.sh did not read MaxArraySize=$max_array_size"
+grep -q '^chose: 3 tasks (12 wanted: asked, capped to 3 by MaxArraySize), 4 jobs per task, 1 CPUs per task, throttle 2 at once: --array=0-2%2$' <<<"$sub" ||
+  fail "submit.sh did not pack 12 jobs into 3 tasks of 4 with throttle 2"
+read -r prefs parray pmerge < <(sed -n -E 's/^submitted: references ([0-9]+) array ([0-9]+) merge ([0-9]+) .*/\1 \2 \3/p' <<<"$sub")
+[ -n "${pmerge:-}" ] || fail "submit.sh (packed) did not print its job ids"
+throttled=$(scontrol show job "$parray" 2>/dev/null | grep -o 'ArrayTaskThrottle=[0-9]*' | sort -u)
+[ "$throttled" = ArrayTaskThrottle=2 ] || fail "the array's throttle is '$throttled', not ArrayTaskThrottle=2"
+wait_for 600 done_state "$pmerge" || fail "the packed campaign's merge did not end in 600 s (state $(state "$pmerge"))"
+wall_packed=$(elapsed "$t0")
+tasks=$(squeue -h -t all -r -j "$parray" -o %i | sort)
+[ "$tasks" = "$(printf '%s\n' "${parray}_0" "${parray}_1" "${parray}_2")" ] ||
+  fail "the packed array's tasks are not ${parray}_0..2: $tasks"
+for j in "$prefs" "${parray}_0" "${parray}_1" "${parray}_2" "$pmerge"; do
+  [ "$(state "$j")" = COMPLETED ] || fail "job $j ended $(state "$j"): $(cat "$packed"/slurm-*.out)"
+done
+for i in 0 1 2; do
+  { grep -q "^shard $i/3 " "$packed/slurm-${parray}_$i.out" && grep -q ': 4 jobs, ' "$packed/slurm-${parray}_$i.out"; } ||
+    fail "task $i did not run shard $i/3 with 4 jobs: $(cat "$packed/slurm-${parray}_$i.out")"
+done
+[ ! -e "$packed/shard-3.h5" ] || fail "a fourth shard file exists"
+"$py" "$here/compare-results.py" "$base/smoke-unsharded.h5" "$packed/study.h5" >"$base/compare-packed.txt" ||
+  fail "the packed campaign's merged file differs from the unsharded run (above)"
+say "packed: 12 jobs in 3 array tasks of 4 (MaxArraySize=$max_array_size, throttle 2) in $wall_packed s; merged file equals the unsharded run: $(cat "$base/compare-packed.txt")"
+
 # CPU: every run's user + system time, from the wrapper's log (the requeued task's killed first
 # attempt is not in it: the kill ended the wrapper too).
 cpu() { awk -v pat="$1" '$0 ~ pat { s += $1 } END { printf "%.2f", s }' "$cpu_log"; }
@@ -282,4 +339,4 @@ c_merge=$(cpu ' merge ')
 total=$(awk -v a="$c_refs" -v b="$c_s0" -v c="$c_s1" -v d="$c_merge" 'BEGIN { printf "%.2f", a + b + c + d }')
 say "CPU: unsharded $c_uns s (wall $wall_unsharded s); campaign: references $c_refs s + shard 0 $c_s0 s + shard 1 $c_s1 s (its resumed run) + merge $c_merge s = $total s"
 ok=1
-say "ok: $jobs jobs, 2 shards, requeue and resubmission; campaign wall $wall_campaign s, test wall $(elapsed "$t_start") s"
+say "ok: $jobs jobs, 2 shards, requeue and resubmission; 12 jobs packed into 3 tasks under MaxArraySize=$max_array_size; campaign wall $wall_campaign s, packed campaign $wall_packed s, test wall $(elapsed "$t_start") s"
