@@ -18,6 +18,8 @@
 //! | [`study`] | study TOML → jobs, plan, campaign run, shards, merge |
 //! | [`report`] | a results file → tables (Markdown, CSV, JSON, HTML) |
 
+#![warn(missing_docs)]
+
 pub mod error;
 pub mod text;
 
