@@ -21,6 +21,7 @@
 pub mod linear;
 pub mod output;
 pub mod scales;
+pub mod summary;
 pub mod table;
 
 use std::path::Path;
@@ -31,6 +32,7 @@ use hdf5::{File, Group, Location};
 
 use crate::dynamics::simulation::JobResult;
 
+pub use summary::write_summary;
 pub use table::{compound_table, units_of_key, Column};
 
 /// Writes a string attribute (variable-length UTF-8).

@@ -6,7 +6,7 @@
 //! `scene_text`; `/jobs/<scene name>` with the attributes a study job has (`job_index` 0,
 //! `kind` job, `speed_hz`, `roll_angle_offset_rad`, `roller_ratio:…`, every `--set` key), its
 //! samples, mean and spectrum; `/analysis` (its lines) and `/summary` (one row), both as `run`
-//! writes them (`results::analyse::analyse`, `campaign::write_summary`).
+//! writes them (`results::analyse::analyse`, `store::write_summary`).
 
 use std::path::PathBuf;
 
@@ -16,7 +16,6 @@ use rotorsweep::results::analyse;
 use rotorsweep::scene::{parse_override, Scene};
 use rotorsweep::store::output::{self, OutputError};
 use rotorsweep::store::{self, Param};
-use rotorsweep::study::campaign;
 use serde::Serialize;
 
 /// Arguments of `rotorsweep simulate`.
@@ -156,7 +155,7 @@ pub fn run(a: &Args) -> Result<bool, crate::error::CliError> {
             store::attr_str(&file, "varying_keys", "")?;
             store::write_job(&jobs, &scene.name, &params, integrator, &r)?;
             analyse::analyse(&file)?;
-            campaign::write_summary(&file, &[])?;
+            store::write_summary(&file, &[])?;
             Ok((file, jobs))
         });
         let done = match written {
