@@ -38,7 +38,7 @@ const DECLARATIVE: &[&str] = &["scene/keys_docs.rs"];
 /// Files still over [`MAX_LINES`] whose split into stage files has not landed yet (issue 19;
 /// each is one step of that work): the test fails for any other long file, and for one of these
 /// once it is short, so the list only shrinks.
-const NOT_YET_SPLIT: &[&str] = &["study/campaign.rs", "rotor/fe/mod.rs", "dynamics/system.rs"];
+const NOT_YET_SPLIT: &[&str] = &["rotor/fe/mod.rs", "dynamics/system.rs"];
 
 fn src() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("src")

@@ -3,7 +3,8 @@
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-use rotorsweep::study::campaign::{self, CampaignError, ReferenceSource, RunOptions};
+use rotorsweep::study::merge::{merge as merge_shards, MergeOptions};
+use rotorsweep::study::run::{run as run_study, CampaignError, ReferenceSource, RunOptions};
 use rotorsweep::study::Study;
 
 /// Arguments of `rotorsweep plan`.
@@ -239,7 +240,7 @@ pub fn run(a: &RunArgs) -> Result<bool, crate::error::CliError> {
         },
     };
     let t0 = std::time::Instant::now();
-    let out = campaign::run(&st, &opts)?;
+    let out = run_study(&st, &opts)?;
     if a.references_only {
         eprintln!(
             "{}: {} reference runs, {} not ok, in {:.1} s -> {}",
@@ -290,11 +291,11 @@ pub fn run(a: &RunArgs) -> Result<bool, crate::error::CliError> {
 
 /// Runs `merge`.
 pub fn merge(a: &MergeArgs) -> Result<(), crate::error::CliError> {
-    let opts = campaign::MergeOptions {
+    let opts = MergeOptions {
         overwrite: a.overwrite,
         partial: a.partial,
     };
-    let out = campaign::merge(&a.inputs, &a.output, &opts)?;
+    let out = merge_shards(&a.inputs, &a.output, &opts)?;
     eprintln!(
         "merged {} files (shards {}), {} jobs -> {}",
         a.inputs.len(),
