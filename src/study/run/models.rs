@@ -53,9 +53,7 @@ impl<'a> Models<'a> {
                 .map(|(id, sc)| {
                     // A model that cannot be built (or whose build panics) fails its jobs alone.
                     let built = catch_unwind(AssertUnwindSafe(|| Model::build(sc, None)))
-                        .map_err(|e| {
-                            format!("{}: panic: {}", sc.source.display(), panic_text(&*e))
-                        })
+                        .map_err(|e| format!("{}: panic: {}", sc.source.display(), panic_text(&*e)))
                         .and_then(|r| {
                             r.map(Arc::new)
                                 .map_err(|e| format!("{}: {e}", sc.source.display()))
@@ -85,8 +83,9 @@ impl<'a> Models<'a> {
             pilot_models
                 .par_iter()
                 .map(|mid| {
-                    let pilot_key =
-                        crate::study::fnv1a(crate::study::pilot_text(&study.pilot_overrides).as_bytes());
+                    let pilot_key = crate::study::fnv1a(
+                        crate::study::pilot_text(&study.pilot_overrides).as_bytes(),
+                    );
                     let id = format!("pilot-{mid}-{pilot_key:016x}");
                     let path = dir.join(format!("{id}.shares"));
                     if let Ok(text) = std::fs::read_to_string(&path) {

@@ -161,8 +161,8 @@ pub(super) fn write_errors(
         None => (RunoutError::NONE, Vec::new()),
     };
     store::attr_str(g, "reference_id", reference_id)?;
-    for (suffix, e) in
-        std::iter::once((String::new(), err)).chain(per.into_iter().map(|(n, e)| (format!(":{n}"), e)))
+    for (suffix, e) in std::iter::once((String::new(), err))
+        .chain(per.into_iter().map(|(n, e)| (format!(":{n}"), e)))
     {
         store::attr_f64(g, &format!("error_max_um{suffix}"), e.max)?;
         store::attr_f64(g, &format!("error_rms_um{suffix}"), e.rms)?;

@@ -151,16 +151,14 @@ pub(super) fn run_all(
         let stop_ref = &stop;
         scope.spawn(move || {
             pool.install(|| {
-                work.par_iter()
-                    .enumerate()
-                    .for_each_with(tx, |tx, (i, w)| {
-                        if stop_ref.load(Ordering::SeqCst) {
-                            return;
-                        }
-                        let r = models.simulate(w.scene, w.model_id, w.prune);
-                        // The receiver lives until every sender is gone.
-                        let _ = tx.send((i, r));
-                    });
+                work.par_iter().enumerate().for_each_with(tx, |tx, (i, w)| {
+                    if stop_ref.load(Ordering::SeqCst) {
+                        return;
+                    }
+                    let r = models.simulate(w.scene, w.model_id, w.prune);
+                    // The receiver lives until every sender is gone.
+                    let _ = tx.send((i, r));
+                });
             });
         });
         for (i, r) in rx {
