@@ -85,11 +85,8 @@ pub(crate) fn describe_hdf5(path: &Path, e: &hdf5::Error) -> String {
     text
 }
 
+/// The bytes available to unprivileged users in the file system holding `dir` (statvfs's
+/// `f_bavail × f_frsize`); `None` when it cannot be read.
 pub(crate) fn free_bytes(dir: &Path) -> Option<u64> {
-    use std::os::unix::ffi::OsStrExt;
-    let c = std::ffi::CString::new(dir.as_os_str().as_bytes()).ok()?;
-    let mut st: libc::statvfs = unsafe { std::mem::zeroed() };
-    // SAFETY: a valid NUL-terminated path and a zeroed out-struct.
-    (unsafe { libc::statvfs(c.as_ptr(), &mut st) } == 0)
-        .then(|| st.f_bavail as u64 * st.f_frsize as u64)
+    fs4::available_space(dir).ok()
 }
