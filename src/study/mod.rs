@@ -26,6 +26,7 @@ pub mod balancing;
 pub mod identity;
 pub mod merge;
 pub mod overview;
+pub mod plan;
 pub mod progress;
 pub mod run;
 
