@@ -14,10 +14,11 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use super::identity::{compare, Identity};
-use super::run::{analyse_or_note, finish_output, stored_identity, CampaignError, REFERENCES_SHARD};
+use super::run::{finish_output, stored_identity, CampaignError, REFERENCES_SHARD};
 use crate::error::InputError;
-use crate::store::output::{self, OutputLock};
+use crate::results::write::{write_whole, Analysis};
 use crate::store;
+use crate::store::output::{self, OutputLock};
 
 /// How to merge shard files.
 #[derive(Debug, Clone, Default)]
@@ -177,56 +178,64 @@ pub fn merge(
     let present: Vec<String> = shards.keys().map(|(i, n)| format!("{i}/{n}")).collect();
     let tmp = store::with_suffix(output, ".tmp");
     let mut jobs_n = 0;
-    let mut write = || -> hdf5::Result<()> {
-        let first = hdf5::File::open(&inputs[0])?;
-        let f = hdf5::File::create(&tmp)?;
-        let keys = store::varying_keys(&first);
-        for name in first.attr_names()? {
-            if matches!(
-                name.as_str(),
-                "shard" | "threads" | "partial" | "merged_from"
-            ) {
-                continue;
-            }
-            store::attr_str(
-                &f,
-                &name,
-                &store::read_str(&first, &name).unwrap_or_default(),
-            )?;
-        }
-        store::attr_str(&f, "shard", &present.join(","))?;
-        store::attr_u64(&f, "partial", u64::from(!missing.is_empty()))?;
-        let sources: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
-        store::attr_str(&f, "merged_from", &sources.join("\n"))?;
-        for group in ["models", "linear", "references", "jobs"] {
-            let dst = f.create_group(group)?;
-            let mut seen = BTreeSet::new();
-            for p in inputs {
-                let src = hdf5::File::open(p)?;
-                // Files from before /linear existed have none to copy.
-                let Ok(sg) = src.group(group) else { continue };
-                for name in sg.member_names()? {
-                    if seen.insert(name.clone()) {
-                        store::copy_object(&sg, &name, &dst, &name).map_err(|e| {
-                            hdf5::Error::from(format!("{}: {e}", p.display()).as_str())
-                        })?;
-                    }
-                }
-            }
-            if group == "jobs" {
-                jobs_n = seen.len();
-            }
-        }
-        analyse_or_note(&f, output);
-        store::write_summary(&f, &keys)?;
-        f.flush()?;
-        f.close()
-    };
-    let written = write();
+    let written = write_whole(&tmp, Analysis::Noted { output }, |f| {
+        write_merged(f, inputs, &present, &missing, &mut jobs_n)
+    });
     finish_output(&tmp, output, written)?;
     Ok(MergeOutcome {
         jobs: jobs_n,
         shards: present,
         missing,
     })
+}
+
+/// The merged file's contents (module doc): the first input's root attributes (`shard`,
+/// `threads`, `partial`, `merged_from` aside), the new `shard`, `partial` and `merged_from`,
+/// and every input's models, linearised systems, reference runs and jobs, each once; the
+/// number of jobs in `jobs_n`, and the varying keys (the first input's).
+fn write_merged(
+    f: &hdf5::File,
+    inputs: &[PathBuf],
+    present: &[String],
+    missing: &[String],
+    jobs_n: &mut usize,
+) -> hdf5::Result<Vec<String>> {
+    let first = hdf5::File::open(&inputs[0])?;
+    let keys = store::varying_keys(&first);
+    for name in first.attr_names()? {
+        if matches!(
+            name.as_str(),
+            "shard" | "threads" | "partial" | "merged_from"
+        ) {
+            continue;
+        }
+        store::attr_str(
+            f,
+            &name,
+            &store::read_str(&first, &name).unwrap_or_default(),
+        )?;
+    }
+    store::attr_str(f, "shard", &present.join(","))?;
+    store::attr_u64(f, "partial", u64::from(!missing.is_empty()))?;
+    let sources: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
+    store::attr_str(f, "merged_from", &sources.join("\n"))?;
+    for group in ["models", "linear", "references", "jobs"] {
+        let dst = f.create_group(group)?;
+        let mut seen = BTreeSet::new();
+        for p in inputs {
+            let src = hdf5::File::open(p)?;
+            // Files from before /linear existed have none to copy.
+            let Ok(sg) = src.group(group) else { continue };
+            for name in sg.member_names()? {
+                if seen.insert(name.clone()) {
+                    store::copy_object(&sg, &name, &dst, &name)
+                        .map_err(|e| hdf5::Error::from(format!("{}: {e}", p.display()).as_str()))?;
+                }
+            }
+        }
+        if group == "jobs" {
+            *jobs_n = seen.len();
+        }
+    }
+    Ok(keys)
 }

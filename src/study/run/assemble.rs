@@ -6,8 +6,9 @@
 //! study's attributes (digest, inputs, name, path, text, varying keys, shard, threads),
 //! `/models/<id>` (mode table and pilot shares), `/linear/<id>` (`rotorsweep linear`'s layout
 //! of each distinct linearised system), `/references/<id>`, `/jobs/<id>` with the errors
-//! against their reference runs (`references`), then the analysis and `/summary`. Shared
-//! references, their models and linearised systems are copied from the references file.
+//! against their reference runs (`references`), then the analysis and `/summary`
+//! (`results::write`, as `merge` and `simulate -o` write theirs). Shared references, their
+//! models and linearised systems are copied from the references file.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -18,6 +19,7 @@ use super::options::RunOptions;
 use super::references::write_errors;
 use crate::dynamics::linear_system::LinearSystem;
 use crate::dynamics::model::Model;
+use crate::results::write::{write_whole, Analysis};
 use crate::scene::Scene;
 use crate::store::{self, output};
 use crate::study::identity::Identity;
@@ -43,26 +45,25 @@ pub(super) fn assemble(
     src: &Sources,
 ) -> Result<(), CampaignError> {
     let tmp = store::with_suffix(&opts.output, ".tmp");
-    let write = || -> hdf5::Result<()> {
-        let f = hdf5::File::create(&tmp)?;
-        store::provenance(&f, &opts.command)?;
-        store::attr_str(&f, "study_digest", &identity.digest)?;
-        store::attr_str(&f, "study_inputs", &identity.inputs_text())?;
-        store::attr_u64(&f, "threads", opts.threads as u64)?;
-        store::attr_str(&f, "study_name", &study.name)?;
-        store::attr_str(&f, "study_path", &study.path.display().to_string())?;
-        store::attr_str(&f, "study_text", &study.text)?;
-        store::attr_str(&f, "varying_keys", &study.varying.join("\n"))?;
-        store::attr_str(&f, "shard", &opts.shard_text())?;
-        write_models(&f, refs, src)?;
-        write_linear_systems(&f, study, src)?;
-        write_runs(&f, study, jobs, refs, src)?;
-        analyse_or_note(&f, &opts.output);
-        store::write_summary(&f, &study.varying)?;
-        f.flush()?;
-        f.close()
+    let analysis = Analysis::Noted {
+        output: &opts.output,
     };
-    finish_output(&tmp, &opts.output, write())
+    let written = write_whole(&tmp, analysis, |f| {
+        store::provenance(f, &opts.command)?;
+        store::attr_str(f, "study_digest", &identity.digest)?;
+        store::attr_str(f, "study_inputs", &identity.inputs_text())?;
+        store::attr_u64(f, "threads", opts.threads as u64)?;
+        store::attr_str(f, "study_name", &study.name)?;
+        store::attr_str(f, "study_path", &study.path.display().to_string())?;
+        store::attr_str(f, "study_text", &study.text)?;
+        store::attr_str(f, "varying_keys", &study.varying.join("\n"))?;
+        store::attr_str(f, "shard", &opts.shard_text())?;
+        write_models(f, refs, src)?;
+        write_linear_systems(f, study, src)?;
+        write_runs(f, study, jobs, refs, src)?;
+        Ok(study.varying.clone())
+    });
+    finish_output(&tmp, &opts.output, written)
 }
 
 /// `/models`: every model the run built, then the shared references' models it did not
@@ -144,7 +145,10 @@ fn write_runs(
         let part = open_part(&j.id)?;
         store::copy_object(&part, "job", &jg, &j.id)?;
         let g = jg.group(&j.id)?;
-        let reference = rg.group(&j.reference_id).ok().filter(|_| study.has_reference);
+        let reference = rg
+            .group(&j.reference_id)
+            .ok()
+            .filter(|_| study.has_reference);
         write_errors(&g, &j.reference_id, reference.as_ref())?;
     }
     Ok(())
@@ -239,16 +243,4 @@ pub(crate) fn finish_output(
         return Err(e.into());
     }
     std::fs::rename(tmp, out).map_err(|e| CampaignError::io(out, e))
-}
-
-/// Analyses the file being assembled (`post`); a failure there costs the analysis, not the
-/// finished jobs: it is printed and kept as the file's `analysis_error` attribute.
-pub(crate) fn analyse_or_note(f: &hdf5::File, out: &Path) {
-    if let Err(e) = crate::results::analyse::analyse(f) {
-        let msg = format!("analysing {}: {e}", out.display());
-        eprintln!("warning: {msg}");
-        if let Err(e2) = store::attr_str(f, "analysis_error", &msg) {
-            eprintln!("warning: {}: cannot note it either: {e2}", out.display());
-        }
-    }
 }

@@ -47,11 +47,11 @@ mod parts;
 mod references;
 mod schedule;
 
-pub(crate) use assemble::{analyse_or_note, finish_output};
+pub(crate) use assemble::finish_output;
 pub use campaign::run;
 pub use error::CampaignError;
 pub use models::{pruned_selection, strain_energy_shares};
-pub use options::{Outcome, ReferenceSource, RunOptions};
 pub(crate) use options::REFERENCES_SHARD;
+pub use options::{Outcome, ReferenceSource, RunOptions};
 pub use parts::{parts_dir, remove_parts};
 pub(crate) use references::stored_identity;
