@@ -326,7 +326,7 @@ impl Guard {
             return false;
         }
         if let Some(b) = self.cpu_budget {
-            if (st.steps + st.rejected()) % 256 == 0 && thread_cpu_time() - self.cpu0 > b {
+            if (st.steps + st.rejected()).is_multiple_of(256) && thread_cpu_time() - self.cpu0 > b {
                 st.status = Status::Budget;
                 st.cause = format!("CPU budget of {b} s spent at t = {t:.6} s");
                 return false;

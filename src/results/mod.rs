@@ -2,7 +2,8 @@
 //! ([`request`], a study's `[analysis]` table), the post-analysis of every job and over the
 //! sweep ([`analyse`]), order tracking of run-ups ([`orders`]), a measured record brought in as
 //! a job ([`measured`]) and a linear analysis of one scene written as a results file
-//! ([`linear_file`]). (Balancing from trial-mass runs re-runs a study job, so it is part of the
+//! ([`linear_file`]); a results file written whole with its analysis and summary ([`write`]).
+//! (Balancing from trial-mass runs re-runs a study job, so it is part of the
 //! study stage: `study::balancing`.)
 //!
 //! In: an HDF5 results file (a study's, `simulate -o`'s or `import`'s). Out: the `/analysis`
@@ -14,3 +15,4 @@ pub mod linear_file;
 pub mod measured;
 pub mod orders;
 pub mod request;
+pub mod write;

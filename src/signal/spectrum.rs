@@ -52,7 +52,7 @@ pub fn spectrum(x: &[f64], fs: f64) -> Spectrum {
     let half = n / 2;
     let amplitude = (0..=half)
         .map(|k| {
-            let one_sided = if k == 0 || (n % 2 == 0 && k == half) {
+            let one_sided = if k == 0 || (n.is_multiple_of(2) && k == half) {
                 1.0
             } else {
                 2.0

@@ -21,6 +21,7 @@
 pub mod linear;
 pub mod output;
 pub mod scales;
+pub mod summary;
 pub mod table;
 
 use std::path::Path;
@@ -31,6 +32,7 @@ use hdf5::{File, Group, Location};
 
 use crate::dynamics::simulation::JobResult;
 
+pub use summary::write_summary;
 pub use table::{compound_table, units_of_key, Column};
 
 /// Writes a string attribute (variable-length UTF-8).
@@ -233,15 +235,20 @@ pub fn create_file(path: &Path, command: &str, scene_text: &str) -> hdf5::Result
     Ok((f, jobs))
 }
 
-/// Closes the file and moves it to its final name.
-/// The file is flushed and read back (`output::verify_written`) first: a write that failed at
-/// the end (disk full) is an error, not a renamed broken file.
+/// Closes the file and moves it to its final name ([`rename_verified`]).
 pub fn finish_file(path: &Path, file: File, jobs: Group) -> std::io::Result<()> {
     drop(jobs);
     file.flush()
         .map_err(|e| std::io::Error::other(e.to_string()))?;
     file.close()
         .map_err(|e| std::io::Error::other(e.to_string()))?;
+    rename_verified(path)
+}
+
+/// Moves the closed working file `path` + ".tmp" to `path`, once it reads back
+/// (`output::verify_written`): a write that failed at the end (disk full) is an error, not a
+/// renamed broken file.
+pub fn rename_verified(path: &Path) -> std::io::Result<()> {
     let tmp = with_suffix(path, ".tmp");
     output::verify_written(&tmp).map_err(|why| {
         std::io::Error::other(format!(

@@ -11,9 +11,10 @@
 //!   directory, a device, a FIFO, a symbolic link, or a file from elsewhere is never replaced.
 //! - The new file is written under `OUT.h5.tmp` and renamed over `OUT.h5` only when complete,
 //!   so the old file stays intact until then.
-//! - One writer per output: an advisory `flock` on `OUT.h5.lock`, taken before anything is
-//!   checked or written and released by the kernel when the process ends, however it ends.
-//!   A second process fails at once with the holder's PID (written into the lock file).
+//! - One writer per output: an advisory exclusive lock on `OUT.h5.lock` (`File::try_lock`,
+//!   which is `flock` on Linux), taken before anything is checked or written and released by
+//!   the kernel when the process ends, however it ends. A second process fails at once with
+//!   the holder's PID (written into the lock file).
 //!   `OUT.h5.lock`, `OUT.h5.tmp` and `OUT.h5.parts/` are rotorsweep's working names beside
 //!   the output.
 //!
@@ -22,7 +23,6 @@
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, Write};
 use std::os::unix::fs::{FileTypeExt, MetadataExt, OpenOptionsExt};
-use std::os::unix::io::AsRawFd;
 use std::path::{Path, PathBuf};
 
 /// Why an output cannot be written.
@@ -335,11 +335,10 @@ impl OutputLock {
                 .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK | libc::O_CLOEXEC)
                 .open(&path)
                 .map_err(io_at(&path))?;
-            // SAFETY: flock on a file descriptor we own; non-blocking.
-            let rc = unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
-            if rc != 0 {
-                let e = std::io::Error::last_os_error();
-                if e.raw_os_error() == Some(libc::EWOULDBLOCK) {
+            // Non-blocking exclusive lock (flock on Unix): WouldBlock when another process holds it.
+            match file.try_lock() {
+                Ok(()) => {}
+                Err(std::fs::TryLockError::WouldBlock) => {
                     let mut text = String::new();
                     let _ = file.read_to_string(&mut text);
                     let holder = match text.trim().parse::<u32>() {
@@ -352,7 +351,7 @@ impl OutputLock {
                         lock: path,
                     });
                 }
-                return Err(OutputError::Io(path, e));
+                Err(std::fs::TryLockError::Error(e)) => return Err(OutputError::Io(path, e)),
             }
             // The file we locked must still be the one under the name: a holder that was just
             // finishing may have removed it between our open and our lock.
@@ -374,9 +373,7 @@ impl Drop for OutputLock {
         // Remove the name while still holding the lock; a process that opened it meanwhile
         // sees the name gone (or another file) after locking and starts again.
         let _ = std::fs::remove_file(&self.path);
-        // SAFETY: unlocking a descriptor we own; closing it would release the lock anyway.
-        unsafe {
-            libc::flock(self.file.as_raw_fd(), libc::LOCK_UN);
-        }
+        // Closing the file (when `self.file` drops) would release the lock anyway.
+        let _ = self.file.unlock();
     }
 }

@@ -23,10 +23,12 @@
 //! `jobs` holds the jobs and references, `load` the [`Study`].
 
 pub mod balancing;
-pub mod campaign;
 pub mod identity;
+pub mod merge;
 pub mod overview;
+pub mod plan;
 pub mod progress;
+pub mod run;
 
 mod analysis;
 mod axes;

@@ -9,7 +9,8 @@ use crate::support;
 use std::f64::consts::PI;
 
 use rotorsweep::dynamics::model::Model;
-use rotorsweep::study::{campaign, Study};
+use rotorsweep::study::run as campaign;
+use rotorsweep::study::Study;
 use support::{first_bending_hz, scene_from_text, scratch, write_file, JEFFCOTT_ROTOR};
 
 /// The Jeffcott rotor of check 7 (tests/it/dynamics_checks.rs: shaft Ø30 × 700 mm, 12.331 kg disk,

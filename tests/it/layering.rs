@@ -35,11 +35,6 @@ const STAGES: &[&str] = &[
 const MAX_LINES: usize = 800;
 const DECLARATIVE: &[&str] = &["scene/keys_docs.rs"];
 
-/// Files still over [`MAX_LINES`] whose split into stage files has not landed yet (issue 19;
-/// each is one step of that work): the test fails for any other long file, and for one of these
-/// once it is short, so the list only shrinks.
-const NOT_YET_SPLIT: &[&str] = &["study/campaign.rs"];
-
 fn src() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
 }
@@ -268,14 +263,8 @@ fn files_stay_short() {
             .lines()
             .take_while(|l| !l.starts_with("#[cfg(test)]"))
             .count();
-        let pending = NOT_YET_SPLIT.contains(&rel.as_str());
-        if n > MAX_LINES && !pending {
+        if n > MAX_LINES {
             wrong.push(format!("src/{rel}: {n} lines before its tests"));
-        }
-        if n <= MAX_LINES && pending {
-            wrong.push(format!(
-                "src/{rel}: {n} lines now: take it off NOT_YET_SPLIT"
-            ));
         }
     }
     assert!(

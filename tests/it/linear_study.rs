@@ -10,7 +10,8 @@
 
 use crate::support;
 
-use rotorsweep::study::{campaign, Study};
+use rotorsweep::study::run as campaign;
+use rotorsweep::study::Study;
 use support::{run_options, scratch, write_file, JEFFCOTT_PEDESTALS, JEFFCOTT_ROTOR};
 
 /// The numeric columns of `/analysis/lines` (HDF5 converts by field name).

@@ -6,7 +6,7 @@
 use crate::support;
 
 use rotorsweep::report::{self, Cell, Format, Report};
-use rotorsweep::study::campaign;
+use rotorsweep::study::run as campaign;
 use rotorsweep::study::Study;
 use support::{scratch, study_text, write_file};
 

@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use base64::Engine as _;
-use rotorsweep::study::campaign;
+use rotorsweep::study::run as campaign;
 use rotorsweep::study::Study;
 use support::{repo, scratch, study_text, write_file};
 

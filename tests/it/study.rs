@@ -5,7 +5,8 @@ use crate::support;
 
 use std::path::Path;
 
-use rotorsweep::study::campaign::{self, ReferenceSource, RunOptions};
+use rotorsweep::study::merge;
+use rotorsweep::study::run::{self as campaign, ReferenceSource, RunOptions};
 use rotorsweep::study::Study;
 use support::{scratch, study_text, write_file};
 
@@ -206,10 +207,10 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     run_study(&st, &d.join("two.h5"), 2, None);
     run_study(&st, &d.join("s0.h5"), 2, Some((0, 2)));
     run_study(&st, &d.join("s1.h5"), 2, Some((1, 2)));
-    campaign::merge(
+    merge::merge(
         &[d.join("s0.h5"), d.join("s1.h5")],
         &d.join("merged.h5"),
-        &campaign::MergeOptions::default(),
+        &merge::MergeOptions::default(),
     )
     .unwrap();
     let job_data = |p: &Path| group_data(p, "jobs");
@@ -277,10 +278,10 @@ fn shards_sharing_one_references_file_give_the_unsharded_results() {
         )
         .unwrap();
     }
-    campaign::merge(
+    merge::merge(
         &[d.join("s0.h5"), d.join("s1.h5")],
         &d.join("merged.h5"),
-        &campaign::MergeOptions::default(),
+        &merge::MergeOptions::default(),
     )
     .unwrap();
     // The references file: the study's reference runs (one per speed) and linearised system as
@@ -320,10 +321,10 @@ fn shards_sharing_one_references_file_give_the_unsharded_results() {
         .unwrap_err()
         .to_string()
         .contains("is not a references file"));
-    let e = campaign::merge(
+    let e = merge::merge(
         &[refs.clone(), d.join("s0.h5")],
         &d.join("m2.h5"),
-        &campaign::MergeOptions::default(),
+        &merge::MergeOptions::default(),
     );
     assert!(e.unwrap_err().to_string().contains("is a references file"));
     // Without a [reference] section there is nothing to share.

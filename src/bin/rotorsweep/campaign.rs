@@ -1,9 +1,10 @@
 //! `rotorsweep plan`, `rotorsweep run` and `rotorsweep merge`: studies from the command line.
 
-use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-use rotorsweep::study::campaign::{self, CampaignError, ReferenceSource, RunOptions};
+use rotorsweep::study::merge::{merge as merge_shards, MergeOptions};
+use rotorsweep::study::plan::Plan;
+use rotorsweep::study::run::{run as run_study, CampaignError, ReferenceSource, RunOptions};
 use rotorsweep::study::Study;
 
 /// Arguments of `rotorsweep plan`.
@@ -63,52 +64,24 @@ pub struct MergeArgs {
     partial: bool,
 }
 
-/// Rough CPU seconds of one job: steps × (1.5 µs + 1.5 ns × n²), from the timing case
-/// (45 coordinates, 100 000 steps, 0.46 s); explicit rk45 at its stability limit 3/ω_max.
-fn estimate(job: &rotorsweep::scene::Scene, coords: usize, f_max_hz: f64) -> f64 {
-    let s = &job.solver;
-    let t = job.simulation.t_end;
-    let steps = match s.integrator {
-        rotorsweep::integrators::IntegratorKind::Rk45 => {
-            (t / s.hmax).max(t * 2.0 * std::f64::consts::PI * f_max_hz / 3.0)
-        }
-        _ => t / s.hmax,
-    };
-    steps * (1.5e-6 + 1.5e-9 * (coords * coords) as f64)
-}
-
 /// Runs `plan`.
 pub fn plan(a: &PlanArgs) -> Result<(), crate::error::CliError> {
     let st = Study::load(&a.study)?;
+    let plan = Plan::of(&st, a.threads);
     println!("study {}: {} jobs", st.name, st.jobs.len());
     if !st.description.is_empty() {
         println!("  {}", st.description);
     }
     println!("varying parameters:");
-    for k in &st.varying {
-        let vals: BTreeSet<String> = st.jobs.iter().filter_map(|j| st.value_text(j, k)).collect();
-        let mut vals: Vec<String> = vals.into_iter().collect();
-        // Numbers in numeric order (10 after 9, not after 1), text as text.
-        vals.sort_by(|a, b| match (a.parse::<f64>(), b.parse::<f64>()) {
-            (Ok(x), Ok(y)) => x.total_cmp(&y),
-            _ => a.cmp(b),
-        });
+    for (k, vals) in &plan.varying {
         println!("  {k}: {}", vals.join(", "));
     }
-    let models: BTreeSet<&str> = st.jobs.iter().map(|j| j.model_id.as_str()).collect();
-    let pruned = st.jobs.iter().filter(|j| j.prune.is_some()).count();
     println!(
         "distinct reduced models: {} (pruning pilots: {})",
-        models.len(),
-        st.jobs
-            .iter()
-            .filter(|j| j.prune.is_some())
-            .map(|j| j.model_id.as_str())
-            .collect::<BTreeSet<_>>()
-            .len()
+        plan.models, plan.pilots
     );
-    if pruned > 0 {
-        println!("jobs on pruned mode sets: {pruned}");
+    if plan.pruned > 0 {
+        println!("jobs on pruned mode sets: {}", plan.pruned);
     }
     println!(
         "reference runs: {}",
@@ -118,48 +91,12 @@ pub fn plan(a: &PlanArgs) -> Result<(), crate::error::CliError> {
             "none (no [reference] section)".into()
         }
     );
-    // Mode counts per model from the scenes (cheap: no model is built).
-    let coordinates =
-        |sc: &rotorsweep::scene::Scene| sc.modal_coordinates() + 2 * sc.supports.len();
-    let mut total = 0.0;
-    for j in &st.jobs {
-        total += estimate(&j.scene, coordinates(&j.scene), 6000.0);
-    }
-    if st.has_reference {
-        for r in &st.references {
-            total += estimate(&r.scene, coordinates(&r.scene), 6000.0);
-        }
-    }
     println!(
         "cost estimate: {:.0} s CPU, about {:.0} s on {} threads",
-        total,
-        total / a.threads.max(1) as f64,
+        plan.cpu_s,
+        plan.cpu_s / a.threads.max(1) as f64,
         a.threads
     );
-    // Memory and disk: a run's record is samples × (channels + time) × 8 bytes; a model build
-    // peaks near 90 bytes per DOF² (dense FE matrices and eigen-solutions: 0.74 GB measured at
-    // 2958 DOFs); the loaded study holds about 60 KB per job (measured: 274 MB for 4901 jobs).
-    let record = |sc: &rotorsweep::scene::Scene| sc.samples() * (sc.channels() + 1) as f64 * 8.0;
-    let scenes: Vec<&rotorsweep::scene::Scene> = st
-        .jobs
-        .iter()
-        .map(|j| &j.scene)
-        .chain(
-            st.references
-                .iter()
-                .filter(|_| st.has_reference)
-                .map(|r| &r.scene),
-        )
-        .collect();
-    let disk: f64 = scenes.iter().map(|sc| record(sc)).sum();
-    let per_thread = scenes
-        .iter()
-        .map(|sc| {
-            let dofs = 6.0 * sc.max_nodes() as f64;
-            record(sc).max(90.0 * dofs * dofs)
-        })
-        .fold(0.0, f64::max);
-    let memory = per_thread * a.threads.max(1) as f64 + 60e3 * st.jobs.len() as f64;
     let size = |b: f64| {
         if b < 1e9 {
             format!("{:.1} MB", b / 1e6)
@@ -170,13 +107,13 @@ pub fn plan(a: &PlanArgs) -> Result<(), crate::error::CliError> {
     println!(
         "memory estimate: {} on {} threads (per thread the largest record, samples × channels × \
          8 B, or model build, about 90 B per DOF²; plus about 60 KB per job)",
-        size(memory),
+        size(plan.memory_bytes),
         a.threads
     );
     println!(
         "disk estimate: {} of samples (every job's and reference's record, samples × channels × \
          8 B, before compression)",
-        size(disk)
+        size(plan.disk_bytes)
     );
     println!("\n  job  id                 overrides");
     for j in &st.jobs {
@@ -239,7 +176,7 @@ pub fn run(a: &RunArgs) -> Result<bool, crate::error::CliError> {
         },
     };
     let t0 = std::time::Instant::now();
-    let out = campaign::run(&st, &opts)?;
+    let out = run_study(&st, &opts)?;
     if a.references_only {
         eprintln!(
             "{}: {} reference runs, {} not ok, in {:.1} s -> {}",
@@ -290,11 +227,11 @@ pub fn run(a: &RunArgs) -> Result<bool, crate::error::CliError> {
 
 /// Runs `merge`.
 pub fn merge(a: &MergeArgs) -> Result<(), crate::error::CliError> {
-    let opts = campaign::MergeOptions {
+    let opts = MergeOptions {
         overwrite: a.overwrite,
         partial: a.partial,
     };
-    let out = campaign::merge(&a.inputs, &a.output, &opts)?;
+    let out = merge_shards(&a.inputs, &a.output, &opts)?;
     eprintln!(
         "merged {} files (shards {}), {} jobs -> {}",
         a.inputs.len(),

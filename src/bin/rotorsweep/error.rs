@@ -17,7 +17,7 @@ use rotorsweep::dynamics::model::{LoadError, ModelError};
 use rotorsweep::dynamics::LinearError;
 use rotorsweep::error::InputError;
 use rotorsweep::store::output::OutputError;
-use rotorsweep::study::campaign::CampaignError;
+use rotorsweep::study::run::CampaignError;
 
 /// Why a command failed, by exit code.
 #[derive(Debug, thiserror::Error)]

@@ -16,7 +16,7 @@
 //! `critical_map` (undamped critical speeds against the supports' stiffness, actual marked);
 //! `frame`, `phase_convention`, `warnings`, `times_s`. `-o OUT.h5` writes it
 //! ([`rotorsweep::results::linear_file`]) as a study's `/linear/<scene>` group (module doc of
-//! `src/study/campaign.rs`), extended by what `rotorsweep
+//! `src/study/run/assemble.rs`), extended by what `rotorsweep
 //! report` and `scripts/plots.py` draw: per Campbell entry the damping ratio, log decrement,
 //! whirl (code) and branch; the critical speeds' whirl and log decrement; the unbalance
 //! response; Floquet growth and ranges; the static sag; the critical-speed map; with `--shapes`

@@ -5,18 +5,19 @@
 //! `study_name` (the scene's name), `varying_keys` (empty: one job varies nothing) and
 //! `scene_text`; `/jobs/<scene name>` with the attributes a study job has (`job_index` 0,
 //! `kind` job, `speed_hz`, `roll_angle_offset_rad`, `roller_ratio:…`, every `--set` key), its
-//! samples, mean and spectrum; `/analysis` (its lines) and `/summary` (one row), both as `run`
-//! writes them (`results::analyse::analyse`, `campaign::write_summary`).
+//! samples, mean and spectrum; `/analysis` (its lines) and `/summary` (one row), written as
+//! `run` writes its file (`results::write::write_whole`; here a failed analysis fails the
+//! write).
 
 use std::path::PathBuf;
 
 use rotorsweep::dynamics::model::Model;
 use rotorsweep::dynamics::simulation;
 use rotorsweep::results::analyse;
+use rotorsweep::results::write::{write_whole, Analysis};
 use rotorsweep::scene::{parse_override, Scene};
 use rotorsweep::store::output::{self, OutputError};
 use rotorsweep::store::{self, Param};
-use rotorsweep::study::campaign;
 use serde::Serialize;
 
 /// Arguments of `rotorsweep simulate`.
@@ -151,16 +152,17 @@ pub fn run(a: &Args) -> Result<bool, crate::error::CliError> {
         params.push(("job_index".into(), Param::Count(0)));
         params.push(("kind".into(), Param::Text("job".into())));
         let tmp = store::with_suffix(path, ".tmp");
-        let written = store::create_file(path, &command, &text).and_then(|(file, jobs)| {
-            store::attr_str(&file, "study_name", &scene.name)?;
-            store::attr_str(&file, "varying_keys", "")?;
+        let written = write_whole(&tmp, Analysis::Required, |file| {
+            store::provenance(file, &command)?;
+            store::attr_str(file, "scene_text", &text)?;
+            let jobs = file.create_group("jobs")?;
+            store::attr_str(file, "study_name", &scene.name)?;
+            store::attr_str(file, "varying_keys", "")?;
             store::write_job(&jobs, &scene.name, &params, integrator, &r)?;
-            analyse::analyse(&file)?;
-            campaign::write_summary(&file, &[])?;
-            Ok((file, jobs))
+            Ok(Vec::new())
         });
         let done = match written {
-            Ok((file, jobs)) => store::finish_file(path, file, jobs).map_err(|e| e.to_string()),
+            Ok(()) => store::rename_verified(path).map_err(|e| e.to_string()),
             Err(e) => Err(e.to_string()),
         };
         if let Err(e) = done {

@@ -32,8 +32,8 @@ pub fn report_table(file: &std::path::Path, name: &str) -> serde_json::Value {
 
 /// Campaign options for a test: `out`, two threads, no resume, overwrite, shard or shared
 /// references.
-pub fn run_options(out: &std::path::Path) -> rotorsweep::study::campaign::RunOptions {
-    rotorsweep::study::campaign::RunOptions {
+pub fn run_options(out: &std::path::Path) -> rotorsweep::study::run::RunOptions {
+    rotorsweep::study::run::RunOptions {
         output: out.to_path_buf(),
         threads: 2,
         resume: false,

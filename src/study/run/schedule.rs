@@ -1,0 +1,209 @@
+//! The work of a run in order, on the worker pool, each finished run saved as it arrives.
+//!
+//! In: the run's reference runs and jobs, the built [`Models`], the parts folder. Out: the work
+//! list (reference runs unless shared, then jobs in study order, the saved ones left out), each
+//! item run on one thread of the pool and saved by the calling thread as it finishes
+//! (`parts`); the progress line per run. The first failed save stops new runs from starting;
+//! running ones finish and are saved if they can be, and the error says how many are saved.
+//! Results do not depend on the thread count or the order in which runs finish.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+
+use rayon::prelude::*;
+
+use super::error::CampaignError;
+use super::models::Models;
+use super::parts::{save_part, saved_parts};
+use crate::dynamics::simulation::JobResult;
+use crate::scene::Scene;
+use crate::store::Param;
+use crate::study::identity::Identity;
+use crate::study::progress::Progress;
+use crate::study::{Job, Reference, Study};
+
+/// A unit of work for the pool.
+pub(super) struct Work<'a> {
+    pub(super) id: String,
+    kind: Kind,
+    scene: &'a Scene,
+    model_id: &'a str,
+    linear_id: Option<&'a str>,
+    prune: Option<f64>,
+    params: Vec<(String, Param)>,
+    /// What the progress lines call it: the job's labels, else its varying values.
+    name: String,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Job(usize),
+    Reference,
+}
+
+fn params_of(overrides: &[(String, toml::Value)]) -> Vec<(String, Param)> {
+    overrides
+        .iter()
+        .map(|(k, v)| (k.clone(), Param::from_toml(v)))
+        .collect()
+}
+
+/// The work list: the reference runs `refs`, then the jobs.
+pub(super) fn work_list<'a>(
+    study: &Study,
+    jobs: &[&'a Job],
+    refs: &[&'a Reference],
+) -> Vec<Work<'a>> {
+    let mut work: Vec<Work> = Vec::new();
+    for r in refs {
+        work.push(Work {
+            id: r.id.clone(),
+            kind: Kind::Reference,
+            scene: &r.scene,
+            model_id: &r.model_id,
+            linear_id: None,
+            prune: None,
+            params: params_of(&r.overrides),
+            name: "reference run".into(),
+        });
+    }
+    for j in jobs {
+        let mut params = params_of(&j.overrides);
+        // Its labels, then the values of the varying keys no label stands for.
+        let name = j
+            .labels
+            .iter()
+            .map(|(_, l)| l.clone())
+            .chain(
+                study
+                    .varying
+                    .iter()
+                    .filter(|k| !j.labels.iter().any(|(lk, _)| lk == *k))
+                    .map(|k| format!("{k}={}", study.value_text(j, k).unwrap_or_default())),
+            )
+            .collect::<Vec<_>>()
+            .join(", ");
+        if !j.labels.is_empty() {
+            let all: Vec<&str> = j.labels.iter().map(|(_, l)| l.as_str()).collect();
+            params.push(("label".into(), Param::Text(all.join(", "))));
+            for (k, l) in &j.labels {
+                params.push((format!("label:{k}"), Param::Text(l.clone())));
+            }
+        }
+        work.push(Work {
+            id: j.id.clone(),
+            kind: Kind::Job(j.index),
+            scene: &j.scene,
+            model_id: &j.model_id,
+            linear_id: Some(&j.linear_id),
+            prune: j.prune,
+            params,
+            name,
+        });
+    }
+    work
+}
+
+impl Work<'_> {
+    /// The attributes of its part file's `job` group besides the result: its overrides (and
+    /// labels), the ids of its model and linearised system, what the analysis reads of its
+    /// scene, its pruning threshold, and its kind (and job index).
+    fn part_params(&self) -> Vec<(String, Param)> {
+        let mut params = self.params.clone();
+        params.push(("model_id".into(), Param::Text(self.model_id.to_string())));
+        if let Some(l) = self.linear_id {
+            params.push(("linear_id".into(), Param::Text(l.to_string())));
+        }
+        // The spin speed over the record, the roll angle's offset and the roller ratios, for
+        // the spectral analysis.
+        params.extend(crate::results::analyse::job_attrs(self.scene));
+        if let Some(p) = self.prune {
+            params.push((crate::study::PRUNE_KEY.into(), Param::Number(p)));
+        }
+        match self.kind {
+            Kind::Job(i) => {
+                params.push(("job_index".into(), Param::Count(i as u64)));
+                params.push(("kind".into(), Param::Text("job".into())));
+            }
+            Kind::Reference => params.push(("kind".into(), Param::Text("reference".into()))),
+        }
+        params
+    }
+}
+
+/// Runs `work` on `pool` and saves each result in `dir` as it arrives (module doc); the first
+/// failed save, if any.
+pub(super) fn run_all(
+    pool: &rayon::ThreadPool,
+    work: &[Work],
+    models: &Models,
+    dir: &Path,
+    identity: &Identity,
+    progress: &Progress,
+) -> Option<CampaignError> {
+    let (tx, rx) = mpsc::channel::<(usize, JobResult)>();
+    let mut write_error: Option<CampaignError> = None;
+    // Set at the first failed save: no new job starts; running ones finish.
+    let stop = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        let stop_ref = &stop;
+        scope.spawn(move || {
+            pool.install(|| {
+                work.par_iter().enumerate().for_each_with(tx, |tx, (i, w)| {
+                    if stop_ref.load(Ordering::SeqCst) {
+                        return;
+                    }
+                    let r = models.simulate(w.scene, w.model_id, w.prune);
+                    // The receiver lives until every sender is gone.
+                    let _ = tx.send((i, r));
+                });
+            });
+        });
+        for (i, r) in rx {
+            let w = &work[i];
+            let integrator = w.scene.solver.integrator.name();
+            let saved = save_part(dir, &w.id, &w.part_params(), integrator, &r, identity);
+            progress.job_done(
+                &w.id,
+                &w.name,
+                &r.stats,
+                saved.as_ref().err().map(|e| e as &dyn std::fmt::Display),
+            );
+            if let Err(e) = saved {
+                stop.store(true, Ordering::SeqCst);
+                write_error.get_or_insert(e);
+            }
+        }
+    });
+    write_error
+}
+
+/// The error of a run stopped by the failed save `e`: its path and cause, how many of the
+/// `runs` are saved in `dir` (of the `wanted` ids), and how to finish.
+pub(super) fn stopped(
+    e: CampaignError,
+    dir: &Path,
+    identity: &Identity,
+    wanted: &BTreeSet<&str>,
+    runs: usize,
+) -> CampaignError {
+    let saved = saved_parts(dir, &identity.digest, wanted).map_or(0, |p| p.0.len());
+    CampaignError::Io {
+        path: match &e {
+            CampaignError::Io { path, .. } => path.clone(),
+            _ => dir.to_path_buf(),
+        },
+        reason: format!(
+            "{}; the campaign stopped: {saved} of {} runs are saved in {}; free space (or fix \
+             the folder), then finish with --resume",
+            match &e {
+                CampaignError::Io { reason, .. } => reason.clone(),
+                other => other.to_string(),
+            },
+            runs,
+            dir.display()
+        ),
+    }
+}
