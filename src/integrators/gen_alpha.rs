@@ -18,7 +18,7 @@ use super::{
 
 /// Runs generalized-α (see the module doc): from the start point and its acceleration
 /// (`GenAlpha::new`, `GenAlpha::start`), each try of a step solves the balance for a₁
-/// (`GenAlpha::correct`), passes or fails the error test (`GenAlpha::test_error`) and,
+/// (`GenAlpha::correct`, `GenAlpha::newton`), passes or fails the error test (`GenAlpha::test_error`) and,
 /// accepted, becomes the start of the next (`GenAlpha::accept`).
 pub(super) fn run(
     pb: &dyn SecondOrder,
@@ -193,12 +193,44 @@ impl<'a> GenAlpha<'a> {
         Ok(())
     }
 
-    /// Solves the balance at `tn` for a₁ by modified Newton (`integrators::corrector`),
-    /// rebuilding the Newton matrix when h moved or a stale one failed; then q₁, v₁ and F₁.
-    /// A corrector that does not converge quarters the step (or ends the run `diverged` with a
-    /// fixed step or after more than 20 failures in a row); so does a non-finite state. A slow
-    /// one refreshes the Newton matrix for the next step.
+    /// The corrector, then q₁, v₁ and F₁ at `tn`. A corrector that does not converge quarters
+    /// the step (or ends the run `diverged` with a fixed step or after more than 20 failures in
+    /// a row); a non-finite state ends the run `diverged`. A slow one refreshes the Newton
+    /// matrix for the next step.
     fn correct(&mut self, tn: f64) -> Result<(), Flow> {
+        let h = self.h;
+        let Some(slow) = self.newton(tn) else {
+            self.st.rejected_convergence += 1;
+            self.fails += 1;
+            if self.fails > 20 || self.s.fixed_step {
+                self.st.status = Status::Diverged;
+                self.st.cause = format!("corrector failed at t = {:.6} s (h = {h:.3e} s)", self.t);
+                return Err(Flow::Stop);
+            }
+            self.h *= 0.25;
+            return Err(Flow::Retry);
+        };
+        let (q1, v1) = (&mut self.q1, &mut self.v1);
+        self.c
+            .newmark(h, &self.q0, &self.v0, &self.a0, &self.a1, q1, v1);
+        if !finite(q1) || !finite(v1) {
+            self.st.status = Status::Diverged;
+            self.st.cause = format!("non-finite state at t = {tn:.6} s");
+            return Err(Flow::Stop);
+        }
+        if slow {
+            self.lu = None;
+        }
+        // F at the converged state, for the next step's balance.
+        self.pb.force(tn, q1, v1, &mut self.f1);
+        self.st.rhs_evals += 1;
+        Ok(())
+    }
+
+    /// Solves the balance at `tn` for a₁ by modified Newton (`integrators::corrector`),
+    /// rebuilding the Newton matrix when h moved or a stale one failed: whether it converged
+    /// slowly, or none when it did not converge.
+    fn newton(&mut self, tn: f64) -> Option<bool> {
         let (pb, h, w, mass) = (self.pb, self.h, self.w, &self.mass);
         let Coefficients {
             am,
@@ -222,8 +254,7 @@ impl<'a> GenAlpha<'a> {
         let fixed_part = &*fixed_part;
         a1.copy_from(a0);
         let mut fresh = false;
-        let mut slow: bool;
-        let converged = loop {
+        loop {
             if self.lu.as_ref().is_none_or(|l| l.stale(h, 0)) {
                 // Newton matrix at the predicted state (a₁ = a₀).
                 q1.copy_from(q0);
@@ -260,37 +291,12 @@ impl<'a> GenAlpha<'a> {
                     r.axpy(-(1.0 - af), f1, 1.0);
                 },
             );
-            slow = out.slow;
-            let ok = out.ok;
-            if ok || fresh {
-                break ok;
+            if out.ok || fresh {
+                return out.ok.then_some(out.slow);
             }
-            self.lu = None;
-        };
-        if !converged {
-            self.st.rejected_convergence += 1;
-            self.fails += 1;
-            if self.fails > 20 || self.s.fixed_step {
-                self.st.status = Status::Diverged;
-                self.st.cause = format!("corrector failed at t = {:.6} s (h = {h:.3e} s)", self.t);
-                return Err(Flow::Stop);
-            }
-            self.h *= 0.25;
-            return Err(Flow::Retry);
-        }
-        self.c.newmark(h, q0, v0, a0, a1, q1, v1);
-        if !finite(q1) || !finite(v1) {
-            self.st.status = Status::Diverged;
-            self.st.cause = format!("non-finite state at t = {tn:.6} s");
-            return Err(Flow::Stop);
-        }
-        if slow {
+            // Stale matrix: rebuild it and try the same step again.
             self.lu = None;
         }
-        // F at the converged state, for the next step's balance.
-        pb.force(tn, q1, v1, f1);
-        self.st.rhs_evals += 1;
-        Ok(())
     }
 
     /// The error test (Zienkiewicz–Xie, module doc; none with a fixed step): the next step, or
