@@ -148,7 +148,11 @@ fn wnorm_diff(a: &DVector<f64>, b: &DVector<f64>, w: &[f64], tol: f64) -> f64 {
         / tol
 }
 
-/// Runs the BDF integrator (see the module doc).
+/// Runs the BDF integrator (see the module doc): from the start point (`Bdf::new`), each try of
+/// a step predicts (`Bdf::predict_step`), corrects (`Bdf::correct`), is shortened to a contact
+/// event (`Bdf::locate_event`) and passes or fails the error test (`Bdf::test_error`); an
+/// accepted step chooses the next order (`Bdf::choose_order`), joins the history
+/// (`Bdf::accept`) and sets the next step (`Bdf::next_step`).
 pub(super) fn run(
     pb: &dyn SecondOrder,
     s: &SolverSettings,
@@ -158,196 +162,412 @@ pub(super) fn run(
     v0: DVector<f64>,
     observer: &mut Observer,
 ) -> (DVector<f64>, DVector<f64>, Stats) {
-    let n = pb.n();
-    let w = pb.weights();
-    let m = pb.mass();
-    let mass = MassOp::new(m);
     let guard = Guard::new(s);
-    let mut st = Stats::new();
-    let cap = s.max_order + 2;
-    let mut hist: VecDeque<Point> = VecDeque::with_capacity(cap);
-    hist.push_front(Point {
-        t: t0,
-        q: q0,
-        v: v0,
-    });
-    let mut t = t0;
-    let mut h = s.h0.min(s.hmax);
-    let mut k = 1usize;
-    let mut at_order = 0usize;
-
-    let mut lu: Option<Newton> = None;
-    // Steps in a row at the same α₀, and that α₀.
-    let (mut steady, mut a0_prev) = (0u32, f64::NAN);
-    let mut fails = 0usize;
-    let (mut qp, mut vp) = (DVector::zeros(n), DVector::zeros(n));
-    let (mut q, mut v) = (DVector::zeros(n), DVector::zeros(n));
-    let (mut hq, mut hv) = (DVector::zeros(n), DVector::zeros(n));
-    let (mut f, mut r, mut a) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
-    let (mut qq, mut vv) = (DVector::zeros(n), DVector::zeros(n));
-    let mut nm = DMatrix::zeros(n, n);
-    let modes = if s.max_order > 2 {
-        let mut kq = DMatrix::zeros(n, n);
-        let mut cv = DMatrix::zeros(n, n);
-        let p0 = &hist[0];
-        pb.newton_matrix(t0, &p0.q, &p0.v, (0.0, 1.0, 0.0), &mut kq);
-        pb.newton_matrix(t0, &p0.q, &p0.v, (0.0, 0.0, 1.0), &mut cv);
-        st.jacobian_evals += 2;
-        Modes::of_system(m, &kq, &cv)
-    } else {
-        Modes::default()
-    };
-    let mut alpha = [0.0; 8];
-    let mut tracker = Tracker::new(pb, s.contact_events, t0, &hist[0].q, &hist[0].v);
-    while t < t_end {
-        if !guard.check(&mut st, t, h) {
+    let mut b = Bdf::new(pb, s, t0, q0, v0);
+    while b.t < t_end {
+        if !guard.check(&mut b.st, b.t, b.h) || b.step(t_end, observer) == Err(Flow::Stop) {
             break;
         }
-        if t + h > t_end || t_end - (t + h) < 1e-3 * h {
-            h = t_end - t;
+    }
+    let last = b.hist.pop_front().expect("history never empty");
+    guard.finish(&mut b.st, b.t);
+    (last.q, last.v, b.st)
+}
+
+/// How a try of a step that is not accepted goes on.
+#[derive(Debug, PartialEq)]
+enum Flow {
+    /// Try again from the same point (with the step and order the failure set).
+    Retry,
+    /// The run ends (its status and cause are set).
+    Stop,
+}
+
+/// One try of a step: where it ends, its order, whether orders 1–2 use the NDF there, and the
+/// leading coefficient α₀' of its formula.
+struct Try {
+    tn: f64,
+    keff: usize,
+    ndf: bool,
+    a0: f64,
+}
+
+impl Try {
+    /// κ_j γ_j of the formula of order j at this step (0 where it is plain BDF).
+    fn kappa_gamma(&self, order: usize) -> f64 {
+        if self.ndf {
+            ndf_kappa_gamma(order)
+        } else {
+            0.0
         }
-        let tn = t + h;
-        let stable = modes.stable_order(h, s.max_order);
-        let keff = k.min(hist.len()).min(stable);
+    }
+}
+
+/// The order an accepted step chose for the next one, the step factor it allows, and whether
+/// it was a review of the order (after k+1 steps at order k).
+struct Choice {
+    order: usize,
+    factor: f64,
+    review: bool,
+}
+
+/// The vectors a step works in, allocated once per run: the predictor (qp, vp), the corrector's
+/// iterate and its velocity and acceleration (q, v, a), the history's parts of D(q) and D(v)
+/// (hq, hv), force and residual (f, r), the order review's predictor (qq, vv) and the Newton
+/// matrix (nm).
+struct Work {
+    qp: DVector<f64>,
+    vp: DVector<f64>,
+    q: DVector<f64>,
+    v: DVector<f64>,
+    a: DVector<f64>,
+    hq: DVector<f64>,
+    hv: DVector<f64>,
+    f: DVector<f64>,
+    r: DVector<f64>,
+    qq: DVector<f64>,
+    vv: DVector<f64>,
+    nm: DMatrix<f64>,
+}
+
+impl Work {
+    fn new(n: usize) -> Self {
+        Self {
+            qp: DVector::zeros(n),
+            vp: DVector::zeros(n),
+            q: DVector::zeros(n),
+            v: DVector::zeros(n),
+            a: DVector::zeros(n),
+            hq: DVector::zeros(n),
+            hv: DVector::zeros(n),
+            f: DVector::zeros(n),
+            r: DVector::zeros(n),
+            qq: DVector::zeros(n),
+            vv: DVector::zeros(n),
+            nm: DMatrix::zeros(n, n),
+        }
+    }
+}
+
+/// One run's state: the problem, the history of accepted points, the step and order
+/// controller, the Newton matrix and the statistics.
+struct Bdf<'a> {
+    pb: &'a dyn SecondOrder,
+    s: &'a SolverSettings,
+    w: &'a [f64],
+    mass: MassOp,
+    /// The modes of the system linearised at the start (none when max_order ≤ 2).
+    modes: Modes,
+    tracker: Option<Tracker>,
+    st: Stats,
+    /// Accepted points, newest first, at most `cap` of them.
+    hist: VecDeque<Point>,
+    cap: usize,
+    /// Time reached [s] and the next step [s].
+    t: f64,
+    h: f64,
+    /// The order asked for and the steps accepted at it since it was chosen.
+    k: usize,
+    at_order: usize,
+    /// Failed tries in a row.
+    fails: usize,
+    lu: Option<Newton>,
+    /// Steps in a row at the same α₀, and that α₀.
+    steady: u32,
+    a0_prev: f64,
+    work: Work,
+}
+
+impl<'a> Bdf<'a> {
+    /// The state at the start point (t0, q0, v0), with the modes linearised there when orders
+    /// above 2 are allowed.
+    fn new(
+        pb: &'a dyn SecondOrder,
+        s: &'a SolverSettings,
+        t0: f64,
+        q0: DVector<f64>,
+        v0: DVector<f64>,
+    ) -> Self {
+        let n = pb.n();
+        let m = pb.mass();
+        let mut st = Stats::new();
+        let cap = s.max_order + 2;
+        let mut hist: VecDeque<Point> = VecDeque::with_capacity(cap);
+        hist.push_front(Point {
+            t: t0,
+            q: q0,
+            v: v0,
+        });
+        let p0 = &hist[0];
+        let modes = if s.max_order > 2 {
+            let mut kq = DMatrix::zeros(n, n);
+            let mut cv = DMatrix::zeros(n, n);
+            pb.newton_matrix(t0, &p0.q, &p0.v, (0.0, 1.0, 0.0), &mut kq);
+            pb.newton_matrix(t0, &p0.q, &p0.v, (0.0, 0.0, 1.0), &mut cv);
+            st.jacobian_evals += 2;
+            Modes::of_system(m, &kq, &cv)
+        } else {
+            Modes::default()
+        };
+        let tracker = Tracker::new(pb, s.contact_events, t0, &p0.q, &p0.v);
+        Self {
+            pb,
+            s,
+            w: pb.weights(),
+            mass: MassOp::new(m),
+            modes,
+            tracker,
+            st,
+            hist,
+            cap,
+            t: t0,
+            h: s.h0.min(s.hmax),
+            k: 1,
+            at_order: 0,
+            fails: 0,
+            lu: None,
+            steady: 0,
+            a0_prev: f64::NAN,
+            work: Work::new(n),
+        }
+    }
+
+    /// One try of a step from `t`, shortened to end on `t_end`: accepted (`Ok`) or not.
+    fn step(&mut self, t_end: f64, observer: &mut Observer) -> Result<(), Flow> {
+        if self.t + self.h > t_end || t_end - (self.t + self.h) < 1e-3 * self.h {
+            self.h = t_end - self.t;
+        }
+        let step = self.predict_step();
+        self.correct(&step)?;
+        self.locate_event(&step)?;
+        let err = self.test_error(&step)?;
+        let choice = self.choose_order(&step, err);
+        self.accept(&step, observer)?;
+        self.next_step(&step, &choice);
+        Ok(())
+    }
+
+    /// The formula of the step of length h: its order (the one asked for, as far as the history
+    /// and the modes' stability allow), its coefficients with the history's parts of D(q) and
+    /// D(v) in hq and hv, and the predictor in qp and vp (Euler while the history is shorter
+    /// than the order needs); the NDF term D(x) − (κγ/h)(x − x_pred) is folded into α₀ and the
+    /// history parts.
+    fn predict_step(&mut self) -> Try {
+        let (hist, wk, h) = (&self.hist, &mut self.work, self.h);
+        let tn = self.t + h;
+        let stable = self.modes.stable_order(h, self.s.max_order);
+        let keff = self.k.min(hist.len()).min(stable);
         // NDF only where stability holds the order at 2 although the settings allow more.
-        let ndf = stable <= 2 && s.max_order > 2;
-        let kappa_gamma = |order: usize| if ndf { ndf_kappa_gamma(order) } else { 0.0 };
+        let ndf = stable <= 2 && self.s.max_order > 2;
         let mut tau = [0.0; 8];
         tau[0] = tn;
         for (slot, p) in tau[1..].iter_mut().zip(hist.iter().take(keff)) {
             *slot = p.t;
         }
+        let mut alpha = [0.0; 8];
         bdf_coefficients(&tau[..=keff], &mut alpha[..=keff]);
-        combine(&hist, &alpha[1..=keff], &mut hq, &mut hv);
+        combine(hist, &alpha[1..=keff], &mut wk.hq, &mut wk.hv);
         let full_pred = hist.len() > keff;
         if full_pred {
-            predict(&hist, keff, tn, &mut qp, &mut vp);
+            predict(hist, keff, tn, &mut wk.qp, &mut wk.vp);
         } else {
             let p = &hist[0];
-            qp.copy_from(&p.q);
-            qp.axpy(h, &p.v, 1.0);
-            vp.copy_from(&p.v);
+            wk.qp.copy_from(&p.q);
+            wk.qp.axpy(h, &p.v, 1.0);
+            wk.vp.copy_from(&p.v);
         }
-        // NDF term: D(x) − (κγ/h)(x − x_pred), folded into α₀ and the history parts.
-        let kg = if full_pred { kappa_gamma(keff) } else { 0.0 };
+        let mut step = Try {
+            tn,
+            keff,
+            ndf,
+            a0: 0.0,
+        };
+        let kg = if full_pred {
+            step.kappa_gamma(keff)
+        } else {
+            0.0
+        };
         let c_ndf = -kg / h;
-        let a0 = alpha[0] + c_ndf;
+        step.a0 = alpha[0] + c_ndf;
         if c_ndf != 0.0 {
-            hq.axpy(-c_ndf, &qp, 1.0);
-            hv.axpy(-c_ndf, &vp, 1.0);
+            wk.hq.axpy(-c_ndf, &wk.qp, 1.0);
+            wk.hv.axpy(-c_ndf, &wk.vp, 1.0);
         }
-        steady = if same_key(a0, a0_prev) { steady + 1 } else { 0 };
-        a0_prev = a0;
-        // Corrector: modified Newton on q.
+        step
+    }
+
+    /// The corrector from the predictor: q and v at the step's end, or the try fails (a
+    /// corrector that did not converge, `Bdf::corrector_failed`; a non-finite state ends the
+    /// run `diverged`). A slow one refreshes the Newton matrix for the next step.
+    fn correct(&mut self, step: &Try) -> Result<(), Flow> {
+        self.steady = if same_key(step.a0, self.a0_prev) {
+            self.steady + 1
+        } else {
+            0
+        };
+        self.a0_prev = step.a0;
+        let Some(slow) = self.newton(step) else {
+            return Err(self.corrector_failed());
+        };
+        if slow {
+            self.lu = None;
+        }
+        let wk = &mut self.work;
+        sum_scaled(
+            wk.v.as_mut_slice(),
+            wk.hq.as_slice(),
+            step.a0,
+            wk.q.as_slice(),
+        );
+        if !finite(&wk.q) || !finite(&wk.v) {
+            self.st.status = Status::Diverged;
+            self.st.cause = format!("non-finite state at t = {:.6} s", step.tn);
+            return Err(Flow::Stop);
+        }
+        Ok(())
+    }
+
+    /// Modified Newton on q (`integrators::corrector`), rebuilding the Newton matrix when it is
+    /// stale for α₀ or a stale one failed: whether it converged slowly, or none when it did not
+    /// converge.
+    fn newton(&mut self, step: &Try) -> Option<bool> {
+        let (pb, s, w, mass) = (self.pb, self.s, self.w, &self.mass);
+        let (tn, a0) = (step.tn, step.a0);
+        let Work {
+            qp,
+            vp,
+            q,
+            v,
+            a,
+            hq,
+            hv,
+            f,
+            r,
+            nm,
+            ..
+        } = &mut self.work;
         let mut fresh = false;
-        let mut slow: bool;
-        let converged = loop {
-            if lu.as_ref().is_none_or(|l| l.stale(a0, steady)) {
-                pb.newton_matrix(tn, &qp, &vp, (a0 * a0, 1.0, a0), &mut nm);
-                st.jacobian_evals += 1;
-                st.factorizations += 1;
-                lu = Some(Newton::new(&nm, a0, pb));
+        loop {
+            if self.lu.as_ref().is_none_or(|l| l.stale(a0, self.steady)) {
+                pb.newton_matrix(tn, qp, vp, (a0 * a0, 1.0, a0), nm);
+                self.st.jacobian_evals += 1;
+                self.st.factorizations += 1;
+                self.lu = Some(Newton::new(nm, a0, pb));
                 fresh = true;
             }
-            let lu_ref = lu.as_mut().expect("factorised above");
-            q.copy_from(&qp);
+            let lu_ref = self.lu.as_mut().expect("factorised above");
+            q.copy_from(qp);
             // The matrix was built for its own α₀: scale the correction as DASSL does.
             let scale = 2.0 / (1.0 + a0 / lu_ref.key);
             let out = corrector(
                 lu_ref,
-                &mut q,
-                &mut r,
+                q,
+                r,
                 scale,
                 a0,
                 1.0,
                 w,
                 s.tolerance,
-                &mut st,
+                &mut self.st,
                 |q, r| {
                     sum_scaled(v.as_mut_slice(), hq.as_slice(), a0, q.as_slice());
                     sum_scaled(a.as_mut_slice(), hv.as_slice(), a0, v.as_slice());
-                    pb.force(tn, q, &v, &mut f);
+                    pb.force(tn, q, v, f);
                     mass.apply(r.as_mut_slice(), a.as_slice());
                     axpy(r.as_mut_slice(), -1.0, f.as_slice());
                 },
             );
-            slow = out.slow;
-            let ok = out.ok;
-            if ok || fresh {
-                break ok;
+            if out.ok || fresh {
+                return out.ok.then_some(out.slow);
             }
             // Stale matrix: rebuild it and try the same step again.
-            lu = None;
+            self.lu = None;
+        }
+    }
+
+    /// The corrector did not converge with a fresh matrix: a quarter of the step at order 1,
+    /// or, after more than 20 failures in a row, the end of the run (`diverged`).
+    fn corrector_failed(&mut self) -> Flow {
+        if let Some(tr) = self.tracker.as_mut() {
+            tr.reject();
+        }
+        self.st.rejected_convergence += 1;
+        self.fails += 1;
+        self.h *= 0.25;
+        self.k = 1;
+        self.at_order = 0;
+        if self.fails > 20 {
+            self.st.status = Status::Diverged;
+            self.st.cause = format!(
+                "corrector failed {} times in a row at t = {:.6} s",
+                self.fails, self.t
+            );
+            return Flow::Stop;
+        }
+        Flow::Retry
+    }
+
+    /// Contact events (`events`): a step across an onset or lift-off is redone to end there.
+    fn locate_event(&mut self, step: &Try) -> Result<(), Flow> {
+        let Some(tr) = self.tracker.as_mut() else {
+            return Ok(());
         };
-        if !converged {
-            if let Some(tr) = tracker.as_mut() {
-                tr.reject();
-            }
-            st.rejected_convergence += 1;
-            fails += 1;
-            h *= 0.25;
-            k = 1;
-            at_order = 0;
-            if fails > 20 {
-                st.status = Status::Diverged;
-                st.cause = format!("corrector failed {fails} times in a row at t = {t:.6} s");
-                break;
-            }
-            continue;
-        }
-        if slow {
-            // A slowly converging corrector: refresh the Newton matrix for the next step.
-            lu = None;
-        }
-        sum_scaled(v.as_mut_slice(), hq.as_slice(), a0, q.as_slice());
-        if !finite(&q) || !finite(&v) {
-            st.status = Status::Diverged;
-            st.cause = format!("non-finite state at t = {tn:.6} s");
-            break;
-        }
-        // Contact events (`events`): a step across an onset or lift-off is redone to end there.
-        if let Some(tr) = tracker.as_mut() {
-            let p = &hist[0];
-            let step = events::Step {
-                t0: t,
-                q0: &p.q,
-                v0: &p.v,
-                t1: tn,
-                q1: &q,
-                v1: &v,
-            };
-            if let Some(hl) = tr.shorten(pb, &step, s.hmin) {
-                h = hl;
-                continue;
-            }
-        }
-        // Local error estimates of orders k−1, k, k+1 from predictor differences.
-        let est = |order: usize, qpred: &DVector<f64>| {
-            let (denom, kg) = if hist.len() > order {
-                (tn - hist[order].t, kappa_gamma(order))
-            } else {
-                (2.0 * h, 0.0)
-            };
-            (h / denom + kg).abs() * wnorm_diff(&q, qpred, w, s.tolerance)
+        let p = &self.hist[0];
+        let span = events::Step {
+            t0: self.t,
+            q0: &p.q,
+            v0: &p.v,
+            t1: step.tn,
+            q1: &self.work.q,
+            v1: &self.work.v,
         };
-        let err = est(keff, &qp);
+        match tr.shorten(self.pb, &span, self.s.hmin) {
+            Some(hl) => {
+                self.h = hl;
+                Err(Flow::Retry)
+            }
+            None => Ok(()),
+        }
+    }
+
+    /// The local error estimate of order `order` from the difference of the corrected q and
+    /// that order's predictor `qpred`.
+    fn estimate(&self, step: &Try, order: usize, qpred: &DVector<f64>) -> f64 {
+        let (denom, kg) = if self.hist.len() > order {
+            (step.tn - self.hist[order].t, step.kappa_gamma(order))
+        } else {
+            (2.0 * self.h, 0.0)
+        };
+        (self.h / denom + kg).abs() * wnorm_diff(&self.work.q, qpred, self.w, self.s.tolerance)
+    }
+
+    /// The error test at the step's order: its estimate, or a rejection with a shorter step
+    /// (and one order less after two failures in a row).
+    fn test_error(&mut self, step: &Try) -> Result<f64, Flow> {
+        let err = self.estimate(step, step.keff, &self.work.qp);
         if err > 1.0 {
-            if let Some(tr) = tracker.as_mut() {
+            if let Some(tr) = self.tracker.as_mut() {
                 tr.reject();
             }
-            st.rejected_error += 1;
-            fails += 1;
-            let factor = (0.9 * err.powf(-1.0 / (keff as f64 + 1.0))).clamp(0.1, 0.9);
-            h *= factor;
-            if fails >= 2 && k > 1 {
-                k -= 1;
-                at_order = 0;
+            self.st.rejected_error += 1;
+            self.fails += 1;
+            let factor = (0.9 * err.powf(-1.0 / (step.keff as f64 + 1.0))).clamp(0.1, 0.9);
+            self.h *= factor;
+            if self.fails >= 2 && self.k > 1 {
+                self.k -= 1;
+                self.at_order = 0;
             }
-            continue;
+            return Err(Flow::Retry);
         }
-        fails = 0;
-        // Order choice after k+1 steps at order k: the order allowing the longest step; when
-        // hmax caps every candidate, the order with the smallest error (same cost, more accuracy).
+        self.fails = 0;
+        Ok(err)
+    }
+
+    /// Order choice after k+1 steps at order k (local error estimates of orders k−1, k, k+1
+    /// from predictor differences): the order allowing the longest step; when hmax caps every
+    /// candidate, the order with the smallest error (same cost, more accuracy).
+    fn choose_order(&mut self, step: &Try, err: f64) -> Choice {
+        let (keff, tn, h, s) = (step.keff, step.tn, self.h, self.s);
         let cand = |order: usize, e: f64| {
             (
                 order,
@@ -357,20 +577,36 @@ pub(super) fn run(
         };
         let mut cands = [cand(keff, err); 3];
         let mut nc = 1;
-        let review = at_order > keff;
-        if review && keff > 1 && hist.len() >= keff {
-            predict(&hist, keff - 1, tn, &mut qq, &mut vv);
-            cands[nc] = cand(keff - 1, est(keff - 1, &qq));
+        let review = self.at_order > keff;
+        if review && keff > 1 && self.hist.len() >= keff {
+            predict(
+                &self.hist,
+                keff - 1,
+                tn,
+                &mut self.work.qq,
+                &mut self.work.vv,
+            );
+            cands[nc] = cand(keff - 1, self.estimate(step, keff - 1, &self.work.qq));
             nc += 1;
         }
-        if review && keff < s.max_order && hist.len() >= keff + 2 {
-            predict(&hist, keff + 1, tn, &mut qq, &mut vv);
-            cands[nc] = cand(keff + 1, est(keff + 1, &qq));
+        if review && keff < s.max_order && self.hist.len() >= keff + 2 {
+            predict(
+                &self.hist,
+                keff + 1,
+                tn,
+                &mut self.work.qq,
+                &mut self.work.vv,
+            );
+            cands[nc] = cand(keff + 1, self.estimate(step, keff + 1, &self.work.qq));
             nc += 1;
         }
         // Orders that would amplify a mode at the step they propose are no candidates.
         let stable = |c: &(usize, f64, f64)| {
-            c.0 <= 2 || c.0 <= modes.stable_order(h * c.2.clamp(0.2, 1.5), s.max_order)
+            c.0 <= 2
+                || c.0
+                    <= self
+                        .modes
+                        .stable_order(h * c.2.clamp(0.2, 1.5), s.max_order)
         };
         let mut kept = 0;
         for i in 0..nc {
@@ -386,69 +622,79 @@ pub(super) fn run(
         } else {
             cands.iter().max_by(|a, b| a.2.total_cmp(&b.2))
         }
-        .map(|c| (c.0, c.2))
         .expect("the current order is a candidate");
-        // Accept.
-        let t_prev = t;
-        {
-            let prev = &hist[0];
-            let view = StepView {
-                t0: t_prev,
-                t1: tn,
-                q0: &prev.q,
-                v0: &prev.v,
-                q1: &q,
-                v1: &v,
-            };
-            if let Err(cause) = observer(&view) {
-                st.steps += 1;
-                st.status = Status::Diverged;
-                st.cause = cause;
-                t = tn;
-                break;
-            }
+        Choice {
+            order: best.0,
+            factor: best.2,
+            review,
         }
-        if hist.len() == cap {
-            let mut old = hist.pop_back().expect("history is full");
+    }
+
+    /// Accepts the step: the observer sees it (its error ends the run `diverged`, the step
+    /// counted but not kept) and it becomes the newest point of the history.
+    fn accept(&mut self, step: &Try, observer: &mut Observer) -> Result<(), Flow> {
+        let tn = step.tn;
+        let (q, v) = (&self.work.q, &self.work.v);
+        let prev = &self.hist[0];
+        let view = StepView {
+            t0: self.t,
+            t1: tn,
+            q0: &prev.q,
+            v0: &prev.v,
+            q1: q,
+            v1: v,
+        };
+        if let Err(cause) = observer(&view) {
+            self.st.steps += 1;
+            self.st.status = Status::Diverged;
+            self.st.cause = cause;
+            self.t = tn;
+            return Err(Flow::Stop);
+        }
+        if self.hist.len() == self.cap {
+            let mut old = self.hist.pop_back().expect("history is full");
             old.t = tn;
-            old.q.copy_from(&q);
-            old.v.copy_from(&v);
-            hist.push_front(old);
+            old.q.copy_from(q);
+            old.v.copy_from(v);
+            self.hist.push_front(old);
         } else {
-            hist.push_front(Point {
+            self.hist.push_front(Point {
                 t: tn,
                 q: q.clone(),
                 v: v.clone(),
             });
         }
-        st.steps += 1;
-        t = tn;
-        if best.0 != keff || review {
-            k = best.0;
-            at_order = 0;
+        self.st.steps += 1;
+        self.t = tn;
+        Ok(())
+    }
+
+    /// After an accepted step: the order and step the choice allows, the order restarted
+    /// after a contact event, the step kept out of the chosen order's lobes.
+    fn next_step(&mut self, step: &Try, choice: &Choice) {
+        if choice.order != step.keff || choice.review {
+            self.k = choice.order;
+            self.at_order = 0;
         } else {
-            k = keff;
-            at_order += 1;
+            self.k = step.keff;
+            self.at_order += 1;
         }
-        let factor = best.1.min(1.5);
+        let factor = choice.factor.min(1.5);
         if !(1.0..1.2).contains(&factor) {
-            h *= factor.max(0.2);
+            self.h *= factor.max(0.2);
         }
-        if tracker.as_mut().is_some_and(|tr| tr.accept(&mut st)) {
+        if (self.tracker.as_mut()).is_some_and(|tr| tr.accept(&mut self.st)) {
             // Across a kink the history's polynomial is no longer the solution's: restart at an
             // order whose predictor spans only the continuous derivatives (`events`, EVENT_ORDER).
-            k = k.min(EVENT_ORDER);
-            at_order = 0;
+            self.k = self.k.min(EVENT_ORDER);
+            self.at_order = 0;
         }
         // Not into a lobe of the order chosen: that step would run at the order stability allows
-        // there (`stable` above) on a history fitted for this one. On the timing case (2 s) at
+        // there (`predict_step`) on a history fitted for this one. On the timing case (2 s) at
         // 1e-11 m and hmax 200 µs, BDF-5 proposed 1.4e-4 s, BDF-3 failed it 15–60 times over, and 82 %
         // of the steps were rejected.
-        h = modes.stable_step(k, h.min(s.hmax));
+        self.h = self.modes.stable_step(self.k, self.h.min(self.s.hmax));
     }
-    let last = hist.pop_front().expect("history never empty");
-    guard.finish(&mut st, t);
-    (last.q, last.v, st)
 }
 
 #[cfg(test)]

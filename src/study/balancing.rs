@@ -126,156 +126,30 @@ fn mass_of(v: &toml::Value) -> Option<(f64, f64, f64, f64)> {
 }
 
 /// Computes the corrections from the results file at `path` with `limits` applied to every
-/// plane (module doc).
+/// plane (module doc): the masses axis of the reference runs, every job's speed, label and
+/// masses, the 1× of every job and channel, the trial runs per plane and speed and the rows of
+/// the influence coefficients; then the least-squares corrections and their predicted residual.
 pub fn balance(path: &Path, limits: &PlaneLimits) -> Result<Balance, InputError> {
     let err = |r: String| InputError::new(path, r);
     let f = store::output::open_results_file(path).map_err(&err)?;
     let text = store::read_str(&f, "study_text")
         .map_err(|_| err("not a study results file (no study_text)".into()))?;
-    let sa = analysis_of_text(&text).unwrap_or_default();
-    let baseline = sa.spec.baseline.clone().ok_or_else(|| {
-        err("the study has no [analysis] baseline: the reference runs are not named".into())
-    })?;
-    let axis = sa
-        .labelled
-        .iter()
-        .find(|a| a.labels.contains(&baseline))
-        .ok_or_else(|| err(format!("no labelled axis has the baseline `{baseline}`")))?;
-    let key = axis.keys[0].clone();
-    if !key.ends_with(".masses") {
-        return Err(err(format!(
-            "the baseline's axis `{key}` is not a masses axis (roll.masses or rotor.masses)"
-        )));
-    }
-    let jobs = f
-        .group("jobs")
-        .map_err(|e| err(format!("no jobs group: {e}")))?;
-    // Per job: speed, label, masses.
-    struct J {
-        id: String,
-        speed: f64,
-        label: String,
-        masses: Vec<toml::Value>,
-    }
-    let mut all = Vec::new();
-    for id in jobs.member_names().unwrap_or_default() {
-        let Ok(g) = jobs.group(&id) else { continue };
-        let status = store::read_str(&g, "status").unwrap_or_default();
-        let speed = store::read_num(&g, "speed_hz").unwrap_or(f64::NAN);
-        let label = store::read_str(&g, &format!("label:{key}")).unwrap_or_default();
-        if !crate::integrators::Status::name_completed(&status) || !speed.is_finite() {
-            return Err(err(format!(
-                "job {id} ({label}) did not end ok at a constant speed ({status}): balancing \
-                 needs every run"
-            )));
-        }
-        let raw = store::read_param(&g, &key)
-            .map(|p| p.to_string())
-            .map_err(|_| err(format!("job {id} has no `{key}` value")))?;
-        let value: toml::Value = toml::from_str::<toml::Table>(&format!("v = {raw}"))
-            .ok()
-            .and_then(|mut t| t.remove("v"))
-            .ok_or_else(|| err(format!("job {id}: `{key}` = {raw} is not a list of masses")))?;
-        let masses = value.as_array().cloned().unwrap_or_default();
-        all.push(J {
-            id,
-            speed,
-            label,
-            masses,
-        });
-    }
-    // The 1× of each job and channel.
-    let lines: Vec<LineRow> = f
-        .dataset("analysis/lines")
-        .and_then(|d| d.read_raw())
-        .map_err(|e| err(format!("no /analysis/lines table ({e})")))?;
-    let mut one: BTreeMap<(String, String), Complex64> = BTreeMap::new();
-    for l in lines.iter().filter(|l| l.order == 1.0) {
-        one.insert(
-            (l.job_id.as_str().into(), l.channel.as_str().into()),
-            Complex64::from_polar(l.amplitude_um, l.phase_deg.to_radians()),
-        );
-    }
-    let mut speeds: Vec<f64> = all.iter().map(|j| j.speed).collect();
-    speeds.sort_by(f64::total_cmp);
-    speeds.dedup();
-    let mut planes: Vec<(f64, f64)> = Vec::new();
-    // trials[(speed index, plane z bits)] = (job id, U [g e^{iφ}])
-    let mut trials: BTreeMap<(usize, u64), (String, Complex64)> = BTreeMap::new();
-    let mut references = Vec::new();
-    let mut ref_masses = Vec::new();
-    for (si, s) in speeds.iter().enumerate() {
-        let refs: Vec<&J> = all
-            .iter()
-            .filter(|j| j.speed == *s && j.label == baseline)
-            .collect();
-        let [r] = refs[..] else {
-            return Err(err(format!(
-                "{} reference runs (`{baseline}`) at {s} Hz: one is needed",
-                refs.len()
-            )));
-        };
-        references.push((*s, r.id.clone()));
-        ref_masses = r.masses.clone();
-        for j in all.iter().filter(|j| j.speed == *s && j.label != baseline) {
-            let extra: Vec<&toml::Value> =
-                j.masses.iter().filter(|m| !r.masses.contains(m)).collect();
-            let ([m], true) = (&extra[..], j.masses.len() == r.masses.len() + 1) else {
-                return Err(err(format!(
-                    "job {} ({}) is not the reference's masses plus one trial mass",
-                    j.id, j.label
-                )));
-            };
-            let (z, radius, angle, mass) = mass_of(m).ok_or_else(|| {
-                err(format!(
-                    "job {}: a mass lacks z_mm/radius_mm/angle_deg/mass_g",
-                    j.id
-                ))
-            })?;
-            if !planes.iter().any(|p| p.0 == z) {
-                planes.push((z, radius));
-            }
-            let u = Complex64::from_polar(mass, angle.to_radians());
-            if trials
-                .insert((si, z.to_bits()), (j.id.clone(), u))
-                .is_some()
-            {
-                return Err(err(format!("two trial runs at z = {z} mm and {s} Hz")));
-            }
-        }
-    }
-    planes.sort_by(|a, b| a.0.total_cmp(&b.0));
-    if planes.is_empty() {
-        return Err(err("no trial-mass runs".into()));
-    }
-    // Rows: per speed, the reference's channels.
-    let mut rows: Vec<(f64, String)> = Vec::new();
-    let mut b = Vec::new();
-    let (mut resp, mut units) = (
-        vec![Vec::new(); planes.len()],
-        vec![Vec::new(); planes.len()],
-    );
-    for (si, (s, rid)) in references.iter().enumerate() {
-        let channels: Vec<String> = one
-            .keys()
-            .filter(|(j, _)| j == rid)
-            .map(|(_, c)| c.clone())
-            .collect();
-        for c in channels {
-            b.push(one[&(rid.clone(), c.clone())]);
-            for (p, (z, _)) in planes.iter().enumerate() {
-                let (tid, u) = trials
-                    .get(&(si, z.to_bits()))
-                    .ok_or_else(|| err(format!("no trial run at z = {z} mm and {s} Hz")))?;
-                let a = one
-                    .get(&(tid.clone(), c.clone()))
-                    .ok_or_else(|| err(format!("job {tid} has no 1× of {c}")))?;
-                resp[p].push(*a);
-                units[p].push(*u);
-            }
-            rows.push((*s, c));
-        }
-    }
+    let (baseline, key) = masses_axis(&text, path)?;
+    let all = read_jobs(&f, &key, path)?;
+    let one = read_one_x(&f, path)?;
+    let trials = Trials::of(&all, &baseline, path)?;
+    let Rows {
+        rows,
+        b,
+        resp,
+        units,
+    } = Rows::of(&trials, &one, path)?;
+    let Trials {
+        planes,
+        references,
+        ref_masses,
+        ..
+    } = trials;
     let alpha = influence::influence(&b, &resp, &units);
     let radii: Vec<f64> = planes.iter().map(|p| p.1).collect();
     let masses = influence::corrections(&alpha, &b, &vec![limits.clone(); planes.len()]);
@@ -312,6 +186,228 @@ pub fn balance(path: &Path, limits: &PlaneLimits) -> Result<Balance, InputError>
         study,
         influence: (alpha, b, radii),
     })
+}
+
+/// The baseline label of the reference runs and the key of the masses axis that has it, from
+/// the study text stored in the results file at `path`.
+fn masses_axis(text: &str, path: &Path) -> Result<(String, String), InputError> {
+    let err = |r: String| InputError::new(path, r);
+    let sa = analysis_of_text(text).unwrap_or_default();
+    let baseline = sa.spec.baseline.clone().ok_or_else(|| {
+        err("the study has no [analysis] baseline: the reference runs are not named".into())
+    })?;
+    let axis = sa
+        .labelled
+        .iter()
+        .find(|a| a.labels.contains(&baseline))
+        .ok_or_else(|| err(format!("no labelled axis has the baseline `{baseline}`")))?;
+    let key = axis.keys[0].clone();
+    if !key.ends_with(".masses") {
+        return Err(err(format!(
+            "the baseline's axis `{key}` is not a masses axis (roll.masses or rotor.masses)"
+        )));
+    }
+    Ok((baseline, key))
+}
+
+/// A job of the results file: its id, speed [Hz], label on the masses axis and masses.
+struct Job {
+    id: String,
+    speed: f64,
+    label: String,
+    masses: Vec<toml::Value>,
+}
+
+/// Every job of the results file `f` (at `path`) with its masses on the axis `key`; each must
+/// have ended ok at a constant speed.
+fn read_jobs(f: &hdf5::File, key: &str, path: &Path) -> Result<Vec<Job>, InputError> {
+    let err = |r: String| InputError::new(path, r);
+    let jobs = f
+        .group("jobs")
+        .map_err(|e| err(format!("no jobs group: {e}")))?;
+    let mut all = Vec::new();
+    for id in jobs.member_names().unwrap_or_default() {
+        let Ok(g) = jobs.group(&id) else { continue };
+        let status = store::read_str(&g, "status").unwrap_or_default();
+        let speed = store::read_num(&g, "speed_hz").unwrap_or(f64::NAN);
+        let label = store::read_str(&g, &format!("label:{key}")).unwrap_or_default();
+        if !crate::integrators::Status::name_completed(&status) || !speed.is_finite() {
+            return Err(err(format!(
+                "job {id} ({label}) did not end ok at a constant speed ({status}): balancing \
+                 needs every run"
+            )));
+        }
+        let raw = store::read_param(&g, key)
+            .map(|p| p.to_string())
+            .map_err(|_| err(format!("job {id} has no `{key}` value")))?;
+        let value: toml::Value = toml::from_str::<toml::Table>(&format!("v = {raw}"))
+            .ok()
+            .and_then(|mut t| t.remove("v"))
+            .ok_or_else(|| err(format!("job {id}: `{key}` = {raw} is not a list of masses")))?;
+        let masses = value.as_array().cloned().unwrap_or_default();
+        all.push(Job {
+            id,
+            speed,
+            label,
+            masses,
+        });
+    }
+    Ok(all)
+}
+
+/// The 1× of each job and channel [µm, phase against roll angle 0] from `/analysis/lines` of
+/// the results file `f` (at `path`).
+fn read_one_x(
+    f: &hdf5::File,
+    path: &Path,
+) -> Result<BTreeMap<(String, String), Complex64>, InputError> {
+    let lines: Vec<LineRow> = f
+        .dataset("analysis/lines")
+        .and_then(|d| d.read_raw())
+        .map_err(|e| InputError::new(path, format!("no /analysis/lines table ({e})")))?;
+    let mut one: BTreeMap<(String, String), Complex64> = BTreeMap::new();
+    for l in lines.iter().filter(|l| l.order == 1.0) {
+        one.insert(
+            (l.job_id.as_str().into(), l.channel.as_str().into()),
+            Complex64::from_polar(l.amplitude_um, l.phase_deg.to_radians()),
+        );
+    }
+    Ok(one)
+}
+
+/// The trial runs, each against the reference run at its speed.
+struct Trials {
+    /// The planes (z [mm], the trial mass's radius [mm]), by z.
+    planes: Vec<(f64, f64)>,
+    /// Per (speed index, plane z bits): the trial job's id and its mass U [g e^{iφ}].
+    runs: BTreeMap<(usize, u64), (String, Complex64)>,
+    /// Per speed [Hz], the reference job's id.
+    references: Vec<(f64, String)>,
+    /// The reference's masses (the last speed's).
+    ref_masses: Vec<toml::Value>,
+}
+
+impl Trials {
+    /// From the jobs `all`: per speed the one reference run (label `baseline`) and the trial
+    /// runs, each the reference's masses plus exactly one (its z names the plane).
+    fn of(all: &[Job], baseline: &str, path: &Path) -> Result<Trials, InputError> {
+        let err = |r: String| InputError::new(path, r);
+        let mut speeds: Vec<f64> = all.iter().map(|j| j.speed).collect();
+        speeds.sort_by(f64::total_cmp);
+        speeds.dedup();
+        let mut planes: Vec<(f64, f64)> = Vec::new();
+        let mut trials: BTreeMap<(usize, u64), (String, Complex64)> = BTreeMap::new();
+        let mut references = Vec::new();
+        let mut ref_masses = Vec::new();
+        for (si, s) in speeds.iter().enumerate() {
+            let refs: Vec<&Job> = all
+                .iter()
+                .filter(|j| j.speed == *s && j.label == baseline)
+                .collect();
+            let [r] = refs[..] else {
+                return Err(err(format!(
+                    "{} reference runs (`{baseline}`) at {s} Hz: one is needed",
+                    refs.len()
+                )));
+            };
+            references.push((*s, r.id.clone()));
+            ref_masses = r.masses.clone();
+            for j in all.iter().filter(|j| j.speed == *s && j.label != baseline) {
+                let extra: Vec<&toml::Value> =
+                    j.masses.iter().filter(|m| !r.masses.contains(m)).collect();
+                let ([m], true) = (&extra[..], j.masses.len() == r.masses.len() + 1) else {
+                    return Err(err(format!(
+                        "job {} ({}) is not the reference's masses plus one trial mass",
+                        j.id, j.label
+                    )));
+                };
+                let (z, radius, angle, mass) = mass_of(m).ok_or_else(|| {
+                    err(format!(
+                        "job {}: a mass lacks z_mm/radius_mm/angle_deg/mass_g",
+                        j.id
+                    ))
+                })?;
+                if !planes.iter().any(|p| p.0 == z) {
+                    planes.push((z, radius));
+                }
+                let u = Complex64::from_polar(mass, angle.to_radians());
+                if trials
+                    .insert((si, z.to_bits()), (j.id.clone(), u))
+                    .is_some()
+                {
+                    return Err(err(format!("two trial runs at z = {z} mm and {s} Hz")));
+                }
+            }
+        }
+        planes.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if planes.is_empty() {
+            return Err(err("no trial-mass runs".into()));
+        }
+        Ok(Trials {
+            planes,
+            runs: trials,
+            references,
+            ref_masses,
+        })
+    }
+}
+
+/// The least-squares rows of the influence coefficients: per speed, the reference's channels.
+struct Rows {
+    /// Speed [Hz] and channel per row.
+    rows: Vec<(f64, String)>,
+    /// The reference's 1× per row [µm].
+    b: Vec<Complex64>,
+    /// Per plane, its trial run's 1× per row [µm].
+    resp: Vec<Vec<Complex64>>,
+    /// Per plane, its trial mass U [g e^{iφ}] per row.
+    units: Vec<Vec<Complex64>>,
+}
+
+impl Rows {
+    /// The rows of `trials` with the 1× `one` of each job and channel.
+    fn of(
+        trials: &Trials,
+        one: &BTreeMap<(String, String), Complex64>,
+        path: &Path,
+    ) -> Result<Rows, InputError> {
+        let err = |r: String| InputError::new(path, r);
+        let planes = &trials.planes;
+        let mut rows: Vec<(f64, String)> = Vec::new();
+        let mut b = Vec::new();
+        let (mut resp, mut units) = (
+            vec![Vec::new(); planes.len()],
+            vec![Vec::new(); planes.len()],
+        );
+        for (si, (s, rid)) in trials.references.iter().enumerate() {
+            let channels: Vec<String> = one
+                .keys()
+                .filter(|(j, _)| j == rid)
+                .map(|(_, c)| c.clone())
+                .collect();
+            for c in channels {
+                b.push(one[&(rid.clone(), c.clone())]);
+                for (p, (z, _)) in planes.iter().enumerate() {
+                    let (tid, u) = trials
+                        .runs
+                        .get(&(si, z.to_bits()))
+                        .ok_or_else(|| err(format!("no trial run at z = {z} mm and {s} Hz")))?;
+                    let a = one
+                        .get(&(tid.clone(), c.clone()))
+                        .ok_or_else(|| err(format!("job {tid} has no 1× of {c}")))?;
+                    resp[p].push(*a);
+                    units[p].push(*u);
+                }
+                rows.push((*s, c));
+            }
+        }
+        Ok(Rows {
+            rows,
+            b,
+            resp,
+            units,
+        })
+    }
 }
 
 fn residual(speed_hz: f64, channel: &str, before: f64, after: f64) -> Residual {
