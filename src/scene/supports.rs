@@ -260,7 +260,7 @@ fn fitted_law(
     };
     let b = geometry.half_width(hi);
     let radius = 0.5 * journal_diameter.min(roller_diameter);
-    if !(b <= 0.1 * radius) {
+    if b.is_nan() || b > 0.1 * radius {
         return Err(c.err(
             gk,
             format!(
@@ -273,7 +273,7 @@ fn fitted_law(
         ));
     }
     let fit = geometry.fit();
-    if !(1.0..=3.0).contains(&fit.exponent) || !(fit.k.is_finite() && fit.k > 0.0) {
+    if !((1.0..=3.0).contains(&fit.exponent) && fit.k.is_finite() && fit.k > 0.0) {
         return Err(c.err(
             gk,
             format!(
