@@ -7,11 +7,13 @@
 //! nodes (sensors marked), the balancing planes and the point masses [mm, g, °]; the wall (the
 //! map's statistics, a uniform thickness as written, or the tube segments' diameters [mm]); the
 //! speed profile [Hz, s]; the record (window, sample rate, samples, channels, modal
-//! coordinates, solver). Method: read off the scene; no model is built.
+//! coordinates, solver); each rollers support's contact law [N/mm^e] with, when the scene gives
+//! the contact by its geometry, the fit that gave it. Method: read off the scene; no model is
+//! built.
 
 use super::summary::PointMass;
 use crate::rotor::fe::SectionSpec;
-use crate::scene::{Scene, SpeedProfile};
+use crate::scene::{ContactFit, Scene, SpeedProfile, SupportModel};
 
 /// A named node of the rotor.
 #[derive(Debug, Clone, PartialEq)]
@@ -121,6 +123,20 @@ pub struct Record {
     pub solver: &'static str,
 }
 
+/// The contact law of a rollers support.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contact {
+    /// The support's node.
+    pub node: String,
+    /// k [N/mm^e] (penetration in mm).
+    pub k_n_per_mm_e: f64,
+    /// Exponent e.
+    pub exponent: f64,
+    /// The fit that gave k and e when the scene gives the contact by its geometry; `None`: as
+    /// written.
+    pub fit: Option<ContactFit>,
+}
+
 /// What a scene asks for, derived (module doc).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Derived {
@@ -132,6 +148,8 @@ pub struct Derived {
     pub speed: Speed,
     /// The record.
     pub record: Record,
+    /// The contact law of each rollers support, in scene order.
+    pub contacts: Vec<Contact>,
 }
 
 impl Derived {
@@ -150,8 +168,25 @@ impl Derived {
                 modal_coordinates: scene.modal_coordinates(),
                 solver: scene.solver.integrator.name(),
             },
+            contacts: contacts(scene),
         }
     }
+}
+
+fn contacts(sc: &Scene) -> Vec<Contact> {
+    sc.supports
+        .iter()
+        .filter_map(|s| match &s.model {
+            SupportModel::Rollers(r) => Some(Contact {
+                node: s.node.clone(),
+                // N/m^e → N/mm^e.
+                k_n_per_mm_e: r.contact.k / 1000f64.powf(r.contact.exponent),
+                exponent: r.contact.exponent,
+                fit: r.contact_fit,
+            }),
+            SupportModel::Linear(_) => None,
+        })
+        .collect()
 }
 
 fn positions(sc: &Scene) -> Positions {

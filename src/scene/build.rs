@@ -35,7 +35,7 @@ pub(super) fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         )),
     };
     let named: Vec<&str> = rotor.named_points.iter().map(|(n, _)| n.as_str()).collect();
-    let supports = build_supports(c, &raw, &named)?;
+    let supports = build_supports(c, &raw, &named, &materials)?;
     let drive = drive(c, raw.drive.as_ref(), &named)?;
     let boundary = boundary(c, &raw.reduction, default_boundary, &supports, &named)?;
     let modes =

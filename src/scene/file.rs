@@ -411,10 +411,31 @@ pub(super) struct StandFile {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct ContactFile {
-    pub k_n_per_mm_e: f64,
-    pub exponent: f64,
+    pub k_n_per_mm_e: Option<f64>,
+    pub exponent: Option<f64>,
+    pub geometry: Option<ContactGeometryFile>,
     pub c_max_ns_per_mm: f64,
     pub d_um: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ContactGeometryFile {
+    pub contact_length_mm: f64,
+    pub roller_diameter_mm: Option<f64>,
+    pub journal_material: Option<String>,
+    pub roller_material: Option<String>,
+    #[serde(default = "default_fit_loads")]
+    pub fit_loads_n: Vec<f64>,
+    #[serde(default = "default_fit_points")]
+    pub fit_points: usize,
+}
+
+fn default_fit_loads() -> Vec<f64> {
+    vec![1.0, 20000.0]
+}
+fn default_fit_points() -> usize {
+    20000
 }
 
 #[derive(Debug, Deserialize)]

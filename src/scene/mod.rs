@@ -18,12 +18,14 @@
 //! The stage, in the order a scene flows through it: [`source`] reads the file and its bases,
 //! `overrides` applies `--set`, `load` reads the raw schema (`file`), `build` validates it
 //! through `check`: `geometry` (materials, the roll builder or a general rotor, masses in the
-//! material), `supports`, `speed` and `settings`, and `limits` (mesh and record size); the
+//! material), `supports` (a contact's law as written or fitted to its geometry,
+//! [`ContactGeometry`]), `speed` and `settings`, and `limits` (mesh and record size); the
 //! result is the data of `types`. [`keys`] documents every key, [`locate`] finds a key's line,
 //! [`position`] resolves axial positions.
 
 mod build;
 mod check;
+mod contact_fit;
 mod file;
 mod geometry;
 pub mod keys;
@@ -39,6 +41,7 @@ mod speed;
 mod supports;
 mod types;
 
+pub use contact_fit::{ContactFit, ContactGeometry};
 pub use limits::{MAX_FE_NODES, MAX_RECORD_VALUES, MAX_SAMPLES_PER_CHANNEL};
 pub use overrides::{parse_override, replaces, set_path, with_overrides};
 pub use settings::{DampingBands, Outputs, SimulationSettings};

@@ -2,28 +2,37 @@
 //! [`SupportModel`] in SI.
 //!
 //! In: a support's table as written (stiffness in N/m, damping in Ns/m, masses in kg, diameters
-//! in mm, roundness amplitudes in µm, contact k in N/mm^e, its damping in Ns/mm, its depth in
-//! µm), the rotor's named nodes. Out: a linear support (spring–dampers, optionally
+//! in mm, roundness amplitudes in µm, contact k in N/mm^e or the contact's geometry in mm with
+//! its materials by name and loads in N, its damping in Ns/mm, its depth in µm), the rotor's
+//! named nodes, the scene's materials. Out: a linear support (spring–dampers, optionally
 //! speed-dependent and through a support mass) or a journal on rollers on a stand, in N/m, Ns/m,
 //! kg, m, N/m^e, rad; or an [`InputError`] at the key. Method: each value checked where it is
 //! read; at least one support, one per node; a rollers support takes the roll's journal
-//! diameter unless it gives its own.
+//! diameter unless it gives its own. A contact gives its law either as written (`k_n_per_mm_e`
+//! and `exponent`) or by its `geometry`, whose law is fitted to the Roark line contact
+//! ([`super::contact_fit`]): the journal's diameter as above, the rollers' mean diameter unless
+//! it gives one, the roll's material for the journal unless it names one, the journal's for the
+//! roller unless it names one.
 
 use std::f64::consts::PI;
 
 use super::check::Check;
+use super::contact_fit::{ContactFit, ContactGeometry};
 use super::file::*;
+use super::geometry::Materials;
 use super::types::{
     ContactLaw, Harmonic, LinearSupport, Roller, RollerPhase, RollerSupport, SpringDamper, Stand,
     Support, SupportModel,
 };
 use crate::error::InputError;
 
-/// Every `[[supports]]` of `raw`, each on a node the rotor names (`named`), no node twice.
+/// Every `[[supports]]` of `raw`, each on a node the rotor names (`named`), no node twice; a
+/// contact's geometry names its bodies' `materials`.
 pub(super) fn build_supports(
     c: &Check,
     raw: &SceneFile,
     named: &[&str],
+    materials: &Materials,
 ) -> Result<Vec<Support>, InputError> {
     if raw.supports.is_empty() {
         return Err(c.err(
@@ -41,10 +50,25 @@ pub(super) fn build_supports(
                 format!("node `{node}` already has a support"),
             ));
         }
-        let model = support_model(c, &key, s, roll_journal(raw))?;
+        let roll = Roll {
+            journal: roll_journal(raw),
+            material: raw.roll.as_ref().map(|r| r.material.as_str()),
+            materials,
+        };
+        let model = support_model(c, &key, s, &roll)?;
         supports.push(Support { node, model });
     }
     Ok(supports)
+}
+
+/// What a rollers support takes from the scene unless it gives its own.
+struct Roll<'a> {
+    /// The roll's journal diameter [m], if the scene is a roll.
+    journal: Option<f64>,
+    /// The roll's material, if the scene is a roll.
+    material: Option<&'a str>,
+    /// The scene's materials.
+    materials: &'a Materials,
 }
 
 /// The journal diameter [m] of the scene's roll, if it is one.
@@ -52,22 +76,17 @@ fn roll_journal(raw: &SceneFile) -> Option<f64> {
     raw.roll.as_ref().map(|r| r.journal.diameter_mm * 1e-3)
 }
 
-/// The model of the support at `key` by its `type`; `roll_journal` [m] is the journal diameter a
-/// rollers support takes unless it gives its own.
+/// The model of the support at `key` by its `type`; a rollers support takes from `roll` what it
+/// does not give.
 fn support_model(
     c: &Check,
     key: &str,
     s: &SupportFile,
-    roll_journal: Option<f64>,
+    roll: &Roll,
 ) -> Result<SupportModel, InputError> {
     match s.kind.as_str() {
         "linear" => Ok(SupportModel::Linear(linear_support(c, key, s)?)),
-        "rollers" => Ok(SupportModel::Rollers(roller_support(
-            c,
-            key,
-            s,
-            roll_journal,
-        )?)),
+        "rollers" => Ok(SupportModel::Rollers(roller_support(c, key, s, roll)?)),
         other => Err(c.err(
             &format!("{key}.type"),
             format!("`{other}`: expected `linear` or `rollers`"),
@@ -112,13 +131,14 @@ fn linear_support(c: &Check, key: &str, s: &SupportFile) -> Result<LinearSupport
     })
 }
 
-/// A journal on rollers on a stand: the journal (its diameter, else `roll_journal` [m]) and its
-/// roundness, the rollers, how their roundness is driven, the contact law and the stand.
+/// A journal on rollers on a stand: the journal (its diameter, else the roll's) and its
+/// roundness, the rollers, how their roundness is driven, the contact law (as written, or fitted
+/// to its geometry) and the stand.
 fn roller_support(
     c: &Check,
     key: &str,
     s: &SupportFile,
-    roll_journal: Option<f64>,
+    roll: &Roll,
 ) -> Result<RollerSupport, InputError> {
     let need = |what: &str| c.err(key, format!("a rollers support needs `{what}`"));
     let stand_f = s.stand.as_ref().ok_or_else(|| need("stand"))?;
@@ -127,22 +147,143 @@ fn roller_support(
         return Err(need("rollers"));
     }
     let ck = format!("{key}.contact");
-    let e = c.range(&format!("{ck}.exponent"), contact_f.exponent, 1.0, 3.0)?;
-    let k_mm = c.positive(&format!("{ck}.k_n_per_mm_e"), contact_f.k_n_per_mm_e)?;
-    let journal_diameter = match (s.journal_diameter_mm, roll_journal) {
+    let form = law_form(c, &ck, contact_f)?;
+    let journal_diameter = match (s.journal_diameter_mm, roll.journal) {
         (Some(d), _) => 1e-3 * c.positive(&format!("{key}.journal_diameter_mm"), d)?,
         (None, Some(d)) => d,
         (None, None) => return Err(need("journal_diameter_mm")),
     };
     let rollers = rollers(c, key, &s.rollers)?;
+    let (law, contact_fit) = match form {
+        // N/mm^e → N/m^e: F = k (1000 δ)^e.
+        LawForm::Written { k_mm, e } => ((k_mm * 1000f64.powf(e), e), None),
+        LawForm::Geometry(g) => {
+            let gk = format!("{ck}.geometry");
+            let fit = fitted_law(c, &gk, g, journal_diameter, &rollers, roll)?;
+            ((fit.k, fit.exponent), Some(fit))
+        }
+    };
     Ok(RollerSupport {
         journal_diameter,
         journal_roundness: harmonics(c, &format!("{key}.journal_roundness"), &s.journal_roundness)?,
         rollers,
         roller_phase: roller_phase(c, key, s.roller_phase.as_deref())?,
-        contact: contact(c, &ck, contact_f, (k_mm, e))?,
+        contact: contact(c, &ck, contact_f, law)?,
+        contact_fit,
         stand: stand(c, key, stand_f)?,
     })
+}
+
+/// How a contact gives its law.
+enum LawForm<'a> {
+    /// As written: k [N/mm^e] and e, checked.
+    Written { k_mm: f64, e: f64 },
+    /// By its geometry, to be fitted.
+    Geometry(&'a ContactGeometryFile),
+}
+
+/// The form of the law at `ck`: exactly one of the two, a written one checked.
+fn law_form<'a>(c: &Check, ck: &str, f: &'a ContactFile) -> Result<LawForm<'a>, InputError> {
+    match (f.k_n_per_mm_e, f.exponent, &f.geometry) {
+        (None, None, Some(g)) => Ok(LawForm::Geometry(g)),
+        (Some(_), _, Some(_)) | (_, Some(_), Some(_)) => Err(c.err(
+            &format!("{ck}.geometry"),
+            "give the contact law either as written (`k_n_per_mm_e` and `exponent`) or by its \
+             `geometry` (k and e fitted to the Roark line contact), not both",
+        )),
+        (k, e, None) => {
+            let missing = |what: &str| {
+                c.err(
+                    ck,
+                    format!("the contact needs `{what}` (or a `geometry` to fit k and e to)"),
+                )
+            };
+            let e = e.ok_or_else(|| missing("exponent"))?;
+            let k = k.ok_or_else(|| missing("k_n_per_mm_e"))?;
+            let e = c.range(&format!("{ck}.exponent"), e, 1.0, 3.0)?;
+            let k_mm = c.positive(&format!("{ck}.k_n_per_mm_e"), k)?;
+            Ok(LawForm::Written { k_mm, e })
+        }
+    }
+}
+
+/// The law fitted to the contact geometry at `gk` (module doc): the journal of diameter
+/// `journal_diameter` [m] on `rollers`, materials and the journal's defaults from `roll`.
+fn fitted_law(
+    c: &Check,
+    gk: &str,
+    g: &ContactGeometryFile,
+    journal_diameter: f64,
+    rollers: &[Roller],
+    roll: &Roll,
+) -> Result<ContactFit, InputError> {
+    let length = 1e-3 * c.positive(&format!("{gk}.contact_length_mm"), g.contact_length_mm)?;
+    let roller_diameter = match g.roller_diameter_mm {
+        Some(d) => 1e-3 * c.positive(&format!("{gk}.roller_diameter_mm"), d)?,
+        None => rollers.iter().map(|r| r.diameter).sum::<f64>() / rollers.len() as f64,
+    };
+    let journal_key = format!("{gk}.journal_material");
+    let journal_name = match (&g.journal_material, roll.material) {
+        (Some(n), _) => n.as_str(),
+        (None, Some(n)) => n,
+        (None, None) => {
+            return Err(c.err(
+                &journal_key,
+                "required for a [rotor] (a [roll] takes `roll.material`)",
+            ))
+        }
+    };
+    let journal = roll.materials.get(c, &journal_key, journal_name)?;
+    let roller = match &g.roller_material {
+        Some(n) => roll.materials.get(c, &format!("{gk}.roller_material"), n)?,
+        None => journal,
+    };
+    let lk = format!("{gk}.fit_loads_n");
+    let [lo, hi] = g.fit_loads_n[..] else {
+        return Err(c.err(&lk, "give two loads, [smallest, largest]"));
+    };
+    let lo = c.positive(&lk, lo)?;
+    if !(hi.is_finite() && hi > lo) {
+        return Err(c.err(
+            &lk,
+            format!("the largest load must exceed the smallest, got {hi}"),
+        ));
+    }
+    let geometry = ContactGeometry {
+        journal_diameter,
+        roller_diameter,
+        length,
+        journal: (journal.youngs_modulus, journal.poisson),
+        roller: (roller.youngs_modulus, roller.poisson),
+        loads: (lo, hi),
+        points: c.count(&format!("{gk}.fit_points"), g.fit_points, 2, 1_000_000)?,
+    };
+    let b = geometry.half_width(hi);
+    let radius = 0.5 * journal_diameter.min(roller_diameter);
+    if b.is_nan() || b > 0.1 * radius {
+        return Err(c.err(
+            gk,
+            format!(
+                "under the largest load the contact band's half-width is {:.3} mm, not small \
+                 against the radius {:.1} mm (over a tenth): the Hertz line contact does not \
+                 apply; a longer contact or a smaller largest load",
+                b * 1e3,
+                radius * 1e3
+            ),
+        ));
+    }
+    let fit = geometry.fit();
+    if !((1.0..=3.0).contains(&fit.exponent) && fit.k.is_finite() && fit.k > 0.0) {
+        return Err(c.err(
+            gk,
+            format!(
+                "the fitted law (k {:e} N/m^e, e {}) is outside what the contact accepts \
+                 (k > 0, e in [1, 3])",
+                fit.k, fit.exponent
+            ),
+        ));
+    }
+    Ok(fit)
 }
 
 /// The rollers of the support at `key`: names unique within it, angles within ±89°.
@@ -178,17 +319,16 @@ fn roller_phase(c: &Check, key: &str, phase: Option<&str>) -> Result<RollerPhase
     }
 }
 
-/// The contact law at `ck` in SI, its stiffness `k_mm` [N/mm^e] and exponent `e` checked
-/// before the journal and rollers.
+/// The contact law at `ck` in SI, its stiffness `k` [N/m^e] and exponent `e` checked or fitted
+/// before.
 fn contact(
     c: &Check,
     ck: &str,
     contact: &ContactFile,
-    (k_mm, e): (f64, f64),
+    (k, e): (f64, f64),
 ) -> Result<ContactLaw, InputError> {
     Ok(ContactLaw {
-        // N/mm^e → N/m^e: F = k (1000 δ)^e.
-        k: k_mm * 1000f64.powf(e),
+        k,
         exponent: e,
         c_max: 1e3 * c.non_negative(&format!("{ck}.c_max_ns_per_mm"), contact.c_max_ns_per_mm)?,
         d: 1e-6 * c.positive(&format!("{ck}.d_um"), contact.d_um)?,

@@ -10,6 +10,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use super::contact_fit::ContactFit;
 use super::settings::{DampingBands, Outputs, SimulationSettings};
 use super::speed::SpeedProfile;
 use crate::integrators::SolverSettings;
@@ -244,6 +245,8 @@ pub struct RollerSupport {
     pub roller_phase: RollerPhase,
     /// Contact law.
     pub contact: ContactLaw,
+    /// The fit that gave the contact law when the scene gives the contact by its geometry.
+    pub contact_fit: Option<ContactFit>,
     /// The stand.
     pub stand: Stand,
 }

@@ -21,6 +21,7 @@ mod beam_closed_forms;
 mod campaign_safety;
 mod cli_check;
 mod contact_events;
+mod contact_geometry;
 mod contact_runs;
 mod cvode;
 mod dynamics_checks;

@@ -5,7 +5,9 @@
 //! effective scene after `extends` and the overrides as TOML (units in the key names), and what
 //! is derived from it: the axial positions of the named nodes, balancing planes and masses in mm
 //! (relative positions resolved), the wall (uniform, or the map's statistics), the speed and the
-//! record, and, unless `--no-model`, the model: mass, mesh, reduced size, balancing masses and
+//! record, each rollers support's contact law (as written, or fitted to its geometry: the
+//! geometry, the fit's loads and how far the law lies from the Roark relation), and, unless
+//! `--no-model`, the model: mass, mesh, reduced size, balancing masses and
 //! the first undamped frequencies on the linearised supports at standstill (vertical,
 //! horizontal), as `rotorsweep modes` computes them. For a study: its jobs, models and
 //! references, the values of every swept key, then the first job's scene (the study's `[set]`
@@ -19,7 +21,7 @@
 
 use std::path::{Path, PathBuf};
 
-use rotorsweep::dynamics::derived::{Derived, Positions, Speed, Wall};
+use rotorsweep::dynamics::derived::{Contact, Derived, Positions, Speed, Wall};
 use rotorsweep::dynamics::model::Model;
 use rotorsweep::dynamics::summary::ModelSummary;
 use rotorsweep::error::InputError;
@@ -110,6 +112,7 @@ fn scene(source: &Source, set: &[String], model: bool) -> Result<(), CliError> {
     print_positions(&d.positions);
     print_wall(d.wall.as_ref());
     print_run(&d);
+    print_contacts(&d.contacts);
     if model {
         let m = Model::build(&sc, None)?;
         print_model(&m.summary());
@@ -217,6 +220,48 @@ fn print_run(d: &Derived) {
         r.modal_coordinates,
         r.solver
     );
+}
+
+fn print_contacts(contacts: &[Contact]) {
+    for c in contacts {
+        let Some(f) = &c.fit else {
+            println!(
+                "contact at {}: F = k δ^e with k {:.1} N/mm^e, e {:.5} (as written)",
+                c.node, c.k_n_per_mm_e, c.exponent
+            );
+            continue;
+        };
+        let g = &f.geometry;
+        println!(
+            "contact at {}: F = k δ^e with k {:.1} N/mm^e, e {:.5}, fitted to the Roark line \
+             contact over {}–{} N ({} loads) of",
+            c.node, c.k_n_per_mm_e, c.exponent, g.loads.0, g.loads.1, g.points
+        );
+        println!(
+            "  Ø{:.2} mm (journal) on Ø{:.2} mm (roller), length {:.2} mm, E {}/{} GPa, ν {}/{}",
+            1e3 * g.journal_diameter,
+            1e3 * g.roller_diameter,
+            1e3 * g.length,
+            g.journal.0 * 1e-9,
+            g.roller.0 * 1e-9,
+            g.journal.1,
+            g.roller.1,
+        );
+        let from = f
+            .within_1pct_from
+            .map_or("nowhere in the range".to_string(), |x| {
+                format!("from {x:.0} N on")
+            });
+        println!(
+            "  the law's penetration: at most {:.2} % off the relation's (at {:.0} N), within 1 % \
+             {from}; {:.2} µm at {} N (relation {:.2} µm)",
+            100.0 * f.max_deviation,
+            f.max_deviation_load,
+            1e6 * f.law_penetration(g.loads.1),
+            g.loads.1,
+            1e6 * g.penetration(g.loads.1)
+        );
+    }
 }
 
 fn print_model(m: &ModelSummary) {
