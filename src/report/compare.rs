@@ -145,7 +145,9 @@ fn resonance_table(meas: &[OrderRow], sim: &[OrderRow], floors: &Floors, legend:
             .into_iter()
             .next()
             .map(|p| (p, floor.map_or(f64::NAN, |f| f.at(p.speed_hz))))
-            .filter(|(p, noise)| p.amplitude >= PROMINENCE * med && !(p.amplitude <= *noise))
+            .filter(|(p, noise)| {
+                p.amplitude >= PROMINENCE * med && (noise.is_nan() || p.amplitude > *noise)
+            })
         else {
             continue;
         };

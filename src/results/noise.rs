@@ -48,7 +48,7 @@ impl NoiseFloor {
     /// The floor [µm] of an order tracked over one block at `speed_hz` (module doc); NaN for a
     /// speed that is not positive.
     pub fn at(&self, speed_hz: f64) -> f64 {
-        if !(speed_hz > 0.0) {
+        if speed_hz.is_nan() || speed_hz <= 0.0 {
             return f64::NAN;
         }
         let m = self.revolutions * self.sample_rate_hz / speed_hz;
@@ -112,7 +112,7 @@ pub fn noise_floors(
         return out;
     };
     let n = time.len();
-    if n < 2 || !(time[n - 1] > time[0]) {
+    if n < 2 || time[n - 1] <= time[0] {
         return out;
     }
     let fs = (n - 1) as f64 / (time[n - 1] - time[0]);
