@@ -21,8 +21,9 @@
 //! amplitude that noise alone exceeds in one block with probability [`FALSE_ALARM`],
 //! s·√(2 ln(1/p)) = 4.29 s. Coloured noise is taken as white of the median level (a floor that
 //! is too low where the noise is above its median, e.g. at low frequencies); a measured
-//! record's σ comes out 8–14 % above the 1 µm the shipped synthetic records were made with
-//! (untracked leakage in the median): the floor errs high.
+//! record's σ comes out 8–22 % above the 1 µm the shipped synthetic records were made with
+//! (untracked lines and a resonant 1×'s leakage in the median, more with fewer orders
+//! tracked): the floor errs high.
 
 use std::collections::BTreeMap;
 

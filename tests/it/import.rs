@@ -368,11 +368,12 @@ fn compare_of_the_synthetic_critical_crossing_puts_the_resonances_side_by_side()
     found.sort();
     assert_eq!(found, ["horizontal", "vertical"], "{rows:?}");
     // Every row stands above the record's noise floor, which the legend states: σ from the
-    // waterfall within 1.0–1.2 µm of the 1 µm the record was made with (it errs high, module
-    // results::noise), the floor 4.29 √(3/M) σ ≈ 0.6–0.7 µm for 8-revolution blocks at 45 Hz.
+    // waterfall 1.22 µm against the 1 µm the record was made with (it errs high, module
+    // results::noise: with orders 1–3 tracked the 4× and the resonant 1×'s leakage count as
+    // noise), the floor 4.29 √(3/M) σ ≈ 0.7 µm for 8-revolution blocks at 45–48 Hz.
     for r in rows {
         let (a, floor) = (num(r, "measured_um"), num(r, "noise_floor_um"));
-        assert!((0.5..0.8).contains(&floor) && a > floor, "{r}");
+        assert!((0.5..0.85).contains(&floor) && a > floor, "{r}");
     }
     let legend = t["legend"].as_str().unwrap();
     let sigmas: Vec<f64> = legend
@@ -381,7 +382,7 @@ fn compare_of_the_synthetic_critical_crossing_puts_the_resonances_side_by_side()
         .map(|p| p.split_whitespace().nth(1).unwrap().parse().unwrap())
         .collect();
     assert_eq!(sigmas.len(), 2, "{legend}");
-    assert!(sigmas.iter().all(|s| (1.0..1.2).contains(s)), "{legend}");
+    assert!(sigmas.iter().all(|s| (1.0..1.3).contains(s)), "{legend}");
     // The whole report has both tables.
     let names: Vec<String> = compare_tables(&meas, &sim, None)
         .iter()
