@@ -35,6 +35,8 @@ import pytest
 
 import rotorsweep as rp
 from rotorsweep import figures
+from rotorsweep.figures import jobs as job_figures, ramps
+from rotorsweep.figures._common import significant
 from rotorsweep.figures.tables import NumberTexts, ReportTables
 from test_results import ROOT, binary, rotorsweep, run_ok
 
@@ -555,6 +557,59 @@ def test_work_precision_points_are_labelled_per_physics(solver_results: Path) ->
         assert texts == ["solver.integrator=bdf", "solver.integrator=gen-alpha"], texts
 
 
+def test_work_precision_stays_one_panel_per_physics_for_any_number(tmp_path: Path) -> None:
+    """Above nine physics the figure used to collapse into one panel where no point could be
+    told to its physics. Now: one panel per physics, 12 a figure (3 × 4, compact: one legend of
+    the integrators below), further figures for more, the same colour per integrator on each;
+    every figure within the PNG size the report embeds."""
+    n_phys, ints = 20, ["bdf", "gen-alpha", "rk45"]
+    rows = []
+    for p in range(n_phys):
+        for i, integ in enumerate(ints):
+            for t, tol in enumerate((1e-6, 1e-8)):
+                rows.append({"job_id": f"j{p}-{integ}-{t}", "integrator": integ,
+                             "status": "diverged" if (p, i, t) == (3, 2, 1) else "ok",
+                             "cpu_time_s": 0.01 * (1 + i) * (1 + t),
+                             "error_max_um": 10.0 ** (-t - i) * (1 + p)})
+    summary = pd.DataFrame(rows)
+    ids = summary["job_id"].to_numpy()
+    physics = pd.Series([f"speed.hz={10 + 2 * int(j[1:].split('-')[0])}" for j in ids], index=ids)
+    solver = pd.Series([f"tol {j[-1]}" for j in ids], index=ids)
+    reference = pd.Series(physics.to_numpy(), index=ids)
+    pages = job_figures.work_precision_pages(summary, reference, "t", solver, physics)
+    assert len(pages) == 2
+    titles = []
+    for n, fig in enumerate(pages, 1):
+        panels = [a for a in fig.axes if a.get_visible()]
+        assert len(panels) == (12 if n == 1 else 8)
+        titles += [a.get_title() for a in panels]
+        assert f"figure {n} of 2" in fig.get_suptitle()
+        # One figure legend naming every integrator in its own colour, the same on each page.
+        (legend,) = fig.legends
+        colours = {t.get_text().split(" ")[0]: h.get_color()
+                   for t, h in zip(legend.get_texts(), legend.legend_handles)}
+        assert colours == {"bdf": "C0", "gen-alpha": "C1", "rk45": "C2"}
+        path = tmp_path / f"wp-{n}.png"
+        fig.savefig(path, dpi=110)
+        check_png(path)
+    assert titles == [f"speed.hz={10 + 2 * p}" for p in range(n_phys)]
+    # The failed job is noted in its panel, in red.
+    notes = [t.get_text() for t in pages[0].axes[3].texts if t.get_color() == "tab:red"]
+    assert notes == ["rk45: 1 of 2 jobs, 1 failed"], notes
+
+
+def test_measured_numbers_are_written_as_the_report_writes_them() -> None:
+    """Scientific below 1e-3 and from 1e6, as Rust's text::significant (its own test's values):
+    the stability matrix's errors, the mode shapes' log decrements."""
+    assert significant(1.234e-4, 3) == "1.23e-4"
+    assert significant(5e-4, 3) == "5.00e-4"
+    assert significant(16.2345, 4) == "16.23"
+    assert significant(0.001234, 3) == "0.00123"
+    assert significant(2.5e7, 3) == "2.50e7"
+    assert significant(float("nan"), 4) == "–"
+    assert significant(0.0, 3) == "0"
+
+
 def test_campbell_is_labelled_and_nothing_is_clipped(solver_results: Path) -> None:
     """The reference roll's first bending pair: labelled with its plane at standstill and its
     whirl at the top speed; every text inside the figure (the 1× label was cut off)."""
@@ -642,14 +697,18 @@ def test_ramp_study_waterfall_order_map_and_bode(tmp_path: Path) -> None:
     assert len(jobs) == 2
     written = figures.render(results, tmp_path / "plots")
     names = [p.name for p in written]
+    # Each ramp's files are named by its axis label (its job id is a hash nobody can place).
+    labels = rp.job_labels(results)
+    label = {j: labels.loc[j].dropna().iloc[0] for j in jobs}
+    assert sorted(label.values()) == ["coast-down", "run-up"]
     for job in jobs:
         for what in ("waterfall", "order_map", "order_bode"):
-            assert f"{what}-{job}.png" in names, names
+            assert f"{what}-{label[job]}.png" in names, names
     for p in written:
         check_png(p)
     # The waterfall is an image, not a blank axes (the Jeffcott's only sensor, "disk", chosen
     # without --channel since the scene has no "centre").
-    check_map(tmp_path / "plots" / f"waterfall-{jobs[0]}.png")
+    check_map(tmp_path / "plots" / f"waterfall-{label[jobs[0]]}.png")
 
     orders = rp.analysis_table(results, "orders")
     attrs = rp.job_attrs(results)
@@ -658,9 +717,16 @@ def test_ramp_study_waterfall_order_map_and_bode(tmp_path: Path) -> None:
     assert fig is not None
     amp_ax, phase_ax = fig.axes[0], fig.axes[1]
     lines = {ln.get_label(): ln for ln in amp_ax.get_lines()}
-    # Tracked and steady-state curves in both directions, and the critical speeds.
-    assert {"vertical, tracked", "horizontal, tracked", "vertical, steady state (linear)",
-            "horizontal, steady state (linear)", "critical speeds"} <= set(lines)
+    # Tracked and steady-state curves in both directions, each legend saying what the curve
+    # holds (the run's 1× has every 1× source, journal roundness too; the linear steady state
+    # the unbalance alone), and the critical speeds.
+    tracked, steady = "tracked 1×, all sources", "steady state, unbalance only"
+    assert tracked in ramps.TRACKED and "journal roundness" in ramps.TRACKED
+    assert steady in ramps.STEADY_STATE
+    lines = {k.replace(ramps.TRACKED, "tracked").replace(ramps.STEADY_STATE, "steady"): v
+             for k, v in lines.items()}
+    assert {"vertical, tracked", "horizontal, tracked", "vertical, steady",
+            "horizontal, steady", "critical speeds"} <= set(lines)
     # The tracked curve is the table's 1× rows of that job and channel, in block order.
     rows = orders[(orders["job_id"] == jobs[0]) & (orders["order"] == 1.0)
                   & (orders["sensor"] == "disk") & (orders["direction"] == "vertical")]
@@ -668,7 +734,7 @@ def test_ramp_study_waterfall_order_map_and_bode(tmp_path: Path) -> None:
     np.testing.assert_array_equal(lines["vertical, tracked"].get_xdata(), rows["speed_hz"])
     np.testing.assert_array_equal(lines["vertical, tracked"].get_ydata(), rows["amplitude_um"])
     # The steady state is the linear response at its speeds.
-    np.testing.assert_array_equal(lines["vertical, steady state (linear)"].get_ydata(),
+    np.testing.assert_array_equal(lines["vertical, steady"].get_ydata(),
                                   linear["unbalance_response/disk/vertical/amplitude_um"])
     # Each tracked phase (the solid line of its colour; NaN points only break the line at
     # wraps) is the table's moved by whole turns, to within half a turn of the steady state's.

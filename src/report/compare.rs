@@ -15,14 +15,19 @@
 //! value (NaN: empty in CSV, `–` in markdown, null in JSON). Two simulated rows at one speed
 //! (several jobs at one speed: pick one job with the study's own filters first) are an error.
 //!
-//! A second table `compare_resonances` (the thesis's Table 5.1 side by side): per measured job,
-//! order, sensor and direction whose curve over speed has a resonance — its highest interior
-//! peak (`signal::curve_peaks`, parabola-refined) at least [`PROMINENCE`] × the curve's
-//! median — the measured resonance speed [Hz] and amplitude [µm], the simulated curve's peak
-//! nearest to it within 10 % of its speed (the `resonances` table's window; none: empty), and
-//! the differences measured − simulated in Hz, in % of the simulated speed and in µm. A flat
-//! order (an out-of-roundness line, noise) has no resonance and no row. Left out when no
-//! measured curve has one.
+//! A second table `compare_resonances` (the thesis's Table 5.1 side by side), present whatever
+//! the orders (empty when no measured curve has a resonance): per measured job, order, sensor
+//! and direction whose curve over speed has a resonance — its highest interior peak
+//! (`signal::curve_peaks`, parabola-refined) at least [`PROMINENCE`] × the curve's median and
+//! above the record's noise floor there (`results::noise`: the amplitude that the record's
+//! broadband noise alone exceeds in one tracked block with probability 1e-4, from the median of
+//! its waterfall's bins off the tracked lines; none known for a job without a waterfall) — the
+//! measured resonance speed [Hz] and amplitude [µm], the simulated curve's peak nearest to it
+//! within 10 % of its speed (the `resonances` table's window; none: empty), the differences
+//! measured − simulated in Hz, in % of the simulated speed and in µm, and the noise floor at
+//! the measured peak [µm]. A flat order (an out-of-roundness line) or one of noise alone (an
+//! order with nothing in it but the sensor's noise, whose highest block is a few times its
+//! median) has no resonance and no row.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -32,7 +37,11 @@ use rustfft::num_complex::Complex64;
 use super::table::{Cell, Report, Table};
 use super::tables::{pick, records, OrderRow};
 use crate::error::InputError;
+use crate::results::noise::{noise_floors, NoiseFloor};
+use crate::results::request::{analysis_of_text, DEFAULT_ORDER_REVOLUTIONS};
 use crate::signal;
+use crate::store;
+use crate::text::significant;
 
 /// Simulated points of one (order, sensor, direction): (speed [Hz], complex amplitude [µm]).
 type Curve = Vec<(f64, Complex64)>;
@@ -83,16 +92,62 @@ fn median(v: impl Iterator<Item = f64>) -> f64 {
     }
 }
 
-/// The `compare_resonances` table (module doc); None when no measured curve has a resonance.
-fn resonance_table(meas: &[OrderRow], sim: &[OrderRow], legend: String) -> Option<Table> {
+/// The noise floor of each measured (job, "sensor/direction") with a waterfall (module doc),
+/// tracked at the orders of `rows` in the blocks of the file's `[analysis] order_revolutions`.
+type Floors = BTreeMap<(String, String), NoiseFloor>;
+
+/// The noise floors of the measured file `f` whose order rows are `rows` (module doc).
+fn measured_floors(f: &hdf5::File, rows: &[OrderRow]) -> Floors {
+    let text = store::read_str(f, "study_text").unwrap_or_default();
+    let revs = analysis_of_text(&text)
+        .and_then(|a| a.spec.order_revolutions)
+        .unwrap_or(DEFAULT_ORDER_REVOLUTIONS);
+    let mut orders: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    for r in rows {
+        let o = orders.entry(r.job_id.to_string()).or_default();
+        if !o.contains(&r.order) {
+            o.push(r.order);
+        }
+    }
+    let mut out = Floors::new();
+    for (job, ks) in orders {
+        let Ok(g) = f.group(&format!("jobs/{job}")) else {
+            continue;
+        };
+        for (channel, floor) in noise_floors(&g, &ks, revs) {
+            out.insert((job.clone(), channel), floor);
+        }
+    }
+    out
+}
+
+/// The legend's sentence on the noise floors: each channel's noise RMS per sample σ [µm].
+fn noise_note(floors: &Floors) -> String {
+    if floors.is_empty() {
+        return "No measured curve has a noise floor.".into();
+    }
+    let each: Vec<String> = floors
+        .iter()
+        .map(|((job, c), f)| format!("{job} {c} {} µm", significant(f.sigma_um, 3)))
+        .collect();
+    format!("Noise RMS per sample σ: {}.", each.join(", "))
+}
+
+/// The `compare_resonances` table (module doc): empty when no measured curve has a resonance,
+/// which its legend then says.
+fn resonance_table(meas: &[OrderRow], sim: &[OrderRow], floors: &Floors, legend: String) -> Table {
     let simulated = amplitude_curves(sim, false);
     let mut rows = Vec::new();
     for ((job, sensor, dir, order), points) in amplitude_curves(meas, true) {
         let med = median(points.iter().map(|p| p.1));
-        let Some(m) = signal::curve_peaks(points)
+        let floor = floors.get(&(job.clone(), format!("{sensor}/{dir}")));
+        let Some((m, noise)) = signal::curve_peaks(points)
             .into_iter()
             .next()
-            .filter(|p| p.amplitude >= PROMINENCE * med)
+            .map(|p| (p, floor.map_or(f64::NAN, |f| f.at(p.speed_hz))))
+            .filter(|(p, noise)| {
+                p.amplitude >= PROMINENCE * med && (noise.is_nan() || p.amplitude > *noise)
+            })
         else {
             continue;
         };
@@ -112,9 +167,15 @@ fn resonance_table(meas: &[OrderRow], sim: &[OrderRow], legend: String) -> Optio
             Cell::Number(m.amplitude),
             Cell::Number(sa),
             Cell::Number(m.amplitude - sa),
+            Cell::Number(noise),
         ]);
     }
-    (!rows.is_empty()).then(|| Table {
+    let legend = if rows.is_empty() {
+        format!("{legend} None here: no measured order rises to a resonance above its noise floor.")
+    } else {
+        legend
+    };
+    Table {
         name: "compare_resonances".into(),
         title: "Measured vs simulated resonances".into(),
         legend,
@@ -130,26 +191,28 @@ fn resonance_table(meas: &[OrderRow], sim: &[OrderRow], legend: String) -> Optio
             "measured_um",
             "simulated_um",
             "difference_um",
+            "noise_floor_um",
         ]
         .map(String::from)
         .to_vec(),
         rows,
         markdown: None,
-    })
+    }
 }
 
-/// The order rows of the results file at `path`; an error naming it when it has none.
-fn order_rows(path: &Path) -> Result<Vec<OrderRow>, InputError> {
-    let f = crate::store::output::open_results_file(path).map_err(|e| InputError::new(path, e))?;
+/// The results file at `path`, open, and its order rows; an error naming it when it has none.
+fn order_rows(path: &Path) -> Result<(hdf5::File, Vec<OrderRow>), InputError> {
+    let f = store::output::open_results_file(path).map_err(|e| InputError::new(path, e))?;
     let none = || {
         InputError::new(
             path,
             "no `/analysis/orders` table (no job with a roll angle)",
         )
     };
-    records::<OrderRow>(&f, "analysis/orders")
+    let rows = records::<OrderRow>(&f, "analysis/orders")
         .map_err(|e| InputError::new(path, e.to_string()))?
-        .ok_or_else(none)
+        .ok_or_else(none)?;
+    Ok((f, rows))
 }
 
 /// `c` interpolated linearly at speed `s`; None outside its range.
@@ -221,8 +284,9 @@ fn simulated_curves(
 
 /// The comparison report of `measured` against `simulated` (module doc).
 pub fn compare(measured: &Path, simulated: &Path) -> Result<Report, InputError> {
-    let meas = order_rows(measured)?;
-    let sim = order_rows(simulated)?;
+    let (meas_file, meas) = order_rows(measured)?;
+    let sim = order_rows(simulated)?.1;
+    let floors = measured_floors(&meas_file, &meas);
     let curves = simulated_curves(&sim, simulated)?;
     let rows = meas
         .iter()
@@ -280,14 +344,20 @@ pub fn compare(measured: &Path, simulated: &Path) -> Result<Report, InputError> 
     let resonances = resonance_table(
         &meas,
         &sim,
+        &floors,
         format!(
-            "Per measured job, order k, sensor and direction with a resonance (the highest peak \
-             of order k's amplitude over speed, at least {PROMINENCE} × its median): its speed \
-             [Hz] and amplitude [µm] measured (`{}`) and at the simulated peak nearest to it \
-             within 10 % (`{}`; none: empty), and measured − simulated [Hz, % of the simulated \
-             speed, µm]",
+            "Per measured job, order k, sensor and direction with a resonance — the highest \
+             peak of order k's amplitude over speed, at least {PROMINENCE} × its median and \
+             above the record's noise floor there (`noise_floor_um`: the amplitude its \
+             broadband noise alone exceeds in one tracked block with probability 1e-4, \
+             4.29 √(3/M) σ for a block of M samples, σ the noise's RMS per sample estimated \
+             from the median of the waterfall's bins off the tracked lines; empty: no waterfall, \
+             no floor applied): its speed [Hz] and amplitude [µm] measured (`{}`) and at the \
+             simulated peak nearest to it within 10 % (`{}`; none: empty), and measured − \
+             simulated [Hz, % of the simulated speed, µm]. {}",
             measured.display(),
-            simulated.display()
+            simulated.display(),
+            noise_note(&floors),
         ),
     );
     Ok(Report {
@@ -298,7 +368,7 @@ pub fn compare(measured: &Path, simulated: &Path) -> Result<Report, InputError> 
             meas.len(),
             sim.len()
         ),
-        tables: std::iter::once(table).chain(resonances).collect(),
+        tables: vec![table, resonances],
     })
 }
 

@@ -101,8 +101,8 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
     if label_key.is_some_and(|k| k.ends_with(".masses")) {
         tables.extend(balancing_tables(path).into_iter().flatten());
     }
-    tables.extend(orders_table(&f).map_err(failed)?);
-    tables.extend(order_resonance_table(&f).map_err(failed)?);
+    tables.extend(orders_table(&f, &jobs, &varying).map_err(failed)?);
+    tables.extend(order_resonance_table(&f, &jobs, &varying).map_err(failed)?);
     if varying.iter().any(|k| k == INTEGRATOR_KEY) && varying.len() >= 2 {
         tables.push(stability_table(&jobs, &varying));
     }

@@ -42,7 +42,7 @@ Then, per study (modules :mod:`.sweeps`, :mod:`.jobs`, :mod:`.linear`):
   one panel per physics (the varying keys that are not ``solver.*`` nor ``reduction.*``, i.e.
   per reference run), one colour and marker per integrator, every point labelled with its
   solver setting, each integrator's work-precision front a line (jobs that ended ok; the legend
-  counts the failed ones);
+  counts the failed ones); 12 panels a figure, more physics on ``work_precision-2.png``, …;
 * ``timing.png``: CPU time [s] per job coloured by status, annotated with Newton iterations per
   step; vertical bars up to 12 jobs, one horizontal bar a job above (every job shown);
 * ``stability.png``: when ``solver.integrator`` and other keys vary, a matrix integrator ×
@@ -66,13 +66,16 @@ support stiffness, the actual supports' marked), ``floquet.png`` (−ln max|μ| 
 speed, < 0 unstable, the Floquet-unstable ranges shaded, the damped modes' threshold dashed).
 
 Per ramp job (:mod:`.ramps`: a job whose speed changed while recording, its
-``/jobs/<id>/waterfall``), suffixed ``-<job_id>`` when several jobs have one, titled by the
-job's setting: ``waterfall.png`` (Hanning spectra of half-overlapping time blocks [µm, log] over
+``/jobs/<id>/waterfall``), suffixed when several jobs have one by the job's setting as a file
+name (the study's axis labels: ``-run-up-0.5-hz-s``; ``-<job_id>`` where two would be the same),
+titled by the job's setting: ``waterfall.png`` (Hanning spectra of half-overlapping time blocks [µm, log] over
 frequency, a row per block at its mid time [s], the block's mean speed [Hz] on the right axis,
 the tracked orders' lines f = k·speed(t)), ``order_map.png`` (the tracked amplitude of each
 order, ``/analysis/orders``, over the blocks' mean speed), ``order_bode.png`` (the tracked 1×
 amplitude and phase over speed per sensor; with the job's ``/linear/<linear_id>`` unbalance
-response that steady state dashed over it and the critical speeds dotted).
+response that steady state dashed over it and the critical speeds dotted; the legend says what
+each curve holds: the run's 1× every 1× source, journal roundness included, the steady state
+the unbalance alone).
 
 Last, with ``--balance JSON`` (:mod:`.balance`): ``balancing.png``, the 1× amplitude [µm, log]
 per sensor and direction, one panel per speed: the reference run, the influence coefficients'
@@ -102,7 +105,9 @@ its JSON (:mod:`.tables` says exactly which fields): from ``--tables TABLES.json
 (``$ROTORSWEEP_BIN``, else ``rotorsweep`` on PATH, else the checkout's
 ``target/release/rotorsweep`` or ``target/debug/rotorsweep``; an error saying what to install
 when there is none). So the Rust ``number_text`` and ``error_class`` stay the one
-implementation.
+implementation. Measured values a figure writes (the stability matrix's errors and CPU times,
+a mode's log decrement) follow the same rule as the report's: ``_common.significant``, scientific
+below 1e-3 and from 1e6, as Rust's ``text::significant``.
 """
 
 from __future__ import annotations

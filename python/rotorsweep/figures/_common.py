@@ -1,5 +1,6 @@
 """What every figure family shares: the error type, the canvas, the constants of the layout, the
-check of the input file and the jobs' setting text."""
+check of the input file, the jobs' setting text and measured numbers as text (:func:`significant`,
+the report's rule)."""
 
 from __future__ import annotations
 
@@ -100,6 +101,23 @@ def settings(summary: pd.DataFrame, labels: pd.DataFrame, keys: list[str],
     if not parts:
         return pd.Series("", index=df.index)
     return pd.concat(parts, axis=1).agg(lambda row: ", ".join(p for p in row if p), axis=1)
+
+
+def significant(x: float, sig: int) -> str:
+    """A measured value to ``sig`` significant digits as the report writes it (Rust's
+    ``text::significant``): scientific below 1e-3 and from 1e6 (``1.23e-4``, ``2.50e7``: no
+    ``+`` and no leading zeros in the exponent), fixed-point between; "–" for no value, "0" for
+    zero."""
+    x = float(x)
+    if not np.isfinite(x):
+        return "–"
+    if x == 0.0:
+        return "0"
+    mag = int(np.floor(np.log10(abs(x))))
+    if not -3 <= mag < 6:
+        mantissa, _, exponent = f"{x:.{sig - 1}e}".partition("e")
+        return f"{mantissa}e{int(exponent)}"
+    return f"{x:.{max(sig - 1 - mag, 0)}f}"
 
 
 def unwrap_deg(phase: np.ndarray) -> np.ndarray:

@@ -11,9 +11,10 @@ import pandas as pd
 from matplotlib.axes import Axes
 from matplotlib.colors import to_rgb
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from ._common import COMPLETED, figure
+from ._common import COMPLETED, figure, significant
 
 #: Up to this many jobs the timing chart has vertical bars; above, one horizontal bar a job.
 MAX_TIMING_JOBS = 12
@@ -21,8 +22,9 @@ MAX_TIMING_JOBS = 12
 STATUS_COLOURS = {"ok": "#9ccc65", "untrusted": "#fff176", "diverged": "#ef5350", "budget": "#ffb74d"}
 #: Markers of the integrators in the work-precision chart, in turn.
 MARKERS = "osD^v<>"
-#: Most physics panels of the work-precision figure (more: one panel, a marker per physics).
-MAX_WORK_PANELS = 9
+#: Most physics panels in one work-precision figure (3 a row); more physics go on further
+#: figures of as many panels (:func:`work_precision_pages`), each panel as readable as in the first.
+MAX_WORK_PANELS = 12
 
 
 def work_precision(
@@ -32,15 +34,21 @@ def work_precision(
     solver: pd.Series | None = None,
     physics: pd.Series | None = None,
     physics_id: pd.Series | None = None,
+    integrators: list[str] | None = None,
+    page: tuple[int, int] = (1, 1),
 ) -> Figure:
     """Runout error against the reference (error_max_um) over CPU time, log–log: one panel per
     physics (``physics_id``: a value per job_id that is the same for the same physics, by
-    default ``physics``; at most :data:`MAX_WORK_PANELS`, else one panel), titled with its jobs'
+    default ``physics``; every physics of ``summary`` gets its panel, 3 a row, so keep to
+    :data:`MAX_WORK_PANELS` — :func:`work_precision_pages` splits more), titled with its jobs'
     ``physics`` (text per job_id of the keys that change the physics, several joined by " / "),
-    one colour and marker per integrator, every job a marker labelled with its solver setting
-    (``solver``: text per job_id); per integrator and reference run (``reference``:
-    reference_id per job_id) a line through its work-precision front (the jobs more accurate
-    than every cheaper one). The legend counts the jobs shown and the failed."""
+    one colour and marker per integrator (in the order ``integrators``, default the order of
+    ``summary``: pages of one study pass the study's so that colours agree), every job a marker
+    labelled with its solver setting (``solver``: text per job_id); per integrator and reference
+    run (``reference``: reference_id per job_id) a line through its work-precision front (the
+    jobs more accurate than every cheaper one). Up to 3 panels (one row) each has a legend
+    counting its jobs shown and failed; more are drawn compact, with one legend of the
+    integrators for the figure and, in a panel, a red note of its failed or untrusted jobs. ``page``: (this figure's number, of how many), in the title when more than one."""
     ids = summary["job_id"]
     empty = pd.Series("", index=ids.to_numpy())
     solver = empty if solver is None else solver
@@ -53,38 +61,40 @@ def work_precision(
         physics_id=physics_id.loc[ids].to_numpy(),
     )
     groups = list(dict.fromkeys(summary["physics_id"]))
-    if len(groups) > MAX_WORK_PANELS:
-        groups = [None]
-    # One panel wide, so that its labels have room; several at 6 inches each, 3 a row.
-    width, height = (8.5, 6.2) if len(groups) == 1 else (6.0, 5.0)
-    fig = figure(figsize=(width * min(len(groups), 3) + 0.5,
-                           height * ((len(groups) + 2) // 3) + 0.4))
-    axes = fig.subplots((len(groups) + 2) // 3, min(len(groups), 3), squeeze=False).ravel()
-    integrators = list(dict.fromkeys(summary["integrator"]))
-    for ax, group in zip(axes, groups):
-        jobs_here = summary if group is None else summary[summary["physics_id"] == group]
+    rows, cols = (len(groups) + 2) // 3, min(len(groups), 3)
+    # One panel wide, so that its labels have room; one row at 6 inches a panel, each with its
+    # legend; more rows compact (4.6 × 3.9 inches, MAX_WORK_PANELS in 14 × 16 inches), the axis
+    # titles on the outer panels only and one legend of the integrators for the figure.
+    compact = rows > 1
+    width, height = (8.5, 6.2) if len(groups) == 1 else (4.6, 3.9) if compact else (6.0, 5.0)
+    fig = figure(figsize=(width * cols + 0.5, height * rows + (1.0 if compact else 0.4)))
+    axes = fig.subplots(rows, cols, squeeze=False).ravel()
+    integrators = integrators or list(dict.fromkeys(summary["integrator"]))
+    for n, (ax, group) in enumerate(zip(axes, groups)):
+        jobs_here = summary[summary["physics_id"] == group]
         title = " / ".join(p for p in dict.fromkeys(jobs_here["physics"]) if p)
-        if group is not None and title:
+        if len(groups) > 1 and title:
             ax.set_title(title, fontsize="medium")
         drawn = jobs_here["status"].isin(COMPLETED) & (jobs_here["error_max_um"] > 0)
         if not drawn.any():
             failed = ", ".join(f"{i}: {s}" for i, s in zip(jobs_here["integrator"],
                                                            jobs_here["status"]))
             ax.text(0.5, 0.5, f"no job with an error to draw\n({failed})", ha="center",
-                    va="center", transform=ax.transAxes, fontsize="small")
+                    va="center", transform=ax.transAxes, fontsize="small", wrap=True)
             ax.set_xticks([])
             ax.set_yticks([])
             continue
+        notes = []
         for integrator, jobs in jobs_here.groupby("integrator", sort=False):
             i = integrators.index(integrator)
             shown = jobs[jobs["status"].isin(COMPLETED) & (jobs["error_max_um"] > 0)]
-            failed = int((~jobs["status"].isin(COMPLETED)).sum())
-            untrusted = int((jobs["status"] == "untrusted").sum())
-            note = (f"{len(shown)} of {len(jobs)} jobs"
-                    + (f", {untrusted} untrusted" if untrusted else "")
-                    + (f", {failed} failed" if failed else ""))
+            note = _job_count(jobs, shown)
             style = {"color": f"C{i}", "marker": MARKERS[i % len(MARKERS)]}
-            ax.plot([], [], label=f"{integrator} ({note})", **style)
+            if compact:
+                if len(shown) < len(jobs) or (jobs["status"] == "untrusted").any():
+                    notes.append(f"{integrator}: {note}")
+            else:
+                ax.plot([], [], label=f"{integrator} ({note})", **style)
             for _, run in shown.groupby("reference", sort=False):
                 run = run.sort_values(["cpu_time_s", "error_max_um"])
                 ax.plot(run["cpu_time_s"], run["error_max_um"], ls="none", **style)
@@ -101,15 +111,67 @@ def work_precision(
         ax.margins(x=0.25, y=0.15)
         # Over less than a decade the minor ticks are labelled too; tilted, they do not overlap.
         ax.tick_params(axis="x", which="minor", labelrotation=40, labelsize="x-small")
-        ax.set_xlabel("CPU time [s]")
-        ax.set_ylabel("runout error against the reference, max [µm]")
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize="small")
+        if not compact:
+            ax.set_xlabel("CPU time [s]")
+            ax.set_ylabel("runout error against the reference, max [µm]")
+            ax.legend(fontsize="small")
+            continue
+        if n % cols == 0:
+            ax.set_ylabel("max runout error [µm]")
+        if n + cols >= len(groups):
+            ax.set_xlabel("CPU time [s]")
+        if notes:
+            ax.text(0.02, 0.02, "\n".join(notes), transform=ax.transAxes, fontsize="x-small",
+                    va="bottom", color="tab:red")
     for ax in axes[len(groups):]:
         ax.set_visible(False)
     what = "work-precision" + (" per physics" if len(groups) > 1 else "")
-    fig.suptitle(f"{study}: {what} (labels: solver setting)")
+    of = f", figure {page[0]} of {page[1]}" if page[1] > 1 else ""
+    if compact:
+        # One legend for all panels: each integrator with its jobs shown of all on this figure.
+        handles = []
+        for integrator, jobs in summary.groupby("integrator", sort=False):
+            i = integrators.index(integrator)
+            shown = jobs[jobs["status"].isin(COMPLETED) & (jobs["error_max_um"] > 0)]
+            handles.append(Line2D([], [], color=f"C{i}", marker=MARKERS[i % len(MARKERS)],
+                                  label=f"{integrator} ({_job_count(jobs, shown)})"))
+        fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 4),
+                   fontsize="small")
+    fig.suptitle(f"{study}: {what} (labels: solver setting{of})")
     return fig
+
+
+def _job_count(jobs: pd.DataFrame, shown: pd.DataFrame) -> str:
+    """"n of m jobs", with the untrusted and the failed among them when there are."""
+    failed = int((~jobs["status"].isin(COMPLETED)).sum())
+    untrusted = int((jobs["status"] == "untrusted").sum())
+    return (f"{len(shown)} of {len(jobs)} jobs" + (f", {untrusted} untrusted" if untrusted else "")
+            + (f", {failed} failed" if failed else ""))
+
+
+def work_precision_pages(
+    summary: pd.DataFrame,
+    reference: pd.Series,
+    study: str,
+    solver: pd.Series | None = None,
+    physics: pd.Series | None = None,
+    physics_id: pd.Series | None = None,
+) -> list[Figure]:
+    """:func:`work_precision` of every physics, :data:`MAX_WORK_PANELS` panels a figure (in the
+    order of ``summary``), however many physics there are: one figure up to that many, then as
+    many figures as needed, with the same colour per integrator on each."""
+    ids = summary["job_id"]
+    key = (physics if physics_id is None else physics_id)
+    key = pd.Series("", index=ids.to_numpy()) if key is None else key.loc[ids]
+    groups = list(dict.fromkeys(key))
+    pages = [groups[i:i + MAX_WORK_PANELS] for i in range(0, len(groups), MAX_WORK_PANELS)]
+    integrators = list(dict.fromkeys(summary["integrator"]))
+    return [
+        work_precision(summary[key.isin(chunk).to_numpy()], reference, study, solver, physics,
+                       physics_id, integrators, (n, len(pages)))
+        for n, chunk in enumerate(pages, 1)
+    ]
 
 
 def _status_legend(ax: Axes, statuses: pd.Series) -> None:
@@ -179,9 +241,10 @@ def stability(summary: pd.DataFrame, names: pd.Series, study: str, classes: pd.S
         cls = str(classes[job["job_id"]])
         if (r, c) not in worst or rank(cls) > rank(worst[(r, c)]):
             worst[(r, c)] = cls
-        error = f"{job['error_max_um']:.3g} µm" if np.isfinite(job["error_max_um"]) else "–"
+        error = f"{significant(job['error_max_um'], 3)} µm" if np.isfinite(job["error_max_um"]) \
+            else "–"
         head = "" if job["status"] == "ok" else f"{job['status']}\n"
-        text.setdefault((r, c), []).append(f"{head}{error}\n{job['cpu_time_s']:.3g} s")
+        text.setdefault((r, c), []).append(f"{head}{error}\n{significant(job['cpu_time_s'], 3)} s")
     rgb = np.ones((len(rows), len(cols), 3))
     for (r, c), cls in worst.items():
         rgb[r, c] = to_rgb(colours.get(cls, "lightgrey"))

@@ -17,7 +17,7 @@ from matplotlib.ticker import ScalarFormatter
 import rotorsweep as rp
 from rotorsweep import PathLike
 
-from ._common import DIRECTIONS, MAX_SENSORS, figure, unwrap_deg
+from ._common import DIRECTIONS, MAX_SENSORS, figure, significant, unwrap_deg
 
 #: Roll harmonics drawn on the Campbell diagrams (f = k · speed).
 HARMONICS = (1, 2, 3, 4)
@@ -254,7 +254,7 @@ def mode_shapes(sys_: dict[str, object], title: str) -> Figure | None:
             ax.axhline(0.0, color="black", lw=0.5)
             note = f"{freq[s, k]:.2f} Hz"
             if log_dec is not None:
-                note += f", δ {log_dec[s, k]:.3g}"
+                note += f", δ {significant(log_dec[s, k], 3)}"
             if codes is not None:
                 note += f", {WHIRL_MARKERS[int(np.rint(codes[s, k]))][1]}"
             ax.set_title(f"mode {k + 1} at {speed[s]:g} Hz\n{note}", fontsize="small")

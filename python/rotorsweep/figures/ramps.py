@@ -5,6 +5,8 @@ frequency [Hz] and block time [s]), the order map (tracked order amplitudes [µm
 
 from __future__ import annotations
 
+import re
+
 import h5py
 import numpy as np
 import pandas as pd
@@ -19,6 +21,12 @@ from .linear import linear_groups, mark_criticals, responses
 
 #: Colours of the runout directions in the order figures (as in the Bode plots).
 DIRECTION_COLOURS = {"vertical": "tab:orange", "horizontal": "tab:blue"}
+#: What the order Bode plot's curves contain, as their legends say: the run's tracked 1× holds
+#: every once-per-revolution source the scene has (the unbalance's response, the journals' and
+#: rollers' roundness it runs on, and the shell's own out-of-roundness that the sensor reads
+#: whatever the speed), the linear steady state the unbalance's response alone.
+TRACKED = "tracked 1×, all sources (unbalance, journal roundness, shell shape)"
+STEADY_STATE = "steady state, unbalance only (linear)"
 
 
 def ramp_jobs(path: PathLike) -> list[str]:
@@ -140,13 +148,15 @@ def order_bode(orders: pd.DataFrame, job: str, linear: dict[str, object] | None,
     response (phase unwrapped) dashed over it, each block's phase moved by whole turns nearest
     it, and the critical speeds dotted; without, the tracked phase unwrapped along the blocks
     and moved by whole turns to a median lag in (−360°, 0]. Steps over 180° are not joined.
-    None without tracked 1× rows."""
+    The legend says what each curve holds (:data:`TRACKED`, :data:`STEADY_STATE`): where they
+    part away from the resonance, the difference is the run's other 1× sources (a journal's
+    roundness reads at 1× at every speed). None without tracked 1× rows."""
     one = orders[orders["job_id"].eq(job) & np.isclose(orders["order"], 1.0)]
     sensors = list(dict.fromkeys(one["sensor"]))[:MAX_SENSORS]
     if not sensors:
         return None
     have_linear = linear is not None and bool(responses(linear))
-    fig = figure(figsize=(max(4.6 * len(sensors) + 0.6, 7.0), 6.4))
+    fig = figure(figsize=(max(4.6 * len(sensors) + 0.6, 7.0), 7.4))
     axes = fig.subplots(2, len(sensors), sharex=True, squeeze=False)
     for c, sensor in enumerate(sensors):
         for d in DIRECTIONS:
@@ -163,7 +173,7 @@ def order_bode(orders: pd.DataFrame, job: str, linear: dict[str, object] | None,
                 lin_phase = unwrap_deg(
                     np.where(lin_amp > 0, np.asarray(linear[f"{key}/phase_deg"]), np.nan))
                 axes[0, c].plot(lin_speed, lin_amp, color=colour, ls="--", lw=1,
-                                label=f"{d}, steady state (linear)")
+                                label=f"{d}, {STEADY_STATE}")
                 axes[1, c].plot(lin_speed, lin_phase, color=colour, ls="--", lw=1)
                 # Each block's phase by whole turns nearest the steady state's at its speed.
                 ref = np.interp(speed, lin_speed, lin_phase)
@@ -173,7 +183,7 @@ def order_bode(orders: pd.DataFrame, job: str, linear: dict[str, object] | None,
                 # Whole turns that put the median in (−360°, 0], a phase lag.
                 phase = phase - 360.0 * np.ceil(np.nanmedian(phase) / 360.0)
             axes[0, c].plot(speed, rows["amplitude_um"], color=colour, lw=1.3,
-                            label=f"{d}, tracked")
+                            label=f"{d}, {TRACKED}")
             axes[1, c].plot(*_break_jumps(speed, phase), color=colour, lw=1.0, marker=".", ms=2)
         axes[0, c].set_title(sensor)
         axes[1, c].set_xlabel("speed, block mean [Hz]")
@@ -187,27 +197,47 @@ def order_bode(orders: pd.DataFrame, job: str, linear: dict[str, object] | None,
     axes[1, 0].set_ylabel("1× phase [°] (x = A cos(θ + φ))")
     if have_linear:
         axes[0, 0].plot([], [], color="tab:red", lw=0.8, ls=":", label="critical speeds")
-    axes[0, 0].legend(fontsize="small")
-    what = "order-tracked 1× (Bode)" + (" and steady state" if have_linear else "")
+    # Below the panels, where the long labels that say what each curve holds cover no curve.
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center",
+               ncols=1 if len(sensors) == 1 else 2, fontsize="small")
+    what = "order-tracked 1× (Bode)" + (
+        " and the unbalance's steady state" if have_linear else "")
     fig.suptitle(_job_title(study, what, name))
     return fig
+
+
+def file_suffixes(jobs: list[str], names: pd.Series) -> dict[str, str]:
+    """The file-name suffix of each of ``jobs``: "" for one job; for several, the job's setting
+    (``names``: the study's axis labels, ``key=value`` of the other varying keys) as a file name
+    — lower case, each run of characters other than letters, digits, ``.`` and ``_`` one ``-``
+    ("run-up 0.1 Hz/s" → ``-run-up-0.1-hz-s``) — or the job id where settings are missing or
+    two jobs' would be the same name."""
+    if len(jobs) < 2:
+        return {j: "" for j in jobs}
+    slugs = {j: re.sub(r"[^a-z0-9._]+", "-", str(names.get(j, "")).lower()).strip("-")
+             for j in jobs}
+    if all(slugs.values()) and len(set(slugs.values())) == len(jobs):
+        return {j: f"-{slugs[j]}" for j in jobs}
+    return {j: f"-{j}" for j in jobs}
 
 
 def ramp_figures(path: PathLike, orders: pd.DataFrame, sensor: str | None, names: pd.Series,
                  study: str, numbers: Numbers) -> list[tuple[str, Figure | None]]:
     """Per ramp job (:func:`ramp_jobs`) its waterfall, order map and order Bode plot, named
-    ``waterfall[-<job>].png``, ``order_map[-<job>].png``, ``order_bode[-<job>].png`` (the
-    suffix only with several ramp jobs), titled by the job's setting ``names``; ``orders`` is
-    the ``/analysis/orders`` table. The waterfall and order map draw ``sensor``; None: "centre"
+    ``waterfall[-<setting>].png``, ``order_map[-<setting>].png``, ``order_bode[-<setting>].png``
+    (the suffix only with several ramp jobs: :func:`file_suffixes`, the job's setting by the
+    study's axis labels), titled by the job's setting ``names``; ``orders`` is the
+    ``/analysis/orders`` table. The waterfall and order map draw ``sensor``; None: "centre"
     where the job has it, else its first sensor."""
     jobs = ramp_jobs(path)
     if not jobs:
         return []
+    suffixes = file_suffixes(jobs, names)
     attrs = rp.job_attrs(path)
     systems = linear_groups(path)
     out: list[tuple[str, Figure | None]] = []
     for job in jobs:
-        suffix = f"-{job}" if len(jobs) > 1 else ""
+        suffix = suffixes[job]
         name = str(names.get(job, job))
         tracked = sorted(set(orders.loc[orders["job_id"] == job, "order"])) if not orders.empty \
             else []

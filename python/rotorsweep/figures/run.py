@@ -27,7 +27,7 @@ from ._common import (
 )
 from .balance import balancing, read_balance
 from .compare import compare_figures
-from .jobs import stability, timing, work_precision
+from .jobs import stability, timing, work_precision_pages
 from .linear import campbell, linear_figures, linear_groups, study_systems
 from .ramps import ramp_figures
 from .sweeps import harmonics, mean_runout, roller_ratios, spectral_map, sweep_means, trial_mass
@@ -128,8 +128,10 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
         # The same physics: the same values of the other keys (a labelled axis may zip solver
         # keys with physics keys; its labels then tell settings, not physics, apart).
         same = summary.set_index("job_id")[physics_keys].astype(str).agg("|".join, axis=1)
-        figures.append(("work_precision.png", work_precision(
-            summary, reference, study, names(solver_keys), names(physics_keys), same)))
+        pages = work_precision_pages(summary, reference, study, names(solver_keys),
+                                     names(physics_keys), same)
+        figures += [(f"work_precision{f'-{n}' if n > 1 else ''}.png", fig)
+                    for n, fig in enumerate(pages, 1)]
     if len(summary) > 0:
         figures.append(("timing.png", timing(summary, names(varying), study)))
     if "solver.integrator" in varying and len(varying) > 1:

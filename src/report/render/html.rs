@@ -62,7 +62,7 @@ const FIGURE_CAPTIONS: [(&str, &str); 19] = [
     ("mean", "Mean runout (static sag) over speed"),
     ("waterfall", "Waterfall of a run-up or coast-down: spectrum per time block, the tracked orders' lines k·speed(t)"),
     ("order_map", "Order map of a run-up or coast-down: amplitude of each tracked order over speed"),
-    ("order_bode", "Tracked 1× amplitude and phase over speed, with the linear steady-state response where stored"),
+    ("order_bode", "Tracked 1× amplitude and phase over speed (every 1× source of the run: unbalance, journal roundness, shell shape), with the linear steady state of the unbalance alone where stored"),
     ("balancing", "Balancing: 1× before, predicted after and in the check run, per sensor and speed"),
     ("compare_waterfall", "Measured and simulated waterfalls side by side over frequency and speed, on one colour scale"),
     ("compare_orders", "Tracked order amplitudes over speed, measured solid, simulated dashed"),

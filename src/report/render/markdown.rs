@@ -4,8 +4,8 @@
 //! (left out when one table is asked for), then per table a `##` heading of its title and its
 //! name (in backticks), its legend and a table whose columns are padded to their widest cell:
 //! a table's [`Grid`](crate::report::Grid) when it has one, else its rows as [`md_cell`] writes
-//! them (4 significant digits, `–` for no value) with the all-numeric columns right-aligned.
-//! `|` in a cell is escaped, line breaks become spaces.
+//! them (4 significant digits, `–` for no value) with the all-numeric columns right-aligned
+//! (none in a table without rows). `|` in a cell is escaped, line breaks become spaces.
 
 use std::fmt::Write as _;
 
@@ -66,9 +66,10 @@ fn markdown(out: &mut String, t: &Table) {
         None => {
             let right: Vec<bool> = (0..t.columns.len())
                 .map(|c| {
-                    t.rows
-                        .iter()
-                        .all(|r| !matches!(r.get(c), Some(Cell::Text(_))))
+                    !t.rows.is_empty()
+                        && t.rows
+                            .iter()
+                            .all(|r| !matches!(r.get(c), Some(Cell::Text(_))))
                 })
                 .collect();
             let rows: Vec<Vec<String>> = t
