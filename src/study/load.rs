@@ -27,6 +27,7 @@ use super::replaced_keys::replaced_keys;
 use super::values::flatten;
 use crate::error::InputError;
 use crate::scene::source::Source;
+use crate::text::number_text;
 
 /// An expanded, validated study.
 #[derive(Debug, Clone)]
@@ -117,14 +118,17 @@ impl Study {
             .map(|(_, v)| v)
     }
 
-    /// The value of a varying key in a job as text, the pruning pseudo-key included; `None`
-    /// when the job does not set it.
+    /// The value of a varying key in a job as text for people (progress lines, `plan`, `check`),
+    /// the pruning pseudo-key included; numbers as the report writes them (`1e-6`, not
+    /// `0.000001`); `None` when the job does not set it.
     pub fn value_text(&self, job: &Job, key: &str) -> Option<String> {
         if key == PRUNE_KEY {
-            job.prune.map(|p| p.to_string())
-        } else {
-            self.value_of(job, key).map(toml::Value::to_string)
+            return job.prune.map(|p| p.to_string());
         }
+        self.value_of(job, key).map(|v| match v {
+            toml::Value::Float(x) => number_text(*x),
+            other => other.to_string(),
+        })
     }
 
     /// The jobs of shard `i` of `n` (by index modulo n).
