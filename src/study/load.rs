@@ -119,14 +119,17 @@ impl Study {
     }
 
     /// The value of a varying key in a job as text for people (progress lines, `plan`, `check`),
-    /// the pruning pseudo-key included; numbers as the report writes them (`1e-6`, not
-    /// `0.000001`); `None` when the job does not set it.
+    /// the pruning pseudo-key included: as written in TOML (`12.0`), but scientific below 1e-3
+    /// and from 1e6 as the report writes numbers (`1e-6`, not `0.000001`); `None` when the job
+    /// does not set it.
     pub fn value_text(&self, job: &Job, key: &str) -> Option<String> {
         if key == PRUNE_KEY {
             return job.prune.map(|p| p.to_string());
         }
         self.value_of(job, key).map(|v| match v {
-            toml::Value::Float(x) => number_text(*x),
+            toml::Value::Float(x) if *x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) => {
+                number_text(*x)
+            }
             other => other.to_string(),
         })
     }

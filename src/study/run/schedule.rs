@@ -3,8 +3,10 @@
 //! In: the run's reference runs and jobs, the built [`Models`], the parts folder. Out: the work
 //! list (reference runs unless shared, then jobs in study order, the saved ones left out), each
 //! item run on one thread of the pool and saved by the calling thread as it finishes
-//! (`parts`); the progress line per run. The first failed save stops new runs from starting;
-//! running ones finish and are saved if they can be, and the error says how many are saved.
+//! (`parts`); the progress line per run. A worker hands its result over only when the saving
+//! thread takes it (memory bounded by one finished run per worker). The first failed save stops
+//! new runs from starting; running ones finish and are saved if they can be, and the error says
+//! how many are saved.
 //! Results do not depend on the thread count or the order in which runs finish.
 
 use std::collections::BTreeSet;
@@ -143,7 +145,10 @@ pub(super) fn run_all(
     identity: &Identity,
     progress: &Progress,
 ) -> Option<CampaignError> {
-    let (tx, rx) = mpsc::channel::<(usize, JobResult)>();
+    // A rendezvous channel: a worker hands its result over only when this thread takes it, so
+    // finished runs never pile up in memory while saves are slower than the runs, and after a
+    // failed save each worker has started at most the run it is handing over.
+    let (tx, rx) = mpsc::sync_channel::<(usize, JobResult)>(0);
     let mut write_error: Option<CampaignError> = None;
     // Set at the first failed save: no new job starts; running ones finish.
     let stop = AtomicBool::new(false);
