@@ -754,6 +754,17 @@ def test_ramp_study_waterfall_order_map_and_bode(tmp_path: Path) -> None:
     bare = figures.order_bode(orders, jobs[0], None, "py-ramp", "run-up")
     assert bare is not None
     assert not [ln for ln in bare.axes[0].get_lines() if "steady" in str(ln.get_label())]
+    # Its tracked phase: the table's moved by whole turns, every block within the window from
+    # 90° above to 270° below the phase at the lowest speed (not unwrapped along the blocks,
+    # where the free vibration's beat past the critical adds a turn per beat).
+    (bare_phase,) = [ln for ln in bare.axes[1].get_lines() if ln.get_color() == colour]
+    y = np.asarray(bare_phase.get_ydata())
+    y = y[np.isfinite(y)]
+    turns = (y - rows["phase_deg"].to_numpy()) / 360.0
+    np.testing.assert_allclose(turns, np.round(turns), atol=1e-9)
+    first = y[np.argmin(rows["speed_hz"].to_numpy())]
+    assert -180.0 < first <= 180.0
+    assert np.all((y <= first + 90.0 + 1e-9) & (y > first - 270.0 - 1e-9))
     # A channel asked for by name must exist: the ramps' channels are listed.
     with pytest.raises(figures.PlotError, match="disk/vertical"):
         figures.render(results, tmp_path / "other", "centre/vertical")

@@ -132,6 +132,12 @@ def order_map(orders: pd.DataFrame, job: str, sensor: str, study: str, name: str
     return fig
 
 
+def _lowest_speed_phase(speed: np.ndarray, phase: np.ndarray) -> float:
+    """The phase [°] at the lowest speed that has one (0 when none has)."""
+    ok = np.flatnonzero(np.isfinite(phase))
+    return float(phase[ok[np.argmin(speed[ok])]]) if ok.size else 0.0
+
+
 def _break_jumps(speed: np.ndarray, phase: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Speed and phase [°] with a NaN point after each phase step of more than 180° (a wrap,
     not drawn as a line)."""
@@ -146,8 +152,9 @@ def order_bode(orders: pd.DataFrame, job: str, linear: dict[str, object] | None,
     blocks' mean speed [Hz], vertical and horizontal; with ``linear`` (the job's
     ``/linear/<linear_id>`` system holding an unbalance response) the steady-state 1× unbalance
     response (phase unwrapped) dashed over it, each block's phase moved by whole turns nearest
-    it, and the critical speeds dotted; without, the tracked phase unwrapped along the blocks
-    and moved by whole turns to a median lag in (−360°, 0]. Steps over 180° are not joined.
+    it, and the critical speeds dotted; without, each block's phase moved by whole turns into
+    the window from 90° above to 270° below the phase at the lowest speed. Steps over 180° are
+    not joined.
     The legend says what each curve holds (:data:`TRACKED`, :data:`STEADY_STATE`): where they
     part away from the resonance, the difference is the run's other 1× sources (a journal's
     roundness reads at 1× at every speed). None without tracked 1× rows."""
@@ -180,8 +187,14 @@ def order_bode(orders: pd.DataFrame, job: str, linear: dict[str, object] | None,
                 phase = np.where(np.isfinite(ref), phase + 360.0 * np.round((ref - phase) / 360.0),
                                  phase)
             else:
-                # Whole turns that put the median in (−360°, 0], a phase lag.
-                phase = phase - 360.0 * np.ceil(np.nanmedian(phase) / 360.0)
+                # Each block's phase by whole turns into the window from 90° above to 270° below
+                # the phase at the lowest speed (in (−180°, 180°]): the lag a critical adds stays
+                # inside, and a phase near the window's edge does not flicker by a turn. Not
+                # unwrapped along the blocks: the free vibration beating with the 1× past a
+                # critical (the tracked phasor circling the origin) adds a turn per beat,
+                # thousands of degrees that would read as a phase change of the response.
+                top = 90.0 - np.mod(180.0 - _lowest_speed_phase(speed, phase), 360.0) + 180.0
+                phase = top - np.mod(top - phase, 360.0)
             axes[0, c].plot(speed, rows["amplitude_um"], color=colour, lw=1.3,
                             label=f"{d}, {TRACKED}")
             axes[1, c].plot(*_break_jumps(speed, phase), color=colour, lw=1.0, marker=".", ms=2)
