@@ -30,6 +30,13 @@
 //! projection: decoupled from the lateral motion, their double multiplier μ = 1 only adds
 //! round-off growth.
 //!
+//! Half a revolution is enough: in the body frame only the supports turn, and R(θ + π) = −R(θ),
+//! so the system at θ + π is the one at θ with the support masses' coordinates negated
+//! (D = diag(I_rotor, −I_stands)): A(t + T/2) = 𝔇 A(t) 𝔇 with 𝔇 = diag(D, D) on (q, q̇), hence
+//! Φ(T) = (𝔇 Φ(T/2))², exact for any rotor and supports, and the same Magnus steps over the
+//! first half (on a projected basis when D maps it onto itself, VᵀMDV squaring to I within
+//! 1e-8; otherwise the whole revolution is integrated).
+//!
 //! Method: the system may be projected on the undamped modes (below a cut-off frequency) of its
 //! revolution-averaged stiffness; then ẋ = A(t) x is integrated for the identity over one
 //! revolution by the fourth-order Magnus method (two Gauss points, one commutator, a matrix
@@ -67,6 +74,18 @@ pub fn monodromy(
     steps: usize,
     kc: impl Fn(f64) -> (DMatrix<f64>, DMatrix<f64>),
 ) -> Result<DMatrix<f64>, LinearError> {
+    propagate(m, omega, steps, steps, kc)
+}
+
+/// The transition matrix from θ = 0 over the first `taken` of `steps` Magnus steps per
+/// revolution (module doc of [`monodromy`]).
+fn propagate(
+    m: &DMatrix<f64>,
+    omega: f64,
+    steps: usize,
+    taken: usize,
+    kc: impl Fn(f64) -> (DMatrix<f64>, DMatrix<f64>),
+) -> Result<DMatrix<f64>, LinearError> {
     if !(omega.is_finite() && omega > 0.0) {
         return Err(LinearError::Singular(format!(
             "Floquet needs a positive spin speed (one revolution), got {omega} rad/s"
@@ -92,7 +111,7 @@ pub fn monodromy(
     let r3 = 3f64.sqrt();
     let (c1, c2) = (0.5 - r3 / 6.0, 0.5 + r3 / 6.0);
     let mut y = DMatrix::<f64>::identity(2 * n, 2 * n);
-    for i in 0..steps {
+    for i in 0..taken {
         let t = i as f64 * h;
         let a1 = state(omega * (t + c1 * h));
         let a2 = state(omega * (t + c2 * h));
@@ -174,6 +193,8 @@ struct Projected {
     /// Each kept mode's kind.
     kinds: Vec<&'static str>,
     mr: DMatrix<f64>,
+    /// The stand flip D on the kept basis, VᵀMDV, when the basis is closed under it.
+    flip: Option<DMatrix<f64>>,
     kbr: DMatrix<f64>,
     cbr: DMatrix<f64>,
     proj: Vec<ProjectedSupport>,
@@ -250,6 +271,13 @@ impl Projected {
         let v = DMatrix::from_fn(n, keep.len(), |r, j| eig.vectors[(r, keep[j])]);
         let vt = v.transpose();
         let mr = &vt * &sys.m * &v;
+        let mut md = sys.m.clone();
+        for i in nm..n {
+            md.column_mut(i).neg_mut();
+        }
+        let flip = &vt * md * &v;
+        let b = keep.len();
+        let closed = (&flip * &flip - DMatrix::<f64>::identity(b, b)).amax() <= 1e-8;
         let kbr = &vt * &kb * &v;
         let cbr = &vt * &cb * &v;
         let proj: Vec<_> = supports
@@ -283,28 +311,46 @@ impl Projected {
             omega2: keep.iter().map(|&i| eig.values[i]).collect(),
             kinds,
             mr,
+            flip: closed.then_some(flip),
             kbr,
             cbr,
             proj,
         })
     }
 
-    /// The monodromy matrix with `steps` Magnus steps.
+    /// The projected (K(θ), C(θ)) at roll angle θ.
+    fn kc(&self, theta: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+        let omega = self.omega;
+        let mut k = self.kbr.clone();
+        let mut c = self.cbr.clone();
+        let s = Matrix2::new(0.0, -omega, omega, 0.0);
+        for (rv, sv, ks, cs) in &self.proj {
+            let rp = rot(theta) * rv;
+            let t = &rp - sv;
+            let tw = s * &rp;
+            k += t.transpose() * (ks * &t + cs * &tw);
+            c += t.transpose() * cs * &t;
+        }
+        (k, c)
+    }
+
+    /// The monodromy matrix with `steps` Magnus steps per revolution, from half a revolution
+    /// (module doc: Φ(T) = (𝔇 Φ(T/2))²) when the kept basis is closed under the stand flip D.
     fn monodromy(&self, steps: usize) -> Result<DMatrix<f64>, LinearError> {
         let omega = self.omega;
-        monodromy(&self.mr, omega, steps, |theta| {
-            let mut k = self.kbr.clone();
-            let mut c = self.cbr.clone();
-            let s = Matrix2::new(0.0, -omega, omega, 0.0);
-            for (rv, sv, ks, cs) in &self.proj {
-                let rp = rot(theta) * rv;
-                let t = &rp - sv;
-                let tw = s * &rp;
-                k += t.transpose() * (ks * &t + cs * &tw);
-                c += t.transpose() * cs * &t;
+        let kc = |theta: f64| self.kc(theta);
+        match &self.flip {
+            Some(d) if steps % 2 == 0 => {
+                let half = propagate(&self.mr, omega, steps, steps / 2, kc)?;
+                let b = d.nrows();
+                let mut dd = DMatrix::zeros(2 * b, 2 * b);
+                dd.view_mut((0, 0), (b, b)).copy_from(d);
+                dd.view_mut((b, b), (b, b)).copy_from(d);
+                let x = dd * half;
+                Ok(&x * &x)
             }
-            (k, c)
-        })
+            _ => monodromy(&self.mr, omega, steps, kc),
+        }
     }
 
     /// The growth from step doubling ([`scene_growth`]) and the multipliers of its last step
@@ -530,4 +576,81 @@ pub fn unstable_ranges(
         out.push([a, *speeds_hz.last().expect("a speed")]);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::model::Model;
+    use crate::scene::Scene;
+
+    /// The half-revolution monodromy (𝔇 Φ(T/2))² against the whole revolution integrated step by
+    /// step, on the reference roll: an asymmetric rotor (its thickness map) on anisotropic stands
+    /// with support masses, so the flip is not the identity. The two differ only in round-off;
+    /// Liouville's formula det Φ(T) = exp(∫₀ᵀ tr A dt), tr A = −tr(M⁻¹C(θ)) summed on a fine
+    /// grid of angles, checks the whole-revolution matrix itself.
+    #[test]
+    fn half_revolution_gives_the_whole_revolution_monodromy() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("studies/scenes/reference-roll.toml");
+        let scene = Scene::load(&path, &[]).unwrap();
+        let model = Model::build(&scene, None).unwrap();
+        let sys = LinearSystem::of_scene(&scene, &model).unwrap();
+        assert!(!time_invariant(&sys, &model.rotor, TAU * 16.4));
+        for (speed, cutoff) in [
+            (3.0, f64::INFINITY),
+            (16.4, 300.0),
+            (31.0, 300.0),
+            (70.0, f64::INFINITY),
+        ] {
+            let omega = TAU * speed;
+            let p = Projected::new(&sys, omega, cutoff).unwrap();
+            let d = p
+                .flip
+                .as_ref()
+                .expect("the kept basis is closed under the stand flip");
+            let stands = (d - DMatrix::identity(d.nrows(), d.ncols())).amax();
+            eprintln!("{speed} Hz: |VᵀMDV − I| = {stands:.2e}");
+            if cutoff.is_infinite() {
+                assert!(stands > 0.5, "{stands}");
+            }
+            let steps = 4 * SCENE_STEPS;
+            let t0 = std::time::Instant::now();
+            let half = p.monodromy(steps).unwrap();
+            let t1 = std::time::Instant::now();
+            let whole = monodromy(&p.mr, omega, steps, |theta| p.kc(theta)).unwrap();
+            eprintln!(
+                "{speed} Hz: half a revolution {:.3} s, the whole {:.3} s",
+                (t1 - t0).as_secs_f64(),
+                t1.elapsed().as_secs_f64()
+            );
+            let diff = (&half - &whole).amax() / whole.amax();
+            let (gh, gw) = (
+                growth_per_rev(&multipliers(&half).unwrap()),
+                growth_per_rev(&multipliers(&whole).unwrap()),
+            );
+            eprintln!(
+                "{speed} Hz, {} modes: |Φ_half − Φ_whole| / |Φ| = {diff:.1e}, growth {gh:.9e} / \
+                 {gw:.9e}",
+                p.mr.nrows()
+            );
+            assert!(diff < 1e-9, "{speed} Hz: {diff}");
+            assert!((gh - gw).abs() <= 1e-10, "{gh} vs {gw}");
+            if cutoff.is_finite() {
+                let minv = p.mr.clone().try_inverse().unwrap();
+                let grid = 64;
+                let trace: f64 = (0..grid)
+                    .map(|j| -(&minv * p.kc(TAU * j as f64 / grid as f64).1).trace())
+                    .sum::<f64>()
+                    / grid as f64;
+                let liouville = trace * TAU / omega;
+                let ln_det = whole.clone().lu().determinant().abs().ln();
+                eprintln!("  ln det Φ {ln_det:.9e}, ∫ tr A dt {liouville:.9e}");
+                assert!(
+                    (ln_det / liouville - 1.0).abs() < 1e-8,
+                    "{ln_det} vs {liouville}"
+                );
+            }
+        }
+    }
 }
