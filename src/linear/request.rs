@@ -36,7 +36,7 @@ use super::statics::{self, Static};
 use super::FRAME_NOTE;
 use crate::dynamics::model::Model;
 use crate::dynamics::{LinearError, LinearSystem};
-use crate::scene::{Scene, SupportModel};
+use crate::scene::{Scene, SupportModel, MAX_SPEED_HZ};
 
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 
@@ -145,6 +145,12 @@ pub fn parse_speeds(text: &str) -> Result<Vec<f64>, String> {
     }
     if count > MAX_SPEEDS {
         return Err(format!("{}: at most {MAX_SPEEDS} speeds", bad()));
+    }
+    if stop > MAX_SPEED_HZ {
+        return Err(format!(
+            "speeds `{text}`: STOP {stop:e} Hz is above {MAX_SPEED_HZ:e} Hz, the highest spin speed \
+             a scene may ask for (speed.hz)"
+        ));
     }
     Ok((0..count)
         .map(|i| start + (stop - start) * i as f64 / (count - 1) as f64)

@@ -34,6 +34,7 @@ use rotorsweep::linear::request::{self, PointUnbalance, Request, Results, PHASE_
 use rotorsweep::linear::scene_system::{in_scene, scene_system};
 use rotorsweep::linear::FRAME_NOTE;
 use rotorsweep::results::linear_file;
+use rotorsweep::scene::MAX_SPEED_HZ;
 use rotorsweep::store;
 
 use crate::error::CliError;
@@ -90,7 +91,13 @@ fn request(a: &Args) -> Result<Request, String> {
         return Err("--floquet-cutoff-hz must be positive".into());
     }
     let speeds_hz = match a.speed_hz {
-        Some(f) if f.is_finite() && f >= 0.0 => vec![f],
+        Some(f) if f.is_finite() && (0.0..=MAX_SPEED_HZ).contains(&f) => vec![f],
+        Some(f) if f > MAX_SPEED_HZ => {
+            return Err(format!(
+                "--speed-hz {f:e} is above {MAX_SPEED_HZ:e} Hz, the highest spin speed a scene may \
+                 ask for (speed.hz)"
+            ))
+        }
         Some(_) => return Err("--speed-hz must be zero or positive".into()),
         None => request::parse_speeds(a.speeds.as_deref().unwrap_or("0:100:101"))
             .map_err(|e| format!("--{e}"))?,
