@@ -9,9 +9,11 @@
 //! `lahqr`: at most 30·max(10, n) sweeps, then an error). faer's blocked multishift path with
 //! aggressive early deflation (taken by default from n = 75) looped without end on the state
 //! matrix of a hollow roll with a free axial rigid-body mode and on a model with E = 1e30 Pa
-//! (its deflation window's bubble sort of the Schur blocks has no bound). When the QR does not
-//! converge, the matrix is balanced (LAPACK `gebal`'s diagonal scaling by powers of two, at most
-//! [`BALANCE_SWEEPS`] sweeps) and solved once more; a second failure is an error.
+//! (its deflation window's bubble sort of the Schur blocks has no bound). The matrix is first
+//! balanced, as LAPACK's `dgeev` does (`gebal`'s diagonal scaling by powers of two, at most
+//! [`BALANCE_SWEEPS`] sweeps: a state matrix's position and velocity blocks differ by ω², and
+//! unbalanced the small eigenvalues lose relative accuracy); when that QR does not converge the
+//! unbalanced matrix is solved once more; a second failure is an error.
 //! The generalized problem K φ = λ M φ goes through the Cholesky factor M = L Lᵀ, the standard
 //! problem L⁻¹ K L⁻ᵀ y = λ y and φ = L⁻ᵀ y. faer's self-adjoint solver is forced onto its QR
 //! path: its divide-and-conquer path (taken by default from n = 128) returned wrong eigenpairs
@@ -126,11 +128,9 @@ pub fn general(a: &DMatrix<f64>) -> Result<(Vec<faer::c64>, faer::Mat<faer::c64>
     if a.iter().any(|x| !x.is_finite()) {
         return Err(EigenError::NotFinite);
     }
-    match real_evd(&to_faer(a)) {
-        Ok(out) => Ok(out),
-        Err(_) => {
-            let (b, d) = balance(a);
-            let (values, mut vectors) = real_evd(&to_faer(&b))?;
+    let (b, d) = balance(a);
+    match real_evd(&to_faer(&b)) {
+        Ok((values, mut vectors)) => {
             for (i, di) in d.iter().enumerate() {
                 for j in 0..vectors.ncols() {
                     vectors[(i, j)] *= *di;
@@ -138,6 +138,7 @@ pub fn general(a: &DMatrix<f64>) -> Result<(Vec<faer::c64>, faer::Mat<faer::c64>
             }
             Ok((values, vectors))
         }
+        Err(_) => real_evd(&to_faer(a)),
     }
 }
 
