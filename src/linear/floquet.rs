@@ -15,6 +15,28 @@
 //! Φ_jᵀ R(θ)ᵀ and on the support mass (inertial, with its ground spring). Gravity and unbalance
 //! only load it; they do not change its stability.
 //!
+//! Where it is needed ([`time_invariant`]): an axisymmetric rotor (every section and packet of
+//! the mesh axisymmetric to 1e-7, [`axisymmetric`]) on isotropic supports (every journal spring and damper, and every support mass's ground spring, of the
+//! form a I + b J, J the quarter turn) has a body-frame system that does not depend on the roll
+//! angle: its multipliers are e^{λT} of the damped modes' eigenvalues and Floquet can only repeat
+//! their stability, so it is not run. Otherwise, per unstable range, [`band_modes`] names the
+//! modes that combine at its fastest-growing speed: the monodromy's dominant eigenvector split
+//! over the projected undamped modes by energy (ω²|q|² + |q̇|²), those holding ≥ 10 %; a band
+//! whose modes all carry no damping (ζ < 1e-9 on the basis, e.g. the axial mode of a drive
+//! without axial damping) is `marginal`: an undamped mode sits on |μ| = 1 and the growth is the
+//! size of the Magnus step's error, not a physical instability.
+//!
+//! Axial and torsional rigid-body modes (no axial or torsional restraint) are left out of the
+//! projection: decoupled from the lateral motion, their double multiplier μ = 1 only adds
+//! round-off growth.
+//!
+//! Half a revolution is enough: in the body frame only the supports turn, and R(θ + π) = −R(θ),
+//! so the system at θ + π is the one at θ with the support masses' coordinates negated
+//! (D = diag(I_rotor, −I_stands)): A(t + T/2) = 𝔇 A(t) 𝔇 with 𝔇 = diag(D, D) on (q, q̇), hence
+//! Φ(T) = (𝔇 Φ(T/2))², exact for any rotor and supports, and the same Magnus steps over the
+//! first half (on a projected basis when D maps it onto itself, VᵀMDV squaring to I within
+//! 1e-8; otherwise the whole revolution is integrated).
+//!
 //! Method: the system may be projected on the undamped modes (below a cut-off frequency) of its
 //! revolution-averaged stiffness; then ẋ = A(t) x is integrated for the identity over one
 //! revolution by the fourth-order Magnus method (two Gauss points, one commutator, a matrix
@@ -26,10 +48,12 @@
 //! left it stable); on the Jeffcott rotor of tests/it/linear_floquet.rs a 2 kHz cut-off moves the
 //! growth of its least damped mode by 0.35 %.
 
-use nalgebra::{Complex, DMatrix, Matrix2};
+use nalgebra::{Complex, DMatrix, DVector, Matrix2};
 
+use super::basis::ZERO_RAD_S;
 use crate::dynamics::linear_system::{LinearError, LinearSystem};
 use crate::numerics::eigen;
+use crate::rotor::fe::Rotor;
 
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 
@@ -48,6 +72,18 @@ pub fn monodromy(
     m: &DMatrix<f64>,
     omega: f64,
     steps: usize,
+    kc: impl Fn(f64) -> (DMatrix<f64>, DMatrix<f64>),
+) -> Result<DMatrix<f64>, LinearError> {
+    propagate(m, omega, steps, steps, kc)
+}
+
+/// The transition matrix from θ = 0 over the first `taken` of `steps` Magnus steps per
+/// revolution (module doc of [`monodromy`]).
+fn propagate(
+    m: &DMatrix<f64>,
+    omega: f64,
+    steps: usize,
+    taken: usize,
     kc: impl Fn(f64) -> (DMatrix<f64>, DMatrix<f64>),
 ) -> Result<DMatrix<f64>, LinearError> {
     if !(omega.is_finite() && omega > 0.0) {
@@ -75,7 +111,7 @@ pub fn monodromy(
     let r3 = 3f64.sqrt();
     let (c1, c2) = (0.5 - r3 / 6.0, 0.5 + r3 / 6.0);
     let mut y = DMatrix::<f64>::identity(2 * n, 2 * n);
-    for i in 0..steps {
+    for i in 0..taken {
         let t = i as f64 * h;
         let a1 = state(omega * (t + c1 * h));
         let a2 = state(omega * (t + c2 * h));
@@ -152,7 +188,13 @@ type ProjectedSupport = (DMatrix<f64>, DMatrix<f64>, Matrix2<f64>, Matrix2<f64>)
 /// The scene's periodic system at one speed, projected on its kept modes.
 struct Projected {
     omega: f64,
+    /// ω² of each kept undamped mode [rad²/s²].
+    omega2: Vec<f64>,
+    /// Each kept mode's kind.
+    kinds: Vec<&'static str>,
     mr: DMatrix<f64>,
+    /// The stand flip D on the kept basis, VᵀMDV, when the basis is closed under it.
+    flip: Option<DMatrix<f64>>,
     kbr: DMatrix<f64>,
     cbr: DMatrix<f64>,
     proj: Vec<ProjectedSupport>,
@@ -208,7 +250,19 @@ impl Projected {
         }
         let eig = eigen::generalized_symmetric(&kbar, &sys.m)?;
         let cut = (TAU * cutoff_hz).powi(2);
-        let keep: Vec<usize> = (0..n).filter(|&i| eig.values[i] <= cut).collect();
+        // Axial and torsional rigid-body modes (no restraint) are left out: decoupled from the
+        // rest, they add a Jordan block at μ = 1 whose round-off split read as growth.
+        let knorm = kbar.norm();
+        let rigid = |i: usize| {
+            let col = eig.vectors.column(i).into_owned();
+            let e = sys.family_energy(&col, &DVector::zeros(n));
+            eig.values[i].abs() < ZERO_RAD_S * ZERO_RAD_S
+                && (&kbar * &col).norm() <= 1e-9 * knorm * col.norm()
+                && e[2].max(e[3]) > e[0] + e[1]
+        };
+        let keep: Vec<usize> = (0..n)
+            .filter(|&i| eig.values[i] <= cut && !rigid(i))
+            .collect();
         if keep.is_empty() {
             return Err(LinearError::Singular(format!(
                 "Floquet: no mode below the cut-off {cutoff_hz} Hz"
@@ -217,6 +271,13 @@ impl Projected {
         let v = DMatrix::from_fn(n, keep.len(), |r, j| eig.vectors[(r, keep[j])]);
         let vt = v.transpose();
         let mr = &vt * &sys.m * &v;
+        let mut md = sys.m.clone();
+        for i in nm..n {
+            md.column_mut(i).neg_mut();
+        }
+        let flip = &vt * md * &v;
+        let b = keep.len();
+        let closed = (&flip * &flip - DMatrix::<f64>::identity(b, b)).amax() <= 1e-8;
         let kbr = &vt * &kb * &v;
         let cbr = &vt * &cb * &v;
         let proj: Vec<_> = supports
@@ -230,31 +291,66 @@ impl Projected {
                 (rv, sv, sp.k, sp.c)
             })
             .collect();
+        let kinds = (0..keep.len())
+            .map(|j| {
+                let col = v.column(j).into_owned();
+                let e = sys.family_energy(&col, &DVector::zeros(n));
+                let stand: f64 = (nm..n).map(|i| sys.m[(i, i)] * col[i] * col[i]).sum();
+                let lateral = e[0] + e[1] + stand;
+                if lateral >= e[2] && lateral >= e[3] {
+                    "lateral"
+                } else if e[2] >= e[3] {
+                    "axial"
+                } else {
+                    "torsion"
+                }
+            })
+            .collect();
         Ok(Self {
             omega,
+            omega2: keep.iter().map(|&i| eig.values[i]).collect(),
+            kinds,
             mr,
+            flip: closed.then_some(flip),
             kbr,
             cbr,
             proj,
         })
     }
 
-    /// The monodromy matrix with `steps` Magnus steps.
+    /// The projected (K(θ), C(θ)) at roll angle θ.
+    fn kc(&self, theta: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+        let omega = self.omega;
+        let mut k = self.kbr.clone();
+        let mut c = self.cbr.clone();
+        let s = Matrix2::new(0.0, -omega, omega, 0.0);
+        for (rv, sv, ks, cs) in &self.proj {
+            let rp = rot(theta) * rv;
+            let t = &rp - sv;
+            let tw = s * &rp;
+            k += t.transpose() * (ks * &t + cs * &tw);
+            c += t.transpose() * cs * &t;
+        }
+        (k, c)
+    }
+
+    /// The monodromy matrix with `steps` Magnus steps per revolution, from half a revolution
+    /// (module doc: Φ(T) = (𝔇 Φ(T/2))²) when the kept basis is closed under the stand flip D.
     fn monodromy(&self, steps: usize) -> Result<DMatrix<f64>, LinearError> {
         let omega = self.omega;
-        monodromy(&self.mr, omega, steps, |theta| {
-            let mut k = self.kbr.clone();
-            let mut c = self.cbr.clone();
-            let s = Matrix2::new(0.0, -omega, omega, 0.0);
-            for (rv, sv, ks, cs) in &self.proj {
-                let rp = rot(theta) * rv;
-                let t = &rp - sv;
-                let tw = s * &rp;
-                k += t.transpose() * (ks * &t + cs * &tw);
-                c += t.transpose() * cs * &t;
+        let kc = |theta: f64| self.kc(theta);
+        match &self.flip {
+            Some(d) if steps % 2 == 0 => {
+                let half = propagate(&self.mr, omega, steps, steps / 2, kc)?;
+                let b = d.nrows();
+                let mut dd = DMatrix::zeros(2 * b, 2 * b);
+                dd.view_mut((0, 0), (b, b)).copy_from(d);
+                dd.view_mut((b, b), (b, b)).copy_from(d);
+                let x = dd * half;
+                Ok(&x * &x)
             }
-            (k, c)
-        })
+            _ => monodromy(&self.mr, omega, steps, kc),
+        }
     }
 
     /// The growth from step doubling ([`scene_growth`]) and the multipliers of its last step
@@ -298,6 +394,111 @@ impl Projected {
         }
     }
 }
+
+/// Relative size of X Ŝ + Ŝᵀ X (and of a support's anisotropy) below which the rotor counts as
+/// axisymmetric (the support as isotropic).
+pub const INVARIANT_TOLERANCE: f64 = 1e-7;
+
+/// Whether the body-frame system at `omega` [rad/s] does not depend on the roll angle
+/// (module doc): an axisymmetric rotor ([`axisymmetric`]) on isotropic supports.
+pub fn time_invariant(sys: &LinearSystem, rotor: &Rotor, omega: f64) -> bool {
+    let isotropic = |a: &Matrix2<f64>| {
+        (a[(0, 0)] - a[(1, 1)]).abs() + (a[(0, 1)] + a[(1, 0)]).abs()
+            <= INVARIANT_TOLERANCE * a.norm()
+    };
+    axisymmetric(rotor)
+        && sys
+            .rotating_supports(omega)
+            .iter()
+            .all(|sp| isotropic(&sp.k) && isotropic(&sp.c))
+        && sys
+            .ground_springs(omega)
+            .iter()
+            .all(|(_, k, c)| isotropic(k) && isotropic(c))
+}
+
+/// Whether the FE rotor is axisymmetric: every element's section has equal second moments
+/// (s_xx = s_yy, s_xy = 0) and its centroid on the axis, and every packet (disk, point mass)
+/// an isotropic inertia about the axis and no offset, each to [`INVARIANT_TOLERANCE`]. Checked
+/// on the mesh, not on the reduced model: a mode selection that cuts a degenerate pair leaves a
+/// reduced basis that is not closed under rotation although the rotor is axisymmetric.
+/// A point unbalance mass or a wall-thickness map makes the rotor asymmetric (Floquet runs).
+pub fn axisymmetric(rotor: &Rotor) -> bool {
+    let tol = INVARIANT_TOLERANCE;
+    let sections = rotor.elements.iter().all(|e| {
+        let s = &e.section;
+        let size = s.sxx + s.syy;
+        let radius = (size / s.area.max(f64::MIN_POSITIVE)).sqrt();
+        (s.sxx - s.syy).abs() + 2.0 * s.sxy.abs() <= tol * size
+            && s.qx.abs() + s.qy.abs() <= tol * s.area * radius
+    });
+    let packets = rotor.packets.iter().all(|(_, p)| {
+        let size = p.p[(0, 0)] + p.p[(1, 1)];
+        (p.p[(0, 0)] - p.p[(1, 1)]).abs() + 2.0 * p.p[(0, 1)].abs() <= tol * size
+            && p.h.x.abs() + p.h.y.abs() <= tol * (p.mass * size).sqrt()
+    });
+    sections && packets
+}
+
+/// One projected undamped mode taking part in a Floquet band.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandMode {
+    /// Undamped frequency on the revolution-averaged supports [Hz].
+    pub freq_hz: f64,
+    /// Kind: lateral, axial or torsion (the largest share of the kinetic energy).
+    pub kind: &'static str,
+    /// Damping ratio on the projected basis, c_jj / (2 ω_j) [-].
+    pub damping_ratio: f64,
+    /// Share of the growing motion's energy [-].
+    pub share: f64,
+}
+
+/// The modes that make up the fastest-growing motion at `omega` [rad/s] (module doc), largest
+/// share first, and that motion's growth per revolution.
+pub fn band_modes(
+    sys: &LinearSystem,
+    omega: f64,
+    cutoff_hz: f64,
+) -> Result<(f64, Vec<BandMode>), LinearError> {
+    let p = Projected::new(sys, omega, cutoff_hz)?;
+    let (g, _) = p.converged()?;
+    let phi = p.monodromy(g.steps)?;
+    let (values, vectors) = eigen::general(&phi)?;
+    let Some(top) =
+        (0..values.len()).max_by(|&a, &b| values[a].norm().total_cmp(&values[b].norm()))
+    else {
+        return Ok((g.growth, Vec::new()));
+    };
+    let b = p.mr.nrows();
+    let energy: Vec<f64> = (0..b)
+        .map(|j| {
+            p.omega2[j].max(0.0) * vectors[(j, top)].norm().powi(2)
+                + vectors[(b + j, top)].norm().powi(2)
+        })
+        .collect();
+    let total: f64 = energy.iter().sum::<f64>().max(f64::MIN_POSITIVE);
+    let mut out: Vec<BandMode> = (0..b)
+        .filter(|&j| energy[j] >= 0.1 * total)
+        .map(|j| {
+            let w = p.omega2[j].max(0.0).sqrt();
+            BandMode {
+                freq_hz: w / TAU,
+                kind: p.kinds[j],
+                damping_ratio: if w > 0.0 {
+                    p.cbr[(j, j)] / (2.0 * w)
+                } else {
+                    0.0
+                },
+                share: energy[j] / total,
+            }
+        })
+        .collect();
+    out.sort_by(|a, b| b.share.total_cmp(&a.share));
+    Ok((g.growth, out))
+}
+
+/// A band counts as marginal when every mode in it has a damping ratio below this.
+pub const UNDAMPED_ZETA: f64 = 1e-9;
 
 /// Speed ranges [Hz] where `growth(speed)` exceeds [`UNSTABLE_GROWTH`], from the samples
 /// (speeds ascending, growth per speed), each end refined by the Illinois method to
@@ -375,4 +576,81 @@ pub fn unstable_ranges(
         out.push([a, *speeds_hz.last().expect("a speed")]);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::model::Model;
+    use crate::scene::Scene;
+
+    /// The half-revolution monodromy (𝔇 Φ(T/2))² against the whole revolution integrated step by
+    /// step, on the reference roll: an asymmetric rotor (its thickness map) on anisotropic stands
+    /// with support masses, so the flip is not the identity. The two differ only in round-off;
+    /// Liouville's formula det Φ(T) = exp(∫₀ᵀ tr A dt), tr A = −tr(M⁻¹C(θ)) summed on a fine
+    /// grid of angles, checks the whole-revolution matrix itself.
+    #[test]
+    fn half_revolution_gives_the_whole_revolution_monodromy() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("studies/scenes/reference-roll.toml");
+        let scene = Scene::load(&path, &[]).unwrap();
+        let model = Model::build(&scene, None).unwrap();
+        let sys = LinearSystem::of_scene(&scene, &model).unwrap();
+        assert!(!time_invariant(&sys, &model.rotor, TAU * 16.4));
+        for (speed, cutoff) in [
+            (3.0, f64::INFINITY),
+            (16.4, 300.0),
+            (31.0, 300.0),
+            (70.0, f64::INFINITY),
+        ] {
+            let omega = TAU * speed;
+            let p = Projected::new(&sys, omega, cutoff).unwrap();
+            let d = p
+                .flip
+                .as_ref()
+                .expect("the kept basis is closed under the stand flip");
+            let stands = (d - DMatrix::identity(d.nrows(), d.ncols())).amax();
+            eprintln!("{speed} Hz: |VᵀMDV − I| = {stands:.2e}");
+            if cutoff.is_infinite() {
+                assert!(stands > 0.5, "{stands}");
+            }
+            let steps = 4 * SCENE_STEPS;
+            let t0 = std::time::Instant::now();
+            let half = p.monodromy(steps).unwrap();
+            let t1 = std::time::Instant::now();
+            let whole = monodromy(&p.mr, omega, steps, |theta| p.kc(theta)).unwrap();
+            eprintln!(
+                "{speed} Hz: half a revolution {:.3} s, the whole {:.3} s",
+                (t1 - t0).as_secs_f64(),
+                t1.elapsed().as_secs_f64()
+            );
+            let diff = (&half - &whole).amax() / whole.amax();
+            let (gh, gw) = (
+                growth_per_rev(&multipliers(&half).unwrap()),
+                growth_per_rev(&multipliers(&whole).unwrap()),
+            );
+            eprintln!(
+                "{speed} Hz, {} modes: |Φ_half − Φ_whole| / |Φ| = {diff:.1e}, growth {gh:.9e} / \
+                 {gw:.9e}",
+                p.mr.nrows()
+            );
+            assert!(diff < 1e-9, "{speed} Hz: {diff}");
+            assert!((gh - gw).abs() <= 1e-10, "{gh} vs {gw}");
+            if cutoff.is_finite() {
+                let minv = p.mr.clone().try_inverse().unwrap();
+                let grid = 64;
+                let trace: f64 = (0..grid)
+                    .map(|j| -(&minv * p.kc(TAU * j as f64 / grid as f64).1).trace())
+                    .sum::<f64>()
+                    / grid as f64;
+                let liouville = trace * TAU / omega;
+                let ln_det = whole.clone().lu().determinant().abs().ln();
+                eprintln!("  ln det Φ {ln_det:.9e}, ∫ tr A dt {liouville:.9e}");
+                assert!(
+                    (ln_det / liouville - 1.0).abs() < 1e-8,
+                    "{ln_det} vs {liouville}"
+                );
+            }
+        }
+    }
 }

@@ -7,11 +7,15 @@
 //!   the reduced rotor plus its supports linearised at the static equilibrium, with damping, as
 //!   M q̈ + (C(Ω) + Ω G_s) q̇ + K(Ω) q = f (stationary frame);
 //! - [`standstill`]: its undamped frequencies at standstill by plane (`supported_hz`);
+//! - [`basis`]: the coordinates of the damped modes: rigid-body modes set apart, a large system
+//!   projected on its undamped modes below a multiple of the range;
 //! - [`modes`]: damped modes at one speed (state-space complex eigenproblem): damped frequency,
 //!   damping ratio, log decrement, whirl direction, kind, complex shape;
 //! - [`campbell`]: damped modes over speed with branches matched by shape (MAC), critical speeds
 //!   (whirl = spin) and the stability threshold (lowest speed with a negative log decrement);
 //! - [`response`]: the steady 1× response to unbalance at the sensors (frequency domain);
+//! - [`peaks`]: the response's peaks near each critical speed, refined, and whether the sweep
+//!   shows them (`coarse`);
 //! - [`floquet`]: stability of the asymmetric rotor on anisotropic supports (monodromy over one
 //!   revolution, body frame, supports rotating);
 //! - [`statics`]: static equilibrium under gravity (sag, journal positions, support forces);
@@ -32,11 +36,13 @@
 //! D plus the circulatory stiffness −Ω·skew(D Ŝ) (Ŝ: the rotation generator on the modal
 //! coordinates), exact for an axisymmetric rotor.
 
+pub mod basis;
 pub mod campbell;
 pub mod critical_map;
 pub mod floquet;
 pub mod modes;
 pub mod overview;
+pub mod peaks;
 pub mod request;
 pub mod response;
 pub mod scene_system;

@@ -9,7 +9,10 @@
 //! zero-frequency modes (a rigid motion the supports do not hold).
 //!
 //! Method: the first-order (state-space) form ẋ = A x, A = [[0, I], [−M⁻¹K, −M⁻¹(C + ΩG_s)]],
-//! solved densely. Whirl: at every rotor node the orbit x + iy = F e^{λt} + B̄ e^{λ̄t} splits into
+//! solved densely (bounded: [`crate::numerics::eigen::general`]) on the coordinates of
+//! [`super::basis`]: rigid-body modes set apart (their positions out of the state; listed in
+//! `rigid`, lateral ones counted in `zero_lateral`), a large system on its undamped modes below
+//! a multiple of the range when one is given ([`damped_modes_in`]). Whirl: at every rotor node the orbit x + iy = F e^{λt} + B̄ e^{λ̄t} splits into
 //! a forward circle F = (X + iY)/2 (turning with the spin, +z) and a backward one
 //! B = (X − iY)/2; a node whirls forward when |F| > |B|. Weighted by the orbit size
 //! |X|² + |Y|², a mode is `forward` (or `backward`) when ≥ 95 % of the weight whirls that way,
@@ -25,12 +28,12 @@
 
 use nalgebra::{Complex, DMatrix, DVector};
 
+use super::basis::Coordinates;
 use crate::dynamics::linear_system::{LinearError, LinearSystem};
 use crate::numerics::eigen;
 use crate::rotor::reduction::{classify, ModeKind};
 
-/// Eigenvalues smaller than this [rad/s] (0.01 Hz) are zero modes: rigid motion not held.
-pub const ZERO_RAD_S: f64 = 2.0 * std::f64::consts::PI * 0.01;
+pub use super::basis::ZERO_RAD_S;
 
 /// Modes damped more than this are not listed (their damped frequency ω_n√(1−ζ²) is ill-defined
 /// and they cannot resonate: the 100 % band of the modal damping schedules); like the overdamped
@@ -119,6 +122,10 @@ pub struct ModeSet {
     pub max_growth: f64,
     /// Zero-frequency lateral modes (rigid motion the supports do not hold).
     pub zero_lateral: usize,
+    /// The kinds of the rigid-body modes set apart ([`super::basis`]).
+    pub rigid: Vec<Kind>,
+    /// The cut-off [Hz] of a truncated basis (`None`: the whole basis).
+    pub cutoff_hz: Option<f64>,
 }
 
 impl ModeSet {
@@ -139,31 +146,45 @@ pub enum Split {
 
 type C64 = Complex<f64>;
 
-/// The damped modes at spin speed `omega` [rad/s] (module doc).
+/// The damped modes at spin speed `omega` [rad/s] (module doc) on the system's whole basis.
 pub fn damped_modes(sys: &LinearSystem, omega: f64, split: Split) -> Result<ModeSet, LinearError> {
+    damped_modes_in(&Coordinates::new(sys, None)?, omega, split)
+}
+
+/// The damped modes at spin speed `omega` [rad/s] on `coords` (module doc and [`super::basis`]):
+/// an eigen-solver failure is an error naming the speed.
+pub fn damped_modes_in(
+    coords: &Coordinates,
+    omega: f64,
+    split: Split,
+) -> Result<ModeSet, LinearError> {
+    let sys = coords.system();
     let n = sys.n();
-    let (k, c) = sys.at(omega);
-    let c = c + omega * &sys.gs;
-    let minv = sys
-        .m
-        .clone()
-        .cholesky()
-        .ok_or(eigen::EigenError::MassNotPositiveDefinite)?
-        .inverse();
-    let mut a = DMatrix::zeros(2 * n, 2 * n);
-    a.view_mut((0, n), (n, n)).fill_with_identity();
-    a.view_mut((n, 0), (n, n)).copy_from(&(-&minv * k));
-    a.view_mut((n, n), (n, n)).copy_from(&(-&minv * c));
-    let (values, vectors) = eigen::general(&a)?;
+    let named = |e: LinearError| match e {
+        LinearError::Eigen(e) => LinearError::Singular(format!(
+            "damped modes at {} Hz: {e} (the state matrix's QR stops after 30·max(10, n) sweeps)",
+            omega / (2.0 * std::f64::consts::PI)
+        )),
+        e => e,
+    };
+    let basis = coords.at(omega).map_err(named)?;
+    let a = basis.state().map_err(named)?;
+    let (values, vectors) = eigen::general(&a).map_err(|e| named(e.into()))?;
     let mut max_growth = f64::NEG_INFINITY;
     let mut zero_lateral = 0;
+    let mut rigid = Vec::new();
+    for &r in &basis.rigid {
+        let kind = kind_of(sys, &basis.rigid_shape(r)).0;
+        rigid.push(kind);
+        if kind == Kind::Lateral {
+            zero_lateral += 1;
+        }
+    }
     let mut picked: Vec<(C64, DVector<C64>)> = Vec::new();
     for (i, l) in values.iter().enumerate() {
         let lam = C64::new(l.re, l.im);
-        let v = DVector::from_fn(n, |r, _| {
-            let z = vectors[(r, i)];
-            C64::new(z.re, z.im)
-        });
+        let v = basis.shape(&vectors, i, lam);
+        debug_assert_eq!(v.len(), n);
         if lam.norm() < ZERO_RAD_S {
             if l.im >= 0.0 && kind_of(sys, &v).0 == Kind::Lateral {
                 zero_lateral += 1;
@@ -210,6 +231,8 @@ pub fn damped_modes(sys: &LinearSystem, omega: f64, split: Split) -> Result<Mode
             0.0
         },
         zero_lateral,
+        rigid,
+        cutoff_hz: basis.cutoff_hz,
     })
 }
 

@@ -13,12 +13,13 @@
 //! mode that grows at the speed). Frame: stationary ([`crate::linear`]).
 //!
 //! Method: [`LinearSystem::supported_hz`](crate::dynamics::LinearSystem), [`sweep`],
-//! [`damped_modes`] with whirl splitting. Errors name the scene ([`in_scene`]).
+//! [`damped_modes_in`](super::modes::damped_modes_in) with whirl splitting. Errors name the scene ([`in_scene`]).
 
 use serde::Serialize;
 
-use super::campbell::sweep;
-use super::modes::{damped_modes, Kind, Split};
+use super::basis::Coordinates;
+use super::campbell::{sweep, LISTED_OF_CUTOFF};
+use super::modes::{damped_modes_in, Kind, Split};
 use super::scene_system::{in_scene, scene_system};
 use super::FRAME_NOTE;
 use crate::dynamics::model::Model;
@@ -92,8 +93,14 @@ pub fn modes_report(
             Some(sweep(&sys, &speeds, None).map_err(&named)?)
         }
     };
-    let at_speed =
-        damped_modes(&sys, 2.0 * std::f64::consts::PI * speed_hz, Split::Whirl).map_err(&named)?;
+    let range = speed_hz.max(sweep_to_hz.unwrap_or(0.0));
+    let coords = Coordinates::new(&sys, Some(range)).map_err(&named)?;
+    let mut at_speed =
+        damped_modes_in(&coords, 2.0 * std::f64::consts::PI * speed_hz, Split::Whirl)
+            .map_err(&named)?;
+    if let Some(c) = at_speed.cutoff_hz {
+        at_speed.modes.retain(|m| m.freq_hz <= LISTED_OF_CUTOFF * c);
+    }
     let mut warnings = camp
         .as_ref()
         .map(|c| c.warnings.clone())

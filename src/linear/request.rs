@@ -25,14 +25,18 @@ use serde_json::{json, Map, Value};
 
 use super::campbell::{lateral_modes, sweep, CampbellData};
 use super::critical_map::{critical_map, CriticalMap};
-use super::floquet::{scene_growth, unstable_ranges, Growth, UNSTABLE_GROWTH};
+use super::floquet::{
+    band_modes, scene_growth, time_invariant, unstable_ranges, BandMode, Growth, UNDAMPED_ZETA,
+    UNSTABLE_GROWTH,
+};
 use super::modes::node_shape;
+use super::peaks::{peaks, Peak};
 use super::response::{plane_response, point_unbalance, SensorResponse};
 use super::statics::{self, Static};
 use super::FRAME_NOTE;
 use crate::dynamics::model::Model;
 use crate::dynamics::{LinearError, LinearSystem};
-use crate::scene::Scene;
+use crate::scene::{Scene, SupportModel, MAX_SPEED_HZ};
 
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 
@@ -142,6 +146,12 @@ pub fn parse_speeds(text: &str) -> Result<Vec<f64>, String> {
     if count > MAX_SPEEDS {
         return Err(format!("{}: at most {MAX_SPEEDS} speeds", bad()));
     }
+    if stop > MAX_SPEED_HZ {
+        return Err(format!(
+            "speeds `{text}`: STOP {stop:e} Hz is above {MAX_SPEED_HZ:e} Hz, the highest spin speed \
+             a scene may ask for (speed.hz)"
+        ));
+    }
     Ok((0..count)
         .map(|i| start + (stop - start) * i as f64 / (count - 1) as f64)
         .collect())
@@ -161,19 +171,46 @@ pub struct Response {
     pub values: Vec<Vec<SensorResponse>>,
     /// `scene` or the point unbalance `MASS_G,RADIUS_MM,ANGLE_DEG,Z_MM`.
     pub unbalance: String,
+    /// The peaks near each critical speed at the sensors, refined ([`super::peaks`]).
+    pub peaks: Vec<Peak>,
 }
 
 /// The Floquet analysis over the positive speeds.
 #[derive(Debug, Clone)]
 pub struct Floquet {
-    /// The positive speeds of the request [Hz].
+    /// The positive speeds of the request [Hz] (empty when not needed).
     pub speeds_hz: Vec<f64>,
     /// Growth per revolution per speed.
     pub growth: Vec<Growth>,
     /// Unstable speed ranges [Hz].
     pub ranges: Vec<[f64; 2]>,
+    /// Per range: its growth and the modes that combine.
+    pub bands: Vec<Band>,
     /// The cut-off [Hz] (`None`: all modes).
     pub cutoff_hz: Option<f64>,
+    /// Why Floquet was not run, when the body-frame system is time-invariant.
+    pub not_needed: Option<&'static str>,
+}
+
+/// Why Floquet is not run on an axisymmetric rotor on isotropic supports.
+pub const FLOQUET_NOT_NEEDED: &str = "not needed: an axisymmetric rotor on isotropic supports \
+has a time-invariant body-frame system, whose stability is the damped modes' (the stability \
+threshold)";
+
+/// One Floquet-unstable range with what makes it up.
+#[derive(Debug, Clone)]
+pub struct Band {
+    /// The range [Hz].
+    pub range_hz: [f64; 2],
+    /// The largest growth per revolution sampled in it, and at which speed [Hz].
+    pub growth_per_rev: f64,
+    /// Speed of that growth [Hz].
+    pub at_hz: f64,
+    /// The modes of the growing motion there.
+    pub modes: Vec<BandMode>,
+    /// `marginal` when every mode in it is undamped (growth at the Magnus error's size on
+    /// |μ| = 1), else `unstable`.
+    pub class: &'static str,
 }
 
 /// Every result of a [`Request`].
@@ -195,12 +232,42 @@ pub struct Results {
     pub statics: Option<Result<Static, String>>,
     /// Critical-speed map and the support nodes it marks.
     pub map: Option<(CriticalMap, Vec<String>)>,
+    /// Per support (scene order): what its journal spring is and its stand's stiffness.
+    pub stands: Vec<StandMark>,
     /// Mode shapes per speed and lateral mode (x, y complex at the nodes), when asked for.
     pub shapes: Option<Vec<Vec<ShapeAtNodes>>>,
     /// Warnings of every analysis.
     pub warnings: Vec<String>,
     /// Wall time per analysis [s] (not stored by a study: its bytes must not depend on it).
     pub times: Vec<(&'static str, f64)>,
+}
+
+/// What the critical-speed map marks for one support: the journal spring the map varies is a
+/// bearing's (`bearing`) or, on rollers, the contact's linearised tangent stiffness (`contact`),
+/// in series with the stand, whose own stiffness (kx, ky) [N/m] is marked apart.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StandMark {
+    /// `bearing` or `contact`.
+    pub spring: &'static str,
+    /// The stand's (support mass's ground spring) kx, ky [N/m], if the support has one.
+    pub stand: Option<(f64, f64)>,
+}
+
+fn stand_marks(scene: &Scene) -> Vec<StandMark> {
+    scene
+        .supports
+        .iter()
+        .map(|s| match &s.model {
+            SupportModel::Rollers(r) => StandMark {
+                spring: "contact",
+                stand: Some((r.stand.spring.kx, r.stand.spring.ky)),
+            },
+            SupportModel::Linear(l) => StandMark {
+                spring: "bearing",
+                stand: l.mass.map(|(_, g)| (g.kx, g.ky)),
+            },
+        })
+        .collect()
 }
 
 /// A mode's shape at the nodes: x and y as (re, im), largest translation 1.
@@ -237,9 +304,25 @@ pub fn compute(
                 .map(|s| plane_response(sys, TAU * s, &fc, &planes))
                 .collect::<Result<Vec<_>, _>>()
         })?;
+        let ns = sys.sensors.len();
+        let sampled: Vec<Vec<f64>> = (0..ns)
+            .map(|p| values.iter().map(|v| v[p].major()).collect())
+            .collect();
+        let critical: Vec<(f64, f64)> = campbell
+            .critical
+            .iter()
+            .map(|c| (c.speed_hz, c.log_dec))
+            .collect();
+        let peaks = timed(&mut times, "peaks", || {
+            if fc.iter().all(|x| *x == 0.0) {
+                return Ok(Vec::new());
+            }
+            peaks(sys, &fc, &planes[..ns], &critical, &req.speeds_hz, &sampled)
+        })?;
         Some(Response {
             planes: planes.into_iter().map(|p| p.0).collect(),
-            sensors: sys.sensors.len(),
+            sensors: ns,
+            peaks,
             values,
             unbalance: req
                 .unbalance
@@ -249,7 +332,7 @@ pub fn compute(
         None
     };
     let floquet = if req.floquet {
-        let f = timed(&mut times, "floquet", || floquet(req, sys))?;
+        let f = timed(&mut times, "floquet", || floquet(req, model, sys))?;
         for (s, g) in f.speeds_hz.iter().zip(&f.growth) {
             if !g.converged {
                 warnings.push(format!(
@@ -270,7 +353,7 @@ pub fn compute(
     }
     let map = if req.critical_map {
         let m = timed(&mut times, "critical_map", || {
-            critical_map(sys, &map_stiffness())
+            critical_map(sys, &map_stiffness(), req.speeds_hz.last().copied())
         })?;
         Some((m, scene.supports.iter().map(|s| s.node.clone()).collect()))
     } else {
@@ -303,15 +386,30 @@ pub fn compute(
         floquet,
         statics,
         map,
+        stands: stand_marks(scene),
         shapes,
         warnings,
         times,
     })
 }
 
-fn floquet(req: &Request, sys: &LinearSystem) -> Result<Floquet, LinearError> {
+fn floquet(req: &Request, model: &Model, sys: &LinearSystem) -> Result<Floquet, LinearError> {
     let cutoff = req.floquet_cutoff_hz.unwrap_or(f64::INFINITY);
     let speeds_hz: Vec<f64> = req.speeds_hz.iter().copied().filter(|s| *s > 0.0).collect();
+    if !speeds_hz.is_empty()
+        && speeds_hz
+            .iter()
+            .all(|s| time_invariant(sys, &model.rotor, TAU * s))
+    {
+        return Ok(Floquet {
+            speeds_hz: Vec::new(),
+            growth: Vec::new(),
+            ranges: Vec::new(),
+            bands: Vec::new(),
+            cutoff_hz: req.floquet_cutoff_hz,
+            not_needed: Some(FLOQUET_NOT_NEEDED),
+        });
+    }
     // Speeds are independent: in parallel, collected in order (the same bytes on any pool).
     let growth = speeds_hz
         .par_iter()
@@ -336,12 +434,61 @@ fn floquet(req: &Request, sys: &LinearSystem) -> Result<Floquet, LinearError> {
             .map(|(s, _)| [*s, *s])
             .collect()
     };
+    let bands = ranges
+        .iter()
+        .map(|r| band(sys, *r, &speeds_hz, &values, cutoff))
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(Floquet {
         speeds_hz,
         growth,
         ranges,
+        bands,
         cutoff_hz: req.floquet_cutoff_hz,
+        not_needed: None,
     })
+}
+
+/// The band of an unstable range: its fastest-growing sampled speed (the middle when no sample
+/// falls inside) and the modes there ([`band_modes`]).
+fn band(
+    sys: &LinearSystem,
+    range_hz: [f64; 2],
+    speeds_hz: &[f64],
+    growth: &[f64],
+    cutoff: f64,
+) -> Result<Band, LinearError> {
+    let at_hz = speeds_hz
+        .iter()
+        .zip(growth)
+        .filter(|(s, _)| **s >= range_hz[0] && **s <= range_hz[1])
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .map_or(0.5 * (range_hz[0] + range_hz[1]), |(s, _)| *s);
+    let (growth_per_rev, modes) = band_modes(sys, TAU * at_hz, cutoff)?;
+    let marginal = modes.iter().all(|m| m.damping_ratio.abs() < UNDAMPED_ZETA);
+    Ok(Band {
+        range_hz,
+        growth_per_rev,
+        at_hz,
+        modes,
+        class: if marginal { "marginal" } else { "unstable" },
+    })
+}
+
+/// A band's modes as text: `axial 37.91 Hz ζ 0 (98 %)`.
+pub fn band_modes_text(b: &Band) -> String {
+    b.modes
+        .iter()
+        .map(|m| {
+            format!(
+                "{} {:.2} Hz ζ {:.2e} ({:.0} %)",
+                m.kind,
+                m.freq_hz,
+                m.damping_ratio,
+                100.0 * m.share
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" + ")
 }
 
 fn response_json(r: &Response, planes: std::ops::Range<usize>) -> Value {
@@ -457,13 +604,42 @@ impl Results {
             ),
             None => (json!({}), json!({}), json!("not computed")),
         };
+        let peaks: Vec<Value> = self
+            .response
+            .iter()
+            .flat_map(|r| &r.peaks)
+            .map(|p| {
+                json!({
+                    "sensor": p.plane, "critical_hz": p.critical_hz, "speed_hz": p.speed_hz,
+                    "major_um": p.major_um, "sampled_um": p.sampled_um, "coarse": p.coarse,
+                })
+            })
+            .collect();
         let floquet = match &self.floquet {
             Some(f) => {
-                let frame = if f.speeds_hz.is_empty() {
+                let frame = if let Some(why) = f.not_needed {
+                    why
+                } else if f.speeds_hz.is_empty() {
                     "not applicable at standstill (no revolution)"
                 } else {
                     FLOQUET_FRAME
                 };
+                let bands: Vec<Value> = f
+                    .bands
+                    .iter()
+                    .map(|b| {
+                        json!({
+                            "range_hz": b.range_hz,
+                            "growth_per_rev": b.growth_per_rev,
+                            "at_hz": b.at_hz,
+                            "class": b.class,
+                            "modes": b.modes.iter().map(|m| json!({
+                                "freq_hz": m.freq_hz, "kind": m.kind,
+                                "damping_ratio": m.damping_ratio, "share": m.share,
+                            })).collect::<Vec<_>>(),
+                        })
+                    })
+                    .collect();
                 json!({
                     "unstable_ranges_hz": f.ranges,
                     "speeds_hz": f.speeds_hz,
@@ -471,6 +647,7 @@ impl Results {
                     "steps_per_rev": f.growth.iter().map(|g| g.steps).collect::<Vec<_>>(),
                     "converged": f.growth.iter().map(|g| g.converged).collect::<Vec<_>>(),
                     "cutoff_hz": f.cutoff_hz,
+                    "bands": bands,
                     "frame": frame,
                 })
             }
@@ -480,9 +657,14 @@ impl Results {
             json!({
                 "stiffness_n_per_m": m.stiffness,
                 "critical_speeds_hz": m.critical_hz,
-                "actual_n_per_m": nodes.iter().zip(&m.actual).map(|(n, k)| json!({
-                    "node": n, "kx": k.0, "ky": k.1
-                })).collect::<Vec<_>>(),
+                "actual_n_per_m": nodes.iter().zip(&m.actual).zip(&self.stands)
+                    .map(|((n, k), st)| json!({
+                        "node": n, "kx": k.0, "ky": k.1, "spring": st.spring,
+                    })).collect::<Vec<_>>(),
+                "stands_n_per_m": nodes.iter().zip(&self.stands)
+                    .filter_map(|(n, st)| st.stand.map(|(kx, ky)| json!({
+                        "node": n, "kx": kx, "ky": ky,
+                    }))).collect::<Vec<_>>(),
             })
         });
         let mut out = json!({
@@ -501,6 +683,7 @@ impl Results {
             "phase_convention": PHASE_NOTE,
             "unbalance_response": response,
             "unbalance_response_nodes": response_nodes,
+            "unbalance_peaks": peaks,
             "floquet": floquet,
             "static": self.statics.as_ref().map(static_json),
             "critical_map": map,

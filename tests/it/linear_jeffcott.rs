@@ -140,7 +140,7 @@ fn critical_speed_map_matches_the_rigid_rotor() {
     let (r, l) = (0.1_f64, 0.4_f64);
     let (id, ip) = (m * (l * l / 12.0 + r * r / 4.0), m * r * r / 2.0);
     let ks = [1e5, 1e6, 4e6];
-    let map = critical_map(&sys, &ks).unwrap();
+    let map = critical_map(&sys, &ks, None).unwrap();
     assert_eq!(map.actual, [(K, K), (K, K)]);
     for (k, crit) in ks.iter().zip(&map.critical_hz) {
         let kt = 2.0 * k * (l / 2.0).powi(2);

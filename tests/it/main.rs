@@ -34,6 +34,8 @@ mod linear_consistency;
 mod linear_floquet;
 mod linear_friswell;
 mod linear_jeffcott;
+mod linear_peaks;
+mod linear_rigid;
 mod linear_study;
 mod linear_supports;
 mod mutation;

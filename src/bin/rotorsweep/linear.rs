@@ -2,7 +2,8 @@
 //! [`rotorsweep::linear`]).
 //!
 //! In: a scene, `--speed-hz F` (that speed only) or `--speeds START:STOP:COUNT` [Hz] (default
-//! 0:100:101), `--set KEY=VALUE`, `--modes`, `--max-freq-hz`, `--unbalance`, `--floquet-cutoff-hz`.
+//! 0:100:101), `--set KEY=VALUE`, `--modes`, `--max-freq-hz`, `--unbalance`, `--floquet-cutoff-hz`,
+//! `--no-floquet`.
 //! Out: tables, or with `--json` one object: `speeds_hz`; `modes` (per speed, ascending:
 //! `{freq_hz, damping_ratio, log_dec, whirl, kind, whirl_index}`, damped frequency [Hz]);
 //! with `--shapes` each mode's `shape` `{x_re, x_im, y_re, y_im}` at the nodes of `node_z_mm`;
@@ -11,7 +12,10 @@
 //! `{vertical|horizontal: {amplitude_um, phase_deg}, major_um, minor_um}` over `speeds_hz`
 //! (phase of x(t) = A cos(θ + φ) against roll angle θ = 0, as the study analysis), and the same
 //! at every named node in `unbalance_response_nodes`;
-//! `floquet` `{unstable_ranges_hz, speeds_hz, growth_per_rev, cutoff_hz, frame}`; `static`
+//! `floquet` `{unstable_ranges_hz, speeds_hz, growth_per_rev, cutoff_hz, bands, frame}` (not
+//! run with `--no-floquet`, nor where it cannot differ from the damped modes: an axisymmetric
+//! rotor on isotropic supports; each band with its growth per revolution, the modes that combine
+//! and its class, `marginal` or `unstable`); `static`
 //! (sag per sensor [µm], journal positions [µm], support and contact forces [N]);
 //! `critical_map` (undamped critical speeds against the supports' stiffness, actual marked);
 //! `frame`, `phase_convention`, `warnings`, `times_s`. `-o OUT.h5` writes it
@@ -27,9 +31,10 @@ use std::path::PathBuf;
 use rotorsweep::dynamics::model::Model;
 use rotorsweep::linear::modes::Kind;
 use rotorsweep::linear::request::{self, PointUnbalance, Request, Results, PHASE_NOTE};
-use rotorsweep::linear::scene_system::scene_system;
+use rotorsweep::linear::scene_system::{in_scene, scene_system};
 use rotorsweep::linear::FRAME_NOTE;
 use rotorsweep::results::linear_file;
+use rotorsweep::scene::MAX_SPEED_HZ;
 use rotorsweep::store;
 
 use crate::error::CliError;
@@ -61,6 +66,10 @@ pub struct Args {
     /// `linear::floquet` before cutting).
     #[arg(long)]
     floquet_cutoff_hz: Option<f64>,
+    /// Leave out the Floquet analysis (the costliest; the damped modes' stability threshold
+    /// stays).
+    #[arg(long, conflicts_with = "floquet_cutoff_hz")]
+    no_floquet: bool,
     /// Add each mode's complex shape at the nodes to the JSON (`shape`, nodes at `node_z_mm`).
     #[arg(long)]
     shapes: bool,
@@ -82,7 +91,13 @@ fn request(a: &Args) -> Result<Request, String> {
         return Err("--floquet-cutoff-hz must be positive".into());
     }
     let speeds_hz = match a.speed_hz {
-        Some(f) if f.is_finite() && f >= 0.0 => vec![f],
+        Some(f) if f.is_finite() && (0.0..=MAX_SPEED_HZ).contains(&f) => vec![f],
+        Some(f) if f > MAX_SPEED_HZ => {
+            return Err(format!(
+                "--speed-hz {f:e} is above {MAX_SPEED_HZ:e} Hz, the highest spin speed a scene may \
+                 ask for (speed.hz)"
+            ))
+        }
         Some(_) => return Err("--speed-hz must be zero or positive".into()),
         None => request::parse_speeds(a.speeds.as_deref().unwrap_or("0:100:101"))
             .map_err(|e| format!("--{e}"))?,
@@ -97,7 +112,7 @@ fn request(a: &Args) -> Result<Request, String> {
             .transpose()
             .map_err(|e| format!("--{e}"))?,
         response: true,
-        floquet: true,
+        floquet: !a.no_floquet,
         floquet_cutoff_hz: a.floquet_cutoff_hz,
         statics: true,
         critical_map: true,
@@ -117,7 +132,7 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         .map(|p| store::output::claim(p, a.overwrite))
         .transpose()?;
     let sys = scene_system(&scene, &model)?;
-    let r = request::compute(&req, &scene, &model, &sys)?;
+    let r = request::compute(&req, &scene, &model, &sys).map_err(in_scene(&scene))?;
     if let Some(path) = &a.output {
         let command = std::env::args().collect::<Vec<_>>().join(" ");
         linear_file::write(path, &scene, &r, &command)?;
@@ -164,21 +179,27 @@ fn print_tables(r: &Results) {
     }
     if let Some(resp) = &r.response {
         print_response(resp, &r.campbell.speeds_hz);
+        print_peaks(resp);
     }
     if let Some(f) = &r.floquet {
-        let ranges: Vec<String> = f
-            .ranges
-            .iter()
-            .map(|[a, b]| format!("{a:.4}–{b:.4} Hz"))
-            .collect();
-        println!(
-            "\nFloquet (body frame): unstable {}",
-            if ranges.is_empty() {
-                "nowhere in the range".to_string()
-            } else {
-                ranges.join(", ")
+        if let Some(why) = f.not_needed {
+            println!("\nFloquet (body frame): {why}");
+        } else if f.bands.is_empty() {
+            println!("\nFloquet (body frame): unstable nowhere in the range");
+        } else {
+            println!("\nFloquet (body frame):");
+            for b in &f.bands {
+                println!(
+                    "  {} {:.4}–{:.4} Hz: growth {:.3e} per revolution at {:.4} Hz; modes {}",
+                    b.class,
+                    b.range_hz[0],
+                    b.range_hz[1],
+                    b.growth_per_rev,
+                    b.at_hz,
+                    request::band_modes_text(b)
+                );
             }
-        );
+        }
     }
     match &r.statics {
         Some(Ok(s)) => {
@@ -214,6 +235,28 @@ fn print_tables(r: &Results) {
     }
     for w in &r.warnings {
         println!("warning: {w}");
+    }
+}
+
+fn print_peaks(r: &request::Response) {
+    if r.peaks.is_empty() {
+        return;
+    }
+    println!("\nresponse peaks near the critical speeds (orbit major semi-axis, refined):");
+    for p in &r.peaks {
+        println!(
+            "  {} at {:.4} Hz (critical {:.4} Hz): {:.3} µm; the sweep shows {:.3} µm{}",
+            p.plane,
+            p.speed_hz,
+            p.critical_hz,
+            p.major_um,
+            p.sampled_um,
+            if p.coarse {
+                " — coarse: the sweep misses this peak"
+            } else {
+                ""
+            }
+        );
     }
 }
 
