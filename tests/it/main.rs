@@ -26,6 +26,7 @@ mod cvode;
 mod dynamics_checks;
 mod error_trust;
 mod import;
+mod input_checks;
 mod integrator_order;
 mod layering;
 mod linear_cli;
