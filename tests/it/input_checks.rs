@@ -178,3 +178,139 @@ fn balance_refuses_nan_lines_and_holes_that_are_not_holes() {
         );
     }
 }
+
+fn reference_roll() -> String {
+    support::repo()
+        .join("studies/scenes/reference-roll.toml")
+        .to_string_lossy()
+        .into_owned()
+}
+
+#[test]
+fn scene_values_are_range_checked_and_blamed_on_set() {
+    let dir = support::scratch("scene-ranges");
+    let roll = reference_roll();
+    let check = |set: &str| refused(&dir, &["check", &roll, "--no-model", "--set", set]);
+    // Was blamed on the file's line and `roll.shell.thickness_map`.
+    let err = check("roll.shell.outer_diameter_mm=0.5");
+    assert!(
+        err.contains("<command line --set>") && err.contains("`roll.shell.outer_diameter_mm`"),
+        "{err}"
+    );
+    // Absurd sizes and materials name their key (they failed in the model, without one).
+    for (set, key) in [
+        ("roll.heads.thickness_mm=1e-9", "roll.heads.thickness_mm"),
+        ("roll.journal.length_mm=1e-12", "roll.journal.length_mm"),
+        (
+            "materials.steel.density_kg_m3=1e300",
+            "materials.steel.density_kg_m3",
+        ),
+        (
+            "materials.steel.density_kg_m3=1e-300",
+            "materials.steel.density_kg_m3",
+        ),
+        (
+            "materials.steel.youngs_modulus_gpa=1e30",
+            "materials.steel.youngs_modulus_gpa",
+        ),
+    ] {
+        let err = check(set);
+        assert!(err.contains(&format!("`{key}`")), "{set}: {err}");
+    }
+    // A sensor name that is no safe HDF5 group name: its file, line and key.
+    let text = std::fs::read_to_string(&roll).unwrap();
+    let line = support::line_number(&text, "name = \"centre\"");
+    let bad = text.replace("name = \"centre\"", "name = \"..\"");
+    let maps = support::repo().join("studies/maps");
+    let scenes = dir.join("scenes");
+    std::fs::create_dir_all(&scenes).unwrap();
+    std::os::unix::fs::symlink(&maps, dir.join("maps")).unwrap();
+    support::write_file(&scenes, "dots.toml", &bad);
+    let err = refused(&dir, &["check", "scenes/dots.toml", "--no-model"]);
+    assert!(
+        err.contains(&format!("dots.toml:{line}:")) && err.contains("safe identifier"),
+        "{err}"
+    );
+    for name in ["a/b", "", "x\\u0001"] {
+        let err = check(&format!("roll.sensors[0].name=\"{name}\""));
+        assert!(err.contains("`roll.sensors[0].name`"), "{name:?}: {err}");
+    }
+}
+
+#[test]
+fn speeds_are_range_checked_and_taken_in_rpm() {
+    let dir = support::scratch("speeds");
+    let jeff = support::repo().join("studies/scenes/jeffcott.toml");
+    let jeff = jeff.to_str().unwrap();
+    // Was "the eigen-solver did not converge".
+    let err = refused(&dir, &["linear", jeff, "--speed-hz", "1e308"]);
+    assert!(err.contains("--speed-hz") && err.contains("1e5"), "{err}");
+    let err = refused(&dir, &["modes", jeff, "--max-speed-hz", "1e308"]);
+    assert!(err.contains("--max-speed-hz"), "{err}");
+    let err = refused(&dir, &["linear", jeff, "--speeds", "0:1e9:3 rpm"]);
+    assert!(err.contains("--speeds"), "{err}");
+    // --speeds in rev/min: 0, 60, 120 rpm are 0, 1, 2 Hz.
+    let out = support::rotorsweep_ok(&["linear", jeff, "--speeds", "0:120:3 rpm", "--json"]);
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(
+        doc["speeds_hz"],
+        serde_json::json!([0.0, 1.0, 2.0]),
+        "{doc}"
+    );
+    // speed.rpm in a scene, printed beside Hz; not with speed.hz.
+    let out = support::rotorsweep_ok(&["check", jeff, "--no-model", "--set", "speed.rpm=600"]);
+    let text = String::from_utf8_lossy(&out);
+    assert!(text.contains("constant 10.0000 Hz (600.00 rpm)"), "{text}");
+}
+
+#[test]
+fn speed_rpm_and_hz_exclude_each_other() {
+    let dir = support::scratch("rpm-key");
+    let roll = reference_roll();
+    let err = refused(
+        &dir,
+        &["check", &roll, "--no-model", "--set", "speed.rpm=800"],
+    );
+    assert!(
+        err.contains("<command line --set>")
+            && err.contains("`speed.rpm`")
+            && err.contains("not both"),
+        "{err}"
+    );
+    // In an `extends` chain one replaces the other, as the wall choices do.
+    let jeff = std::fs::read_to_string(support::repo().join("studies/scenes/jeffcott.toml"));
+    support::write_file(
+        &dir,
+        "base.toml",
+        &(jeff.unwrap() + "\n[speed]\nhz = 10.0\n"),
+    );
+    let child = support::write_file(
+        &dir,
+        "child.toml",
+        "extends = \"base.toml\"\n[speed]\nrpm = 900.0\n",
+    );
+    let out = support::rotorsweep_ok(&["check", child.to_str().unwrap(), "--no-model"]);
+    let text = String::from_utf8_lossy(&out);
+    assert!(text.contains("constant 15.0000 Hz (900.00 rpm)"), "{text}");
+}
+
+#[test]
+fn check_warns_of_a_thin_wall_and_a_shell_lighter_than_its_ends() {
+    let ideal = support::repo().join("studies/scenes/ideal-roll.toml");
+    let ideal = ideal.to_str().unwrap();
+    let out = support::rotorsweep_ok(&["check", ideal, "--no-model"]);
+    assert!(!String::from_utf8_lossy(&out).contains("warning"));
+    let out = support::rotorsweep_ok(&[
+        "check",
+        ideal,
+        "--no-model",
+        "--set",
+        "roll.shell.wall_thickness_mm=0.5",
+    ]);
+    let text = String::from_utf8_lossy(&out);
+    assert!(
+        text.contains("warning: <command line --set>: key `roll.shell.wall_thickness_mm`: a wall of 0.5000 mm"),
+        "{text}"
+    );
+    assert!(text.contains("is lighter than the roll's heads"), "{text}");
+}
