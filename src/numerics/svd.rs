@@ -21,7 +21,8 @@ pub fn bounded_svd<T: ComplexField>(a: DMatrix<T>) -> Option<SVD<T, Dyn, Dyn>> {
         return None;
     }
     let size = a.nrows().min(a.ncols());
-    let eps = T::RealField::default_epsilon() * nalgebra::convert(5.0);
+    // nalgebra's own `svd` tolerance, 5 ε (its real field is f64 here).
+    let eps: T::RealField = nalgebra::convert(5.0 * f64::EPSILON);
     a.try_svd(true, true, eps, MAX_SWEEPS_PER_SIZE * (size + 1))
 }
 

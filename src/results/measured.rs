@@ -41,6 +41,7 @@ use crate::error::InputError;
 use crate::rotor::wall::data_rows;
 use crate::signal::orders;
 use crate::store::{self, Param};
+use crate::text::number_text;
 
 /// A measured record.
 #[derive(Debug, Clone)]
@@ -269,8 +270,8 @@ fn assemble(
             i + 1,
             format!(
                 "time_s {} does not follow {} (times must be strictly ascending)",
-                time[i + 1],
-                time[i]
+                number_text(time[i + 1]),
+                number_text(time[i])
             ),
         ));
     }
@@ -289,8 +290,8 @@ fn assemble(
             i + 1,
             format!(
                 "roll_angle_rad {} is below the previous {}: it must be unwrapped",
-                roll_angle[i + 1],
-                roll_angle[i]
+                number_text(roll_angle[i + 1]),
+                number_text(roll_angle[i])
             ),
         ));
     }
@@ -324,11 +325,12 @@ fn uniform_steps(time: &[f64]) -> Result<(), (usize, String)> {
         Some(k) => Err((
             k + 1,
             format!(
-                "time_s {} is {:e} s after {}, the record samples every {median:e} s (median): \
-                 the spectra need uniform sampling (a gap, or a time that is not the sample's)",
-                time[k + 1],
-                time[k + 1] - time[k],
-                time[k]
+                "time_s {} is {} s after {}, the record samples every {} s (median): the \
+                 spectra need uniform sampling (a gap, or a time that is not the sample's)",
+                number_text(time[k + 1]),
+                number_text(time[k + 1] - time[k]),
+                number_text(time[k]),
+                number_text(median)
             ),
         )),
     }

@@ -9,6 +9,8 @@
 
 use serde::Deserialize;
 
+use crate::text::number_text;
+
 /// The study's `[analysis]` table: what the post-processing of the results computes.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -57,11 +59,12 @@ pub fn check_orders(orders: &[f64]) -> Result<(), String> {
     }
     if let Some(o) = orders.iter().find(|o| !(lo..=hi).contains(*o)) {
         return Err(format!(
-            "order {o} is outside [{lo}, {hi}] (orders of the spin frequency: 1 is the 1×)"
+            "order {} is outside [{lo}, {hi}] (orders of the spin frequency: 1 is the 1×)",
+            number_text(*o)
         ));
     }
     if let Some(i) = (1..orders.len()).find(|&i| orders[..i].contains(&orders[i])) {
-        return Err(format!("order {} is given twice", orders[i]));
+        return Err(format!("order {} is given twice", number_text(orders[i])));
     }
     Ok(())
 }

@@ -37,8 +37,9 @@ impl Check<'_> {
     /// the tube): at the first of them a `--set` override gave, else at the first key. So an
     /// override that breaks a relation with a file's value is blamed on the override.
     pub(super) fn err_among(&self, keys: &[&str], reason: impl Into<String>) -> InputError {
-        let set = |k: &&str| self.overridden.iter().any(|o| k.starts_with(o.as_str()));
-        self.err(keys.iter().find(set).unwrap_or(&keys[0]), reason)
+        let set = |k: &str| self.overridden.iter().any(|o| k.starts_with(o.as_str()));
+        let key = keys.iter().copied().find(|k| set(k)).unwrap_or(keys[0]);
+        self.err(key, reason)
     }
 
     /// An axial position (`position.rs`) in mm on the scene's axis.

@@ -9,6 +9,7 @@ use std::path::PathBuf;
 
 use rotorsweep::signal::influence::PlaneLimits;
 use rotorsweep::study::balancing;
+use rotorsweep::text::number_text;
 
 use crate::error::CliError;
 
@@ -104,7 +105,10 @@ fn hole_angles(deg: &[f64]) -> Result<(), String> {
         return Err(format!("{} angles: at most {MAX_HOLES} holes", deg.len()));
     }
     if let Some(d) = deg.iter().find(|d| !(-360.0..=360.0).contains(*d)) {
-        return Err(format!("{d} is not an angle in [-360, 360] degrees"));
+        return Err(format!(
+            "{} is not an angle in [-360, 360] degrees",
+            number_text(*d)
+        ));
     }
     for (i, d) in deg.iter().enumerate() {
         if let Some(e) = deg[..i].iter().find(|e| {

@@ -9,6 +9,7 @@
 
 use rotorsweep::linear::request;
 use rotorsweep::scene::MAX_SPEED_HZ;
+use rotorsweep::text::number_text;
 
 /// A speed [Hz] of option `flag`: finite and within [0, [`MAX_SPEED_HZ`]].
 pub fn hz(flag: &str, v: f64) -> Result<f64, String> {
@@ -16,7 +17,8 @@ pub fn hz(flag: &str, v: f64) -> Result<f64, String> {
         Ok(v)
     } else {
         Err(format!(
-            "--{flag} {v}: a spin speed must lie in [0, {MAX_SPEED_HZ}] Hz ({} rpm)",
+            "--{flag} {}: a spin speed must lie in [0, {MAX_SPEED_HZ}] Hz ({} rpm)",
+            number_text(v),
             60.0 * MAX_SPEED_HZ
         ))
     }
@@ -40,8 +42,9 @@ pub fn sweep(text: &str) -> Result<Vec<f64>, String> {
     let top = speeds.last().copied().unwrap_or(0.0);
     if top > MAX_SPEED_HZ {
         return Err(format!(
-            "--speeds `{text}`: STOP is {top} Hz, above the spin speed limit of {MAX_SPEED_HZ} Hz \
+            "--speeds `{text}`: STOP is {} Hz, above the spin speed limit of {MAX_SPEED_HZ} Hz \
              ({} rpm)",
+            number_text(top),
             60.0 * MAX_SPEED_HZ
         ));
     }
