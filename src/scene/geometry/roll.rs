@@ -251,7 +251,10 @@ fn shaft(
     let d = 1e-3 * c.size_mm(&format!("{key}.diameter_mm"), s.diameter_mm)?;
     if d > shell_outer {
         return Err(c.err_among(
-            &[&format!("{key}.diameter_mm"), "roll.shell.outer_diameter_mm"],
+            &[
+                &format!("{key}.diameter_mm"),
+                "roll.shell.outer_diameter_mm",
+            ],
             "a shaft cannot be thicker than the shell",
         ));
     }
