@@ -289,9 +289,9 @@ fn assemble(
         return Err(at_sample(
             i + 1,
             format!(
-                "roll_angle_rad {} is below the previous {}: it must be unwrapped",
-                number_text(roll_angle[i + 1]),
-                number_text(roll_angle[i])
+                "roll_angle_rad decreases from {} to {}: it must be unwrapped",
+                number_text(roll_angle[i]),
+                number_text(roll_angle[i + 1])
             ),
         ));
     }

@@ -94,7 +94,7 @@ impl Check<'_> {
         } else {
             Err(self.err(
                 key,
-                format!("must be a size in [{lo}, {hi:e}] mm (1 µm to 1 km), got {v}"),
+                format!("must be a positive size in [{lo}, {hi:e}] mm (1 µm to 1 km), got {v}"),
             ))
         }
     }

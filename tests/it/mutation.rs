@@ -579,6 +579,7 @@ fn balance_results(base: &Path) -> std::path::PathBuf {
     let (head, rest) = text.split_once("[[supports]]").unwrap();
     let sensors = "[[rotor.sensors]]\nname = \"a\"\nz_mm = 100.0\n";
     let dir = base.join("balance");
+    fs::create_dir_all(&dir).unwrap();
     crate::support::write_file(
         &dir,
         "scene.toml",
