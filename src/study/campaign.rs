@@ -326,16 +326,30 @@ fn save_part(
     Ok(())
 }
 
-/// The saved parts of a run: ids whose part file carries `digest`, and the number of parts
-/// made from other inputs (or unreadable), which are run again. A file there that rotorsweep
-/// did not write (not HDF5 with `tool = rotorsweep` and a `job` group), or a saved job that is
-/// not one of this run's (another shard's, on the same output), is refused: nothing in the
-/// folder is replaced or removed that is not this run's own.
+/// The saved parts of a run: ids whose part file carries the study's digest, and the number of
+/// parts made from other inputs (or unreadable), which are run again: among them the parts of
+/// this study before an edit (the same study file, another digest), whose ids are no longer
+/// jobs when the edit changed a scene. A file there that rotorsweep did not write (not HDF5
+/// with `tool = rotorsweep` and a `job` group), or a saved job of another study or another
+/// shard on the same output, is refused: nothing in the folder is replaced or removed that is
+/// not this run's own.
 fn saved_parts(
     dir: &Path,
-    digest: &str,
+    identity: &Identity,
     wanted: &BTreeSet<&str>,
 ) -> Result<(BTreeSet<String>, usize), CampaignError> {
+    let digest = identity.digest.as_str();
+    let study_file = identity.inputs.iter().find(|f| f.role == "study");
+    // A part of this study's earlier inputs: the same study file, edited (or what it reads).
+    let earlier = |f: &hdf5::File| {
+        let d = store::read_str(f, "study_digest").unwrap_or_default();
+        let inputs = store::read_str(f, "study_inputs").unwrap_or_default();
+        !d.is_empty()
+            && d != digest
+            && Identity::parse_inputs(&inputs)
+                .iter()
+                .any(|i| study_file.is_some_and(|s| s.role == i.role && s.path == i.path))
+    };
     let mut done = BTreeSet::new();
     let mut stale = 0;
     let Ok(rd) = std::fs::read_dir(dir) else {
@@ -354,9 +368,14 @@ fn saved_parts(
             )
         })?;
         if !wanted.contains(id) {
+            if earlier(&f) {
+                stale += 1;
+                continue;
+            }
             return Err(CampaignError::Usage(format!(
                 "{}: a saved job that is not in this run (another shard's, or another study's, \
-                 on the same output?): finish that run into this output, or choose another -o",
+                 on the same output): finish that run into this output, or choose another -o, \
+                 or run with --overwrite instead of --resume to discard the saved jobs",
                 path.display()
             )));
         }
@@ -561,7 +580,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         .map(|j| j.id.as_str())
         .chain(refs.iter().map(|r| r.id.as_str()))
         .collect();
-    let (done, stale) = saved_parts(&dir, &identity.digest, &wanted)?;
+    let (done, stale) = saved_parts(&dir, &identity, &wanted)?;
     if stale > 0 {
         eprintln!(
             "{}: {stale} saved job(s) were made from other inputs or are unreadable; they run again",
@@ -772,7 +791,11 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     });
     progress.finish();
     if let Some(e) = write_error {
-        let saved = saved_parts(&dir, &identity.digest, &wanted).map_or(0, |p| p.0.len());
+        let saved = saved_parts(&dir, &identity, &wanted).map_or(0, |p| p.0.len());
+        progress.assembled(
+            &opts.output,
+            Some(&format!("a run could not be saved: {e}")),
+        );
         return Err(CampaignError::Io {
             path: match &e {
                 CampaignError::Io { path, .. } => path.clone(),
@@ -797,7 +820,9 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         models: &models,
         shares: &shares,
     };
-    assemble(study, opts, &identity, &jobs, &refs, &sources)?;
+    let assembled = assemble(study, opts, &identity, &jobs, &refs, &sources);
+    progress.assembled(&opts.output, assembled.as_ref().err().map(|e| e as _));
+    assembled?;
     drop(shared);
     let statuses = read_statuses(&opts.output)?;
     let (ok, untrusted) = count_statuses(&statuses);
