@@ -58,7 +58,9 @@ fn overview(jobs: &[Job], varying: &[String], linear_only: bool) -> String {
 
 /// Reads the tables of the results file at `path`. Errors name the file.
 pub fn read(path: &Path) -> Result<Report, InputError> {
-    std::fs::metadata(path).map_err(|e| InputError::new(path, e.to_string()))?;
+    // A regular file: opening a FIFO would block.
+    crate::error::regular_file(path, u64::MAX)
+        .map_err(|e| InputError::new(path, format!("cannot be read: {e}")))?;
     let f =
         File::open(path).map_err(|e| InputError::new(path, format!("not an HDF5 file ({e})")))?;
     let not_results = || {

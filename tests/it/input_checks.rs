@@ -47,7 +47,7 @@ fn synthetic_csv() -> String {
 }
 
 #[test]
-fn import_refuses_orders_out_of_range_a_fifo_and_a_directory() {
+fn import_report_and_balance_refuse_a_fifo_and_a_directory_and_orders_out_of_range() {
     let dir = support::scratch("import-refuses");
     let csv = synthetic_csv();
     // --orders 1e308 looped for ever in the line fit's SVD; 1e-320 was accepted.
@@ -68,6 +68,17 @@ fn import_refuses_orders_out_of_range_a_fifo_and_a_directory() {
             err.contains(name) && err.contains("not a regular file"),
             "{err}"
         );
+    }
+    // Results files read by report, report --compare and balance: a FIFO blocked them too.
+    support::rotorsweep_ok(&["import", &csv, "-o", dir.join("ok.h5").to_str().unwrap()]);
+    for args in [
+        &["report", "record.csv"][..],
+        &["report", "ok.h5", "--compare", "record.csv"],
+        &["balance", "record.csv"],
+        &["report", "folder.csv"],
+    ] {
+        let err = refused(&dir, args);
+        assert!(err.contains("not a regular file"), "{args:?}: {err}");
     }
 }
 
