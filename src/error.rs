@@ -109,9 +109,18 @@ pub const MAX_INPUT_BYTES: u64 = 64 << 20;
 
 /// Reads an input file as text, like `std::fs::read_to_string`, but only a regular file of at
 /// most [`MAX_INPUT_BYTES`]: a FIFO would block, and `/dev/zero` would fill the memory.
+/// Text that is not UTF-8 is refused naming the line (1-based) of the first byte that is not.
 pub fn read_text(path: &Path) -> std::io::Result<String> {
     regular_file(path, MAX_INPUT_BYTES)?;
-    std::fs::read_to_string(path)
+    String::from_utf8(std::fs::read(path)?).map_err(|e| {
+        let bytes = e.as_bytes();
+        let at = e.utf8_error().valid_up_to();
+        let line = bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("line {line}: not UTF-8 text (byte {} of the file)", at + 1),
+        )
+    })
 }
 
 /// Checks, before anything opens it, that `path` is a regular file of at most `max_bytes`

@@ -280,8 +280,10 @@ fn assemble(
         (Some(c), _) => std::mem::take(&mut cols[c]),
         (_, Some(c)) => {
             let pulses = orders::pulse_times(&time, &cols[c]);
-            orders::angle_from_pulses(&time, &pulses)
-                .map_err(|e| InputError::new(path, format!("keyphasor: {e}")))?
+            orders::angle_from_pulses(&time, &pulses).map_err(|e| {
+                let kind = if lines.is_some() { "column" } else { "dataset" };
+                InputError::new(path, format!("{kind} `keyphasor`: {e}"))
+            })?
         }
         _ => unreachable!("one of the two is there (checked by `layout`)"),
     };

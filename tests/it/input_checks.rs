@@ -328,3 +328,23 @@ fn check_warns_of_a_thin_wall_and_a_shell_lighter_than_its_ends() {
     );
     assert!(text.contains("is lighter than the roll's heads"), "{text}");
 }
+
+#[test]
+fn text_that_is_not_utf8_names_its_line() {
+    // "stream did not contain valid UTF-8", with no line, for a scene, a study or a CSV.
+    let dir = support::scratch("not-utf8");
+    let mut bytes = b"# a scene\n[speed]\nhz = 1\xff0.0\n".to_vec();
+    std::fs::write(dir.join("bad.toml"), &bytes).unwrap();
+    let err = refused(&dir, &["check", "bad.toml", "--no-model"]);
+    assert!(
+        err.contains("bad.toml") && err.contains("line 3: not UTF-8"),
+        "{err}"
+    );
+    bytes.splice(0..0, b"time_s,keyphasor\n".iter().copied());
+    std::fs::write(dir.join("bad.csv"), &bytes).unwrap();
+    let err = refused(&dir, &["import", "bad.csv", "-o", "o.h5"]);
+    assert!(
+        err.contains("bad.csv") && err.contains("line 4: not UTF-8"),
+        "{err}"
+    );
+}

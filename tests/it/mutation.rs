@@ -321,16 +321,20 @@ fn run_limited(dir: &Path, args: &[&str]) -> (Option<std::process::ExitStatus>, 
     (status, reader.join().unwrap())
 }
 
-/// Whether an error message names a place: a line (`FILE:LINE:`), a key, a dataset, a column
-/// or an option.
+/// Whether an error message names a place: a line (`FILE:LINE:` or `line N`), a key, a
+/// dataset, a column or an option.
 fn names_place(stderr: &str) -> bool {
     let line = stderr
         .split(':')
         .skip(1)
         .any(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()));
-    line || ["key `", "dataset `", "column `", "--", "/analysis/"]
-        .iter()
-        .any(|k| stderr.contains(k))
+    let line_word = stderr
+        .match_indices("line ")
+        .any(|(i, w)| stderr[i + w.len()..].starts_with(|c: char| c.is_ascii_digit()));
+    line || line_word
+        || ["key `", "dataset `", "column `", "--", "/analysis/"]
+            .iter()
+            .any(|k| stderr.contains(k))
 }
 
 fn classify(status: Option<std::process::ExitStatus>, stderr: &str, names: &[String]) -> Outcome {
@@ -346,8 +350,9 @@ fn classify(status: Option<std::process::ExitStatus>, stderr: &str, names: &[Str
     let named = names.iter().any(|n| stderr.contains(n.as_str()));
     match status.code() {
         Some(0) => Outcome::Accepted,
-        // clap's own refusal of an option's value (`--holes x`) names the option.
-        Some(2) if named && stderr.contains("--") => Outcome::Rejected,
+        // clap's own refusal of an option's value (`--holes=x`) names the option; the binary
+        // exits 64 for it (usage), as for its other option errors.
+        Some(64) if named && stderr.contains("--") => Outcome::Rejected,
         Some(1) if named && names_place(stderr) => Outcome::Rejected,
         Some(1) if named => Outcome::RejectedWithoutPlace,
         Some(1) => Outcome::RejectedWithoutTheFile,
@@ -629,7 +634,9 @@ fn balance_case(
         let (status, stderr) = run_limited(dir, &["balance", "bal.h5"]);
         return (status, stderr, vec!["bal.h5".into()]);
     }
-    let (status, stderr) = run_limited(dir, &["balance", "bal.h5", words[0], words[1]]);
+    // As `--holes=-1`: given apart, a value starting with `-` is read as another option.
+    let option = format!("{}={}", words[0], words[1]);
+    let (status, stderr) = run_limited(dir, &["balance", "bal.h5", &option]);
     (status, stderr, vec![words[0].to_string()])
 }
 
