@@ -82,12 +82,50 @@ pub fn toml_kind(text: &str) -> Option<&'static str> {
     }
 }
 
+/// Longest name that becomes an HDF5 group (a sensor's), in characters.
+pub const MAX_NAME_CHARS: usize = 64;
+
+/// Checks a name that becomes an HDF5 group (a sensor's, under `runout/`): 1 to
+/// [`MAX_NAME_CHARS`] letters, digits, `_`, `-` and `.`, starting with a letter, digit or `_`.
+/// So never empty, `.` or `..` (HDF5 paths), nor with a `/` (a deeper group), a space or a
+/// control character.
+pub fn safe_name(name: &str) -> Result<(), String> {
+    let ok_char = |c: char| c.is_alphanumeric() || matches!(c, '_' | '-' | '.');
+    let first_ok = name
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_alphanumeric() || c == '_');
+    if first_ok && name.chars().all(ok_char) && name.chars().count() <= MAX_NAME_CHARS {
+        return Ok(());
+    }
+    Err(format!(
+        "the name {name:?} is not a safe identifier (it names an HDF5 group): 1 to \
+         {MAX_NAME_CHARS} letters, digits, `_`, `-` or `.`, starting with a letter, digit or `_`"
+    ))
+}
+
 /// The largest input file read (scenes, studies, maps): 64 MiB, far above any real one.
 pub const MAX_INPUT_BYTES: u64 = 64 << 20;
 
 /// Reads an input file as text, like `std::fs::read_to_string`, but only a regular file of at
 /// most [`MAX_INPUT_BYTES`]: a FIFO would block, and `/dev/zero` would fill the memory.
+/// Text that is not UTF-8 is refused naming the line (1-based) of the first byte that is not.
 pub fn read_text(path: &Path) -> std::io::Result<String> {
+    regular_file(path, MAX_INPUT_BYTES)?;
+    String::from_utf8(std::fs::read(path)?).map_err(|e| {
+        let bytes = e.as_bytes();
+        let at = e.utf8_error().valid_up_to();
+        let line = bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("line {line}: not UTF-8 text (byte {} of the file)", at + 1),
+        )
+    })
+}
+
+/// Checks, before anything opens it, that `path` is a regular file of at most `max_bytes`
+/// (opening a FIFO blocks until a writer comes; a directory or device is no input file).
+pub fn regular_file(path: &Path, max_bytes: u64) -> std::io::Result<()> {
     let m = std::fs::metadata(path)?;
     if !m.is_file() {
         return Err(std::io::Error::new(
@@ -95,15 +133,15 @@ pub fn read_text(path: &Path) -> std::io::Result<String> {
             "not a regular file (a directory, device or FIFO)",
         ));
     }
-    if m.len() > MAX_INPUT_BYTES {
+    if m.len() > max_bytes {
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
             format!(
                 "{} bytes: larger than the {} MiB an input file may have",
                 m.len(),
-                MAX_INPUT_BYTES >> 20
+                max_bytes >> 20
             ),
         ));
     }
-    std::fs::read_to_string(path)
+    Ok(())
 }

@@ -23,7 +23,7 @@ use crate::results::request::{analysis_of_text, StudyAnalysis};
 use crate::store;
 
 /// The overview line: the job count by status and the varying keys (of a `linear -o` file: that
-/// it has no jobs).
+/// it has no jobs; of an empty shard's file: that it is one).
 fn overview(jobs: &[Job], varying: &[String], linear_only: bool) -> String {
     let (mut names, mut counts): (Vec<&str>, Vec<usize>) = (Vec::new(), Vec::new());
     for j in jobs {
@@ -36,26 +36,31 @@ fn overview(jobs: &[Job], varying: &[String], linear_only: bool) -> String {
         .zip(&counts)
         .map(|(s, n)| format!("{n} {s}"))
         .collect();
+    let varying = if varying.is_empty() {
+        "nothing".to_string()
+    } else {
+        varying.join(", ")
+    };
     if linear_only {
         "linear analysis (`rotorsweep linear -o`), no jobs".to_string()
+    } else if jobs.is_empty() {
+        // A shard that held no job (`run --shard i/n --allow-empty`), or a merge of such.
+        format!("0 jobs (an empty shard: none of the study's jobs is in it); varying: {varying}")
     } else {
         format!(
-            "{} job{} ({}); varying: {}",
+            "{} job{} ({}); varying: {varying}",
             jobs.len(),
             if jobs.len() == 1 { "" } else { "s" },
             statuses.join(", "),
-            if varying.is_empty() {
-                "nothing".to_string()
-            } else {
-                varying.join(", ")
-            }
         )
     }
 }
 
 /// Reads the tables of the results file at `path`. Errors name the file.
 pub fn read(path: &Path) -> Result<Report, InputError> {
-    std::fs::metadata(path).map_err(|e| InputError::new(path, e.to_string()))?;
+    // A regular file: opening a FIFO would block.
+    crate::error::regular_file(path, u64::MAX)
+        .map_err(|e| InputError::new(path, format!("cannot be read: {e}")))?;
     let f =
         File::open(path).map_err(|e| InputError::new(path, format!("not an HDF5 file ({e})")))?;
     let not_results = || {

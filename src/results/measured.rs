@@ -3,7 +3,8 @@
 //!
 //! In, the same columns in either format (the format is told by the file's first bytes: the
 //! HDF5 signature, else CSV); one rule set (`layout`, `assemble`) checks both:
-//! - `time_s`: sample times [s], strictly ascending (uniform sampling expected by the spectra);
+//! - `time_s`: sample times [s], strictly ascending and uniform: every interval within 50 % of
+//!   the median one ([`MAX_STEP_DEVIATION`]; the spectra expect uniform sampling);
 //! - `runout/<sensor>/<vertical|horizontal>`: runout [µm], one column per sensor and direction
 //!   (at least one);
 //! - the roll angle: `roll_angle_rad` (unwrapped, 0 at the keyphasor mark, non-decreasing) or
@@ -29,8 +30,9 @@
 //! `time`, `runout/...`, `speed/roll_angle`, `speed/hz` when given; `speed_hz` attribute the
 //! mean speed when it varies by less than 0.1 % over the record, else NaN), then the
 //! post-processing (`post::analyse`: lines and spectra at a constant speed, order tracking and
-//! a waterfall otherwise). Errors name the file and the line and column (CSV) or the dataset
-//! (HDF5).
+//! a waterfall otherwise). Errors name the file and the line and column (CSV: the file's line,
+//! header and comment lines counted) or the dataset and sample (HDF5). The record must be a
+//! regular file (a FIFO or directory is refused before it is opened, as scenes are).
 
 use std::path::Path;
 
@@ -39,6 +41,7 @@ use crate::error::InputError;
 use crate::rotor::wall::data_rows;
 use crate::signal::orders;
 use crate::store::{self, Param};
+use crate::text::number_text;
 
 /// A measured record.
 #[derive(Debug, Clone)]
@@ -80,10 +83,11 @@ fn layout(names: &[String], kind: &str) -> Result<Layout, String> {
         if [Some(time), angle, keyphasor, speed].contains(&Some(i)) {
             continue;
         }
-        let ok = n
-            .strip_prefix("runout/")
-            .and_then(|r| r.split_once('/'))
-            .is_some_and(|(s, d)| !s.is_empty() && (d == "vertical" || d == "horizontal"));
+        let parts = n.strip_prefix("runout/").and_then(|r| r.rsplit_once('/'));
+        let ok = parts.is_some_and(|(_, d)| d == "vertical" || d == "horizontal");
+        if let (true, Some((sensor, _))) = (ok, parts) {
+            crate::error::safe_name(sensor).map_err(|r| format!("{kind} `{n}`: {r}"))?;
+        }
         if !ok {
             return Err(format!(
                 "{kind} `{n}`: expected time_s, roll_angle_rad or keyphasor, speed_hz, or \
@@ -107,9 +111,16 @@ fn layout(names: &[String], kind: &str) -> Result<Layout, String> {
     })
 }
 
+/// The largest HDF5 record read: 16 GiB (a CSV record is read as text, within
+/// [`MAX_INPUT_BYTES`](crate::error::MAX_INPUT_BYTES)); HDF5 reads only the datasets.
+pub const MAX_HDF5_BYTES: u64 = 16 << 30;
+
 /// Reads a measured record: HDF5 when the file starts with the HDF5 signature, else CSV (module
 /// doc).
 pub fn read(path: &Path) -> Result<Record, InputError> {
+    // Checked before the signature is read: opening a FIFO would block.
+    crate::error::regular_file(path, MAX_HDF5_BYTES)
+        .map_err(|e| InputError::new(path, format!("cannot read the measured record: {e}")))?;
     let mut sig = [0u8; 8];
     let is_h5 = std::fs::File::open(path)
         .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut sig))
@@ -133,8 +144,10 @@ pub fn read_csv(path: &Path) -> Result<Record, InputError> {
     let names: Vec<String> = header.iter().map(|s| s.trim().to_string()).collect();
     let lay = layout(&names, "column").map_err(|e| at(hline, e))?;
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
+    let mut lines = Vec::new();
     for row in rows {
         let (ln, cells) = row?;
+        lines.push(ln);
         if cells.len() != names.len() {
             return Err(at(
                 ln,
@@ -154,7 +167,7 @@ pub fn read_csv(path: &Path) -> Result<Record, InputError> {
             cols[c].push(v);
         }
     }
-    assemble(path, &names, cols, &lay)
+    assemble(path, &names, cols, &lay, Some(&lines))
 }
 
 /// The `units` attributes an HDF5 record may carry per dataset, with the factor to the
@@ -226,42 +239,61 @@ pub fn read_hdf5(path: &Path) -> Result<Record, InputError> {
             cols[i].len()
         )));
     }
-    assemble(path, &names, cols, &lay)
+    assemble(path, &names, cols, &lay, None)
 }
 
-/// The checks both formats share, then the record: times ascending, roll angle from the angle or
-/// the keyphasor, unwrapped.
+/// The largest share by which a sampling interval may differ from the record's median one
+/// (module doc: the spectra expect uniform sampling; a time of 1e308 at the end was read as a
+/// record of 1e308 s).
+pub const MAX_STEP_DEVIATION: f64 = 0.5;
+
+/// The checks both formats share, then the record: times ascending and uniform, roll angle from
+/// the angle or the keyphasor, unwrapped. `lines`: the CSV line of each sample (errors name it;
+/// without, an HDF5 record, the sample's 1-based index).
 fn assemble(
     path: &Path,
     names: &[String],
     mut cols: Vec<Vec<f64>>,
     lay: &Layout,
+    lines: Option<&[usize]>,
 ) -> Result<Record, InputError> {
+    let at_sample = |i: usize, reason: String| match lines {
+        Some(l) => InputError::new(path, reason).at_line(l[i]),
+        None => InputError::new(path, format!("sample {}: {reason}", i + 1)),
+    };
     let time = std::mem::take(&mut cols[lay.time]);
     if time.len() < 3 {
         return Err(InputError::new(path, "fewer than three samples"));
     }
     if let Some(i) = time.windows(2).position(|w| w[1] <= w[0]) {
-        return Err(InputError::new(
-            path,
-            format!("time_s not strictly ascending at sample {}", i + 2),
+        return Err(at_sample(
+            i + 1,
+            format!(
+                "time_s {} does not follow {} (times must be strictly ascending)",
+                number_text(time[i + 1]),
+                number_text(time[i])
+            ),
         ));
     }
+    uniform_steps(&time).map_err(|(i, r)| at_sample(i, r))?;
     let roll_angle = match (lay.angle, lay.keyphasor) {
         (Some(c), _) => std::mem::take(&mut cols[c]),
         (_, Some(c)) => {
             let pulses = orders::pulse_times(&time, &cols[c]);
-            orders::angle_from_pulses(&time, &pulses)
-                .map_err(|e| InputError::new(path, format!("keyphasor: {e}")))?
+            orders::angle_from_pulses(&time, &pulses).map_err(|e| {
+                let kind = if lines.is_some() { "column" } else { "dataset" };
+                InputError::new(path, format!("{kind} `keyphasor`: {e}"))
+            })?
         }
         _ => unreachable!("one of the two is there (checked by `layout`)"),
     };
     if let Some(i) = roll_angle.windows(2).position(|w| w[1] < w[0]) {
-        return Err(InputError::new(
-            path,
+        return Err(at_sample(
+            i + 1,
             format!(
-                "roll_angle_rad decreases at sample {}: it must be unwrapped",
-                i + 2
+                "roll_angle_rad decreases from {} to {}: it must be unwrapped",
+                number_text(roll_angle[i]),
+                number_text(roll_angle[i + 1])
             ),
         ));
     }
@@ -278,6 +310,32 @@ fn assemble(
         time,
         roll_angle,
     })
+}
+
+/// Every sampling interval of the ascending `time` lies within [`MAX_STEP_DEVIATION`] of the
+/// median one; else the sample that ends the first one that does not, and why.
+fn uniform_steps(time: &[f64]) -> Result<(), (usize, String)> {
+    let mut steps: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
+    let i = steps.len() / 2;
+    let median = *steps.select_nth_unstable_by(i, f64::total_cmp).1;
+    let (lo, hi) = (1.0 - MAX_STEP_DEVIATION, 1.0 + MAX_STEP_DEVIATION);
+    match time
+        .windows(2)
+        .position(|w| !(lo * median..=hi * median).contains(&(w[1] - w[0])))
+    {
+        None => Ok(()),
+        Some(k) => Err((
+            k + 1,
+            format!(
+                "time_s {} is {} s after {}, the record samples every {} s (median): the \
+                 spectra need uniform sampling (a gap, or a time that is not the sample's)",
+                number_text(time[k + 1]),
+                number_text(time[k + 1] - time[k]),
+                number_text(time[k]),
+                number_text(median)
+            ),
+        )),
+    }
 }
 
 /// The record's mean speed [Hz] when it varies by less than 0.1 % over the record.

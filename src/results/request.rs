@@ -9,6 +9,8 @@
 
 use serde::Deserialize;
 
+use crate::text::number_text;
+
 /// The study's `[analysis]` table: what the post-processing of the results computes.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -39,6 +41,32 @@ pub const DEFAULT_ORDER_REVOLUTIONS: f64 = 8.0;
 /// Orders 1, 2, 3 and 4: the lines measured when a study names none.
 pub fn default_orders() -> Vec<f64> {
     vec![1.0, 2.0, 3.0, 4.0]
+}
+
+/// The orders an analysis may ask for: from 1e-3 (a line of one period in a thousand
+/// revolutions, longer than any record's blocks) to 1e4 (beyond any record's Nyquist frequency
+/// at a roll's speeds). Outside, the fit's phase 2π·order·revolutions is no longer a number
+/// (1e308 overflows to NaN) or all its columns are one (1e-320), and the least-squares solve
+/// has nothing to fit.
+pub const ORDER_RANGE: (f64, f64) = (1e-3, 1e4);
+
+/// Checks a list of orders: one or more, each within [`ORDER_RANGE`], none twice; the reason
+/// names the offending order.
+pub fn check_orders(orders: &[f64]) -> Result<(), String> {
+    let (lo, hi) = ORDER_RANGE;
+    if orders.is_empty() {
+        return Err("needs one or more orders".into());
+    }
+    if let Some(o) = orders.iter().find(|o| !(lo..=hi).contains(*o)) {
+        return Err(format!(
+            "order {} is outside [{lo}, {hi}] (orders of the spin frequency: 1 is the 1×)",
+            number_text(*o)
+        ));
+    }
+    if let Some(i) = (1..orders.len()).find(|&i| orders[..i].contains(&orders[i])) {
+        return Err(format!("order {} is given twice", number_text(orders[i])));
+    }
+    Ok(())
 }
 
 impl Default for AnalysisSpec {

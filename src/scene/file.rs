@@ -37,6 +37,7 @@ pub(super) struct SpeedFile {
     #[serde(default = "constant")]
     pub profile: String,
     pub hz: Option<f64>,
+    pub rpm: Option<f64>,
     pub from_hz: Option<f64>,
     pub to_hz: Option<f64>,
     pub ramp_start_s: Option<f64>,
@@ -52,6 +53,7 @@ impl Default for SpeedFile {
         Self {
             profile: constant(),
             hz: Some(0.0),
+            rpm: None,
             from_hz: None,
             to_hz: None,
             ramp_start_s: None,

@@ -20,7 +20,8 @@
 //! through `check`: `geometry` (materials, the roll builder or a general rotor, masses in the
 //! material), `supports` (a contact's law as written or fitted to its geometry,
 //! [`ContactGeometry`]), `speed` and `settings`, and `limits` (mesh and record size); the
-//! result is the data of `types`. [`keys`] documents every key, [`locate`] finds a key's line,
+//! result is the data of `types`; [`plausibility`] warns of geometry that loads but is unlikely.
+//! [`keys`] documents every key, [`locate`] finds a key's line,
 //! [`position`] resolves axial positions.
 
 mod build;
@@ -34,6 +35,7 @@ mod limits;
 mod load;
 pub mod locate;
 mod overrides;
+pub mod plausibility;
 pub mod position;
 mod settings;
 pub mod source;

@@ -10,7 +10,7 @@
 //! (numbers, strings, arrays, arrays of tables such as `[[supports]]` or `[[roll.sensors]]`) is
 //! replaced whole. Choices that exclude each other replace each other: a file that gives one of
 //! `roll.shell.wall_thickness_mm`, `thickness_map`, `synthetic_map` drops the others its base
-//! gave, and `[roll]` and `[rotor]` likewise. Relative paths written in a base
+//! gave, and `[roll]` and `[rotor]`, and `speed.hz` and `speed.rpm`, likewise. Relative paths written in a base
 //! (`roll.shell.thickness_map`) stay relative to the base's own folder.
 //!
 //! Errors name the file, line and key; an error inside a base also says which file extends it
@@ -35,6 +35,7 @@ const EXCLUSIVE: &[(&str, &[&str])] = &[
         "roll.shell",
         &["wall_thickness_mm", "thickness_map", "synthetic_map"],
     ),
+    ("speed", &["hz", "rpm"]),
 ];
 
 /// One file of a chain, as written.

@@ -1,11 +1,13 @@
 //! The spin speed of a run: the `[speed]` table validated into a [`SpeedProfile`], the
 //! prescribed speed Ω(t) [rad/s] and its integral, the roll angle θ(t) [rad].
 //!
-//! In: the `[speed]` table as written (speeds in Hz, times in s). Out: a [`SpeedProfile`] in
+//! In: the `[speed]` table as written (speeds in Hz, a constant one in Hz or rev/min, times in
+//! s). Out: a [`SpeedProfile`] in
 //! rad/s and s that gives (θ, Ω, Ω̇) at any time, or an [`InputError`] at the key; a speed above
 //! [`MAX_SPEED_HZ`] is an error.
 //!
-//! Speed profiles (`[speed] profile`): `constant` (`hz`); `ramp` from `from_hz` to `to_hz`
+//! Speed profiles (`[speed] profile`): `constant` (`hz`, or `rpm` in rev/min: one of the two);
+//! `ramp` from `from_hz` to `to_hz`
 //! starting at `ramp_start_s`, ending at `ramp_end_s` or running at `rate_hz_per_s` (a run-up
 //! or, with `to_hz` < `from_hz`, a coast-down); `steps` (`times_s`, `steps_hz`); `table`, a
 //! measured speed–time table (`times_s`, `table_hz`), linear between its points and constant
@@ -177,13 +179,49 @@ fn ascending_speeds(
         .collect()
 }
 
+/// The constant profile's speed [rad/s]: `speed.hz`, or `speed.rpm` [rev/min] (not both: the
+/// error says what the other is in the unit given, for a `--set` of the wrong one).
+fn constant_hz(c: &Check, s: &SpeedFile) -> Result<f64, InputError> {
+    let hz = match (s.hz, s.rpm) {
+        (Some(hz), Some(rpm)) => {
+            return Err(c.err_among(
+                &["speed.rpm", "speed.hz"],
+                format!(
+                    "give speed.hz or speed.rpm, not both: speed.hz = {hz} is {} rpm, speed.rpm \
+                     = {rpm} is {} Hz",
+                    60.0 * hz,
+                    rpm / 60.0
+                ),
+            ))
+        }
+        (None, Some(rpm)) => c.range("speed.rpm", rpm, 0.0, 60.0 * MAX_SPEED_HZ)? / 60.0,
+        (Some(hz), None) => c.range("speed.hz", hz, 0.0, MAX_SPEED_HZ)?,
+        (None, None) => {
+            return Err(c.err(
+                "speed.hz",
+                "missing for this speed profile (or give speed.rpm)",
+            ))
+        }
+    };
+    Ok(2.0 * PI * hz)
+}
+
 pub(super) fn profile(c: &Check, s: &SpeedFile) -> Result<SpeedProfile, InputError> {
     let hz = |key: &str, v: Option<f64>| -> Result<f64, InputError> {
         let v = v.ok_or_else(|| c.err(key, "missing for this speed profile"))?;
         Ok(2.0 * PI * c.range(key, v, 0.0, MAX_SPEED_HZ)?)
     };
+    if s.rpm.is_some() && s.profile != "constant" {
+        return Err(c.err(
+            "speed.rpm",
+            format!(
+                "only for the constant profile: a {} profile's speeds are in Hz (1 Hz = 60 rpm)",
+                s.profile
+            ),
+        ));
+    }
     match s.profile.as_str() {
-        "constant" => Ok(SpeedProfile::Constant(hz("speed.hz", s.hz)?)),
+        "constant" => Ok(SpeedProfile::Constant(constant_hz(c, s)?)),
         "ramp" => {
             let t0 = c.non_negative("speed.ramp_start_s", s.ramp_start_s.unwrap_or(0.0))?;
             let from = hz("speed.from_hz", s.from_hz)?;

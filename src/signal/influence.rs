@@ -22,6 +22,8 @@
 use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 
+use crate::numerics::svd::bounded_svd;
+
 /// Constraints of one balancing plane.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct PlaneLimits {
@@ -46,24 +48,32 @@ pub fn influence(
 
 /// The least-squares corrections for `alpha` and `reference` under `limits` (one per plane;
 /// module doc): per plane its masses (mass [g], angle [rad] in [0, 2π)) — one for a free
-/// angle, one per used hole (masses below 1e-9 g left out) for a plane with holes.
+/// angle, one per used hole (masses below 1e-9 g left out) for a plane with holes; one NaN mass
+/// per plane when a coefficient or reference value is not finite.
 pub fn corrections(
     alpha: &DMatrix<Complex64>,
     reference: &[Complex64],
     limits: &[PlaneLimits],
 ) -> Vec<Vec<(f64, f64)>> {
     let tau = std::f64::consts::TAU;
+    // A coefficient or reference that is not finite has no corrections (the SVD and the
+    // eigenvalues below would iterate for ever on it): NaN, which the caller reports.
+    if !(alpha.iter().all(|z| z.is_finite()) && reference.iter().all(|z| z.is_finite())) {
+        return limits.iter().map(|_| vec![(f64::NAN, f64::NAN)]).collect();
+    }
     let polar = |w: Complex64| vec![(w.norm(), w.arg().rem_euclid(tau))];
     let b = DVector::from_column_slice(reference);
     let free = limits
         .iter()
         .all(|l| l.angles.is_empty() && l.max_mass.is_none());
     if free {
-        let w = alpha
-            .clone()
-            .svd(true, true)
-            .solve(&(-b), 1e-12 * alpha.norm())
-            .unwrap_or_else(|_| DVector::zeros(alpha.ncols()));
+        // No SVD (a coefficient that is not finite): NaN corrections, which the caller reports.
+        let w = match bounded_svd(alpha.clone()) {
+            Some(svd) => svd
+                .solve(&(-b), 1e-12 * alpha.norm())
+                .unwrap_or_else(|_| DVector::zeros(alpha.ncols())),
+            None => DVector::from_element(alpha.ncols(), Complex64::new(f64::NAN, f64::NAN)),
+        };
         return w.iter().map(|z| polar(*z)).collect();
     }
     let x = constrained(alpha, &b, limits);

@@ -13,6 +13,8 @@ use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
 
+use crate::numerics::svd::bounded_svd;
+
 /// The periodic (DFT-even) Hanning window of length n: w_i = ½(1 − cos 2πi/n), Σw = n/2.
 pub fn hanning(n: usize) -> Vec<f64> {
     let tau = std::f64::consts::TAU;
@@ -133,10 +135,11 @@ pub fn weighted_fit(x: &[f64], s: &[f64], w: &[f64], freqs: &[f64]) -> (f64, Vec
     a.fill_lower_triangle_with_upper_triangle();
     // Relative cut-off for the pseudo-inverse: the Gram matrix's scale is Σw (n/2 for Hann).
     let eps = 2e-12 * sw;
-    let sol = a
-        .svd(true, true)
-        .solve(&b, eps)
-        .unwrap_or_else(|_| DVector::zeros(m));
+    // No SVD (a value that is not finite, e.g. the phase of an order of 1e308): NaN lines.
+    let sol = match bounded_svd(a) {
+        Some(svd) => svd.solve(&b, eps).unwrap_or_else(|_| DVector::zeros(m)),
+        None => DVector::from_element(m, f64::NAN),
+    };
     // c cos ωt + s sin ωt = A cos(ωt + φ) with A cos φ = c, A sin φ = −s.
     let lines = (0..k)
         .map(|j| Complex64::new(sol[1 + 2 * j], -sol[2 + 2 * j]))

@@ -94,9 +94,12 @@ pub fn is_results_file(path: &Path) -> Result<(), String> {
     open_results_file(path).map(drop)
 }
 
-/// A rotorsweep results file, opened (HDF5 signature, then `tool = "rotorsweep"`); the reason
-/// when it is not one.
+/// A rotorsweep results file, opened (a regular file, HDF5 signature, then `tool =
+/// "rotorsweep"`); the reason when it is not one. Opening a FIFO would block (`balance`,
+/// `report --compare` and `merge` read their inputs through here); no size bound, as HDF5 reads
+/// only the datasets asked for.
 pub fn open_results_file(path: &Path) -> Result<hdf5::File, String> {
+    crate::error::regular_file(path, u64::MAX).map_err(|e| format!("cannot be read: {e}"))?;
     let mut head = [0u8; 8];
     let n = File::open(path)
         .and_then(|mut f| f.read(&mut head))

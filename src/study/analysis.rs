@@ -3,7 +3,7 @@
 //!
 //! In: `[analysis]`: `orders` (of the spin frequency), `max_freq_hz` [Hz], `order_revolutions`
 //! [revolutions], `baseline` (a label); the study's axes; its expanded jobs. Out: errors for
-//! orders that are not positive or given twice, a frequency that is not positive, a block
+//! orders outside [`ORDER_RANGE`](crate::results::request::ORDER_RANGE) or given twice, a frequency that is not positive, a block
 //! length outside [1, 100000] revolutions, a baseline that no axis labels, and (when the study
 //! names its orders) an order whose line in a job of constant speed lies at or above the
 //! Nyquist frequency of that job's record (with the default orders, such lines are stored as
@@ -13,17 +13,12 @@ use super::context::Ctx;
 use super::file::AxisFile;
 use super::jobs::Job;
 use crate::error::InputError;
-use crate::results::request::{default_orders, AnalysisSpec};
+use crate::results::request::{check_orders, default_orders, AnalysisSpec};
 
-/// The `[analysis]` values: positive distinct orders, a positive frequency, a block length in
+/// The `[analysis]` values: distinct orders within the range, a positive frequency, a block length in
 /// [1, 100000] revolutions, a baseline that an axis labels.
 pub(super) fn check(c: &Ctx, a: &AnalysisSpec, axes: &[AxisFile]) -> Result<(), InputError> {
-    if a.orders.is_empty() || a.orders.iter().any(|o| !(o.is_finite() && *o > 0.0)) {
-        return Err(c.err("analysis.orders", "needs one or more positive orders"));
-    }
-    if (1..a.orders.len()).any(|i| a.orders[..i].contains(&a.orders[i])) {
-        return Err(c.err("analysis.orders", "an order is given twice"));
-    }
+    check_orders(&a.orders).map_err(|r| c.err("analysis.orders", r))?;
     if a.max_freq_hz.is_some_and(|f| !(f.is_finite() && f > 0.0)) {
         return Err(c.err("analysis.max_freq_hz", "must be a positive frequency"));
     }

@@ -611,4 +611,20 @@ impl Balance {
     pub fn planes(&self) -> &[f64] {
         &self.planes
     }
+
+    /// Where the 1× read from the results file is not a number: the first row (an index into
+    /// [`Balance::predicted`]) whose reference 1× is not finite, `(row, None)`, or whose
+    /// influence coefficient in a plane (an index into [`Balance::planes`]) is not, from that
+    /// plane's trial run, `(row, Some(plane))`. The corrections are NaN then.
+    pub fn non_finite(&self) -> Option<(usize, Option<usize>)> {
+        let (alpha, b, _) = &self.influence;
+        (0..b.len()).find_map(|r| {
+            if !b[r].is_finite() {
+                return Some((r, None));
+            }
+            (0..alpha.ncols())
+                .find(|&p| !alpha[(r, p)].is_finite())
+                .map(|p| (r, Some(p)))
+        })
+    }
 }

@@ -6,7 +6,9 @@
 //! time per run, runs per second, runs not ok), with each finished run's line printed above it;
 //! otherwise one plain line per run, `[done/total m:ss elapsed, ETA m:ss] ID (NAME) STATUS cpu
 //! S s[: CAUSE]`. The log `OUT.h5.log` gets the same lines, each with its UTC time, between a
-//! start line and an end line; it is appended to (a resumed or repeated run adds its own
+//! start line and an end line, then the line that says whether the results file was assembled
+//! (`assembled: OUT.h5` or `not assembled: CAUSE`), so that the last line is the run's outcome;
+//! it is appended to (a resumed or repeated run adds its own
 //! section), never truncated or removed, and a file of that name that is not a rotorsweep log
 //! is refused before anything runs.
 
@@ -205,5 +207,17 @@ impl Progress {
             clock(elapsed),
             self.failed.get()
         ));
+    }
+
+    /// The log's last line: the results file `output` assembled, or why not (`failure`), and
+    /// that the saved runs are kept for `--resume`.
+    pub fn assembled(&self, output: &Path, failure: Option<&dyn std::fmt::Display>) {
+        let line = match failure {
+            None => format!("assembled: {}", output.display()),
+            Some(e) => {
+                format!("not assembled: {e} (the saved runs are kept: finish with --resume)")
+            }
+        };
+        self.log.borrow_mut().line(&line);
     }
 }

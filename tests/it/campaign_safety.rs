@@ -446,6 +446,16 @@ fn run_limited(d: &Path, kib: u32, out: &str) -> Output {
         .unwrap()
 }
 
+/// The last line of `OUT.log` says `out` was not assembled, and how to finish.
+fn assert_not_assembled(d: &Path, out: &str) {
+    let log = std::fs::read_to_string(d.join(format!("{out}.log"))).unwrap();
+    let last = log.trim_end().lines().last().unwrap_or_default();
+    assert!(
+        last.contains("not assembled: ") && last.contains("--resume"),
+        "{out}: {log}"
+    );
+}
+
 #[test]
 fn a_full_disk_stops_the_campaign_and_resume_completes_it_to_the_same_results() {
     let d = scratch("safety-full");
@@ -478,6 +488,7 @@ fn a_full_disk_stops_the_campaign_and_resume_completes_it_to_the_same_results() 
     assert!((1..=2).contains(&progress.len()), "{e}");
     assert!(progress.iter().all(|l| l.contains("NOT SAVED")), "{e}");
     assert!(!d.join("out.h5").exists());
+    assert_not_assembled(&d, "out.h5");
     // Space freed: --resume completes it, with the results of the uninterrupted run.
     let e = run_ok(&d, &["run", "s.toml", "-o", "out.h5", "--resume"]);
     assert!(e.contains("6 ok"), "{e}");
@@ -492,6 +503,9 @@ fn a_full_disk_stops_the_campaign_and_resume_completes_it_to_the_same_results() 
     assert_eq!(code(&limited), IO, "{e}");
     assert!(e.contains("File too large (errno 27)"), "{e}");
     assert!(!d.join("big.h5").exists() && !d.join("big.h5.tmp").exists());
+    // The run log's last line is the assembly's outcome (it ended "12 of 12 finished, 0 not
+    // ok").
+    assert_not_assembled(&d, "big.h5");
     // A limit just below the whole file's size: the write fails at the very end (the final
     // flush; review finding: the broken file was renamed into place and the parts removed).
     // Refused with the cause; the parts stay, and --resume completes.

@@ -201,7 +201,7 @@ fn hdf5_import_of_the_synthetic_run_up_gives_the_csv_import_orders() {
             &wrapped,
             "vertical",
             &a,
-            "roll_angle_rad decreases at sample 3",
+            "sample 3: roll_angle_rad decreases",
         ),
     ];
     for (name, t_units, angle, dir_name, runout, expect) in cases {

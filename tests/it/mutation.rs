@@ -2,14 +2,19 @@
 //! mutated hundreds of times (deleted lines and blocks, duplicated and swapped lines, wrong types,
 //! extreme numbers such as 1e308, -1, 0, "nan", truncated files, garbage bytes, misspelt keys),
 //! each written into a copy of `studies/` in a temp dir and given to the real binary: `plan` for
-//! a study, `modes` for a scene or the map (through the reference roll that reads it).
+//! a study, `modes` for a scene or the map (through the reference roll that reads it), and
+//! (issue 20) for a small scene also `linear` at three speeds; a scene also through an
+//! `extends` chain (a child scene that builds on the mutated one); a measured CSV to `import`
+//! (with an order list that may be out of range), then, when imported, `report --compare`
+//! against the unmutated record's import; and `balance` of a small trial-mass study's results
+//! with a bad option value or a 1× line of its results file replaced (NaN, inf, 1e308, 0, −1).
 //!
 //! Every case runs under a 4 GiB address-space limit (setrlimit in the child) and a 60 s timeout
 //! (the slowest accepted `modes` is a mesh at the FE limit, about 15-20 s on a busy 2-core
 //! machine). Asserted: no panic (exit 101 or "panicked"), no death by signal (an allocation
-//! failure aborts), no hang, only exit codes 0 and 1, and every rejection names the mutated file,
-//! except where `modes` refuses a scene that loads (its linear analysis: counted and printed as
-//! `AnalysisError`).
+//! failure aborts), no hang, only exit codes 0 and 1, and every rejection names the mutated file
+//! (or the option given a bad value); rejections that name neither a line nor a key are counted
+//! apart (`RejectedWithoutPlace`) and listed with `--nocapture`.
 //! The counts by outcome are printed (`cargo test --release --test mutation -- --nocapture`).
 //!
 //! The random numbers come from the library's SplitMix64 (the synthetic maps' generator) rather
@@ -105,7 +110,7 @@ const BAD_FIELDS: &[&str] = &[
 /// The shipped inputs, relative to `studies/`.
 fn inputs(studies: &Path) -> Vec<String> {
     let mut out = Vec::new();
-    for sub in ["", "scenes", "maps"] {
+    for sub in ["", "scenes", "maps", "measured"] {
         let dir = studies.join(sub);
         let mut names: Vec<String> = fs::read_dir(&dir)
             .unwrap()
@@ -239,6 +244,7 @@ fn key_value(line: &str) -> Option<(&str, &str)> {
 enum Outcome {
     Accepted,
     Rejected,
+    RejectedWithoutPlace,
     RejectedWithoutTheFile,
     OtherExitCode,
     Panic,
@@ -248,7 +254,10 @@ enum Outcome {
 
 impl Outcome {
     fn is_failure(self) -> bool {
-        !matches!(self, Outcome::Accepted | Outcome::Rejected)
+        !matches!(
+            self,
+            Outcome::Accepted | Outcome::Rejected | Outcome::RejectedWithoutPlace
+        )
     }
 }
 
@@ -268,6 +277,10 @@ fn copy_tree(from: &Path, to: &Path) {
 
 /// Runs `rotorsweep ARGS` in `dir` under the memory limit and the timeout.
 fn run_limited(dir: &Path, args: &[&str]) -> (Option<std::process::ExitStatus>, String) {
+    if let ["--write-child", path, text] = args {
+        fs::write(dir.join(path), text).unwrap();
+        return (Some(std::process::ExitStatus::from_raw(0)), String::new());
+    }
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_rotorsweep"));
     cmd.args(args)
         .current_dir(dir)
@@ -308,7 +321,23 @@ fn run_limited(dir: &Path, args: &[&str]) -> (Option<std::process::ExitStatus>, 
     (status, reader.join().unwrap())
 }
 
-fn classify(status: Option<std::process::ExitStatus>, stderr: &str, file: &str) -> Outcome {
+/// Whether an error message names a place: a line (`FILE:LINE:` or `line N`), a key, a
+/// dataset, a column or an option.
+fn names_place(stderr: &str) -> bool {
+    let line = stderr
+        .split(':')
+        .skip(1)
+        .any(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()));
+    let line_word = stderr
+        .match_indices("line ")
+        .any(|(i, w)| stderr[i + w.len()..].starts_with(|c: char| c.is_ascii_digit()));
+    line || line_word
+        || ["key `", "dataset `", "column `", "--", "/analysis/"]
+            .iter()
+            .any(|k| stderr.contains(k))
+}
+
+fn classify(status: Option<std::process::ExitStatus>, stderr: &str, names: &[String]) -> Outcome {
     let Some(status) = status else {
         return Outcome::Hang;
     };
@@ -318,9 +347,14 @@ fn classify(status: Option<std::process::ExitStatus>, stderr: &str, file: &str) 
     if status.signal().is_some() {
         return Outcome::Signal;
     }
+    let named = names.iter().any(|n| stderr.contains(n.as_str()));
     match status.code() {
         Some(0) => Outcome::Accepted,
-        Some(1) if stderr.contains(file) => Outcome::Rejected,
+        // clap's own refusal of an option's value (`--holes=x`) names the option; the binary
+        // exits 64 for it (usage), as for its other option errors.
+        Some(64) if named && stderr.contains("--") => Outcome::Rejected,
+        Some(1) if named && names_place(stderr) => Outcome::Rejected,
+        Some(1) if named => Outcome::RejectedWithoutPlace,
         Some(1) => Outcome::RejectedWithoutTheFile,
         _ => Outcome::OtherExitCode,
     }
@@ -337,12 +371,17 @@ fn campaign(seed: u64, cases: usize) {
     let mut rng = Rng::new(seed);
     let plan: Vec<(String, Vec<u8>, String)> = (0..cases)
         .map(|_| {
+            if rng.below(12) == 0 {
+                let (bytes, what) = balance_mutation(&mut rng);
+                return (BALANCE.to_string(), bytes, what);
+            }
             let name = rng.pick(&files).clone();
             let text = fs::read_to_string(studies.join(&name)).unwrap();
             let (bytes, what) = mutate(&mut rng, &name, &text);
             (name, bytes, what)
         })
         .collect();
+    let fixtures = Fixtures::new(&base, &studies);
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<(usize, Outcome, String)>> = Mutex::new(Vec::new());
     std::thread::scope(|s| {
@@ -354,20 +393,24 @@ fn campaign(seed: u64, cases: usize) {
                 };
                 let dir = base.join(format!("case-{i:04}"));
                 copy_tree(&studies, &dir.join("studies"));
-                fs::write(dir.join("studies").join(name), bytes).unwrap();
-                let target = if name.ends_with(".csv") {
-                    "studies/scenes/reference-roll.toml".to_string()
+                let (status, stderr, names) = if name == BALANCE {
+                    balance_case(&dir, &fixtures.balance, bytes)
                 } else {
-                    format!("studies/{name}")
+                    fs::write(dir.join("studies").join(name), bytes).unwrap();
+                    let file = Path::new(name).file_name().unwrap().to_string_lossy();
+                    let mut names = vec![file.into_owned()];
+                    let steps = commands(name, i, &fixtures.reference_import, &mut names);
+                    let mut last = (None, String::new());
+                    for step in &steps {
+                        let args: Vec<&str> = step.iter().map(String::as_str).collect();
+                        last = run_limited(&dir, &args);
+                        if last.0.is_none_or(|s| s.code() != Some(0)) {
+                            break;
+                        }
+                    }
+                    (last.0, last.1, names)
                 };
-                let cmd = if name.starts_with("scenes/") || name.ends_with(".csv") {
-                    "modes"
-                } else {
-                    "plan"
-                };
-                let (status, stderr) = run_limited(&dir, &[cmd, &target]);
-                let file = Path::new(name).file_name().unwrap().to_string_lossy();
-                let outcome = classify(status, &stderr, &file);
+                let outcome = classify(status, &stderr, &names);
                 if !outcome.is_failure() {
                     let _ = fs::remove_dir_all(&dir);
                 }
@@ -389,6 +432,17 @@ fn campaign(seed: u64, cases: usize) {
         }
     }
     println!("mutation test, seed {seed:#x}, {cases} cases: {counts:?}");
+    for (i, _, e) in results
+        .iter()
+        .filter(|r| r.1 == Outcome::RejectedWithoutPlace)
+    {
+        println!(
+            "  no line or key: case {i} ({}: {}): {}",
+            plan[*i].0,
+            plan[*i].2,
+            e.trim()
+        );
+    }
     for (f, (a, r)) in &by_file {
         println!("  {f}: {a} accepted, {r} not");
     }
@@ -413,6 +467,177 @@ fn campaign(seed: u64, cases: usize) {
         failures.join("\n")
     );
     assert_eq!(results.len(), cases);
+}
+
+/// The plan's name of a `balance` case (no file of `studies/` is mutated).
+const BALANCE: &str = "<balance>";
+
+/// Order lists given to `import`: the default, fractional, and out of range.
+const ORDERS: &[&str] = &[
+    "1,2,3", "0.92,1", "1e308", "1e-320", "0", "-1", "nan", "1,1",
+];
+
+/// Results files the cases share, made once per campaign.
+struct Fixtures {
+    /// The unmutated synthetic run-up's import (`report --compare` of an imported case).
+    reference_import: String,
+    /// A trial-mass study's results (`balance` cases).
+    balance: std::path::PathBuf,
+}
+
+impl Fixtures {
+    fn new(base: &Path, studies: &Path) -> Self {
+        fs::create_dir_all(base).unwrap();
+        let reference_import = base.join("reference-import.h5");
+        crate::support::rotorsweep_ok(&[
+            "import",
+            studies
+                .join("measured/jeffcott-runup-synthetic.csv")
+                .to_str()
+                .unwrap(),
+            "-o",
+            reference_import.to_str().unwrap(),
+        ]);
+        Self {
+            reference_import: reference_import.to_string_lossy().into_owned(),
+            balance: balance_results(base),
+        }
+    }
+}
+
+/// The commands of a file case, run in order while they succeed; `names` gets what else a
+/// rejection may name (an option given a bad value).
+fn commands(name: &str, case: usize, reference: &str, names: &mut Vec<String>) -> Vec<Vec<String>> {
+    let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<String>>();
+    let target = format!("studies/{name}");
+    if name.starts_with("measured/") {
+        let orders = ORDERS[case % ORDERS.len()];
+        names.push("--orders".into());
+        return vec![
+            s(&["import", &target, "-o", "imported.h5", "--orders", orders]),
+            s(&[
+                "report",
+                "imported.h5",
+                "--compare",
+                reference,
+                "--format",
+                "json",
+            ]),
+        ];
+    }
+    if name.ends_with(".csv") {
+        return vec![s(&["modes", "studies/scenes/reference-roll.toml"])];
+    }
+    if !name.starts_with("scenes/") {
+        return vec![s(&["plan", &target])];
+    }
+    let small = name.ends_with("jeffcott.toml") || name.ends_with("linear-unbalance.toml");
+    match case % 3 {
+        // An `extends` chain: a child scene that builds on the mutated one.
+        0 => {
+            let base = Path::new(name).file_name().unwrap().to_string_lossy();
+            let child = format!("studies/scenes/child-of-{base}");
+            let text = format!("extends = \"{base}\"\nname = \"child\"\n");
+            vec![s(&["--write-child", &child, &text]), s(&["modes", &child])]
+        }
+        1 if small => vec![s(&["linear", &target, "--speeds", "0:40:3", "--json"])],
+        _ => vec![s(&["modes", &target])],
+    }
+}
+
+/// A `balance` case: bytes are `OPTION VALUE` (an option given a bad value) or `line ROW FIELD
+/// VALUE` (a 1× line of the results file replaced).
+fn balance_mutation(rng: &mut Rng) -> (Vec<u8>, String) {
+    const OPTIONS: &[&str] = &["--angles-deg", "--holes", "--max-mass-g"];
+    const VALUES: &[&str] = &[
+        "1e308", "-1e308", "0", "-1", "nan", "inf", "0,0", "0,360", "10,-350", "361", "1e-320",
+        "100000", "x",
+    ];
+    let what = if rng.below(2) == 0 {
+        format!("{} {}", rng.pick(OPTIONS), rng.pick(VALUES))
+    } else {
+        let field = rng.pick(&["amplitude_um", "phase_deg"]);
+        let value = rng.pick(&["nan", "inf", "-inf", "1e308", "0", "-1"]);
+        format!("line {} {field} {value}", rng.below(64))
+    };
+    (what.clone().into_bytes(), what)
+}
+
+/// A row of `/analysis/lines` (as `study::balancing` reads it).
+#[derive(hdf5::H5Type, Clone)]
+#[repr(C)]
+struct LineRow {
+    job_id: hdf5::types::VarLenUnicode,
+    channel: hdf5::types::VarLenUnicode,
+    order: f64,
+    amplitude_um: f64,
+    phase_deg: f64,
+}
+
+/// Runs the small trial-mass study of tests/it/balancing.rs into `base`; its results file.
+fn balance_results(base: &Path) -> std::path::PathBuf {
+    let spring = "kx_n_per_m = 1e5, ky_n_per_m = 1e5, cx_ns_per_m = 450.0, cy_ns_per_m = 450.0";
+    let run_keys = "[speed]\nhz = 5.0\n[simulation]\nt_end_s = 6.0\nsettle_s = 3.0\n\
+                    sample_rate_hz = 500.0\ngravity_m_s2 = 0.0\nstatic_start = false\n\
+                    [solver]\nhmax = 1e-3\ntolerance = 1e-9\n";
+    let text = crate::support::stiff_jeffcott(spring, "", run_keys);
+    let (head, rest) = text.split_once("[[supports]]").unwrap();
+    let sensors = "[[rotor.sensors]]\nname = \"a\"\nz_mm = 100.0\n";
+    let dir = base.join("balance");
+    fs::create_dir_all(&dir).unwrap();
+    crate::support::write_file(
+        &dir,
+        "scene.toml",
+        &format!("{head}{sensors}[[supports]]{rest}"),
+    );
+    let own = "{ z_mm = 200.0, radius_mm = 100.0, angle_deg = 30.0, mass_g = 10.0 }";
+    let trial =
+        |z: u32| format!("{{ z_mm = {z}.0, radius_mm = 100.0, angle_deg = 0.0, mass_g = 50.0 }}");
+    let study = format!(
+        "name = \"balance-mutation\"\nscene = \"scene.toml\"\n[[axes]]\nkey = \"rotor.masses\"\n\
+         values = [[{own}], [{own}, {}], [{own}, {}]]\n\
+         labels = [\"reference\", \"trial a\", \"trial b\"]\n[[axes]]\nkey = \"speed.hz\"\n\
+         values = [5.0, 9.0]\n[analysis]\nbaseline = \"reference\"\norders = [1.0]\n",
+        trial(100),
+        trial(300)
+    );
+    let study = crate::support::write_file(&dir, "study.toml", &study);
+    let out = dir.join("bal.h5");
+    crate::support::rotorsweep_ok(&["run", study.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    out
+}
+
+/// Runs one `balance` case (module doc) in `dir`: (status, stderr, what a rejection must name).
+fn balance_case(
+    dir: &Path,
+    results: &Path,
+    bytes: &[u8],
+) -> (Option<std::process::ExitStatus>, String, Vec<String>) {
+    let what = String::from_utf8_lossy(bytes).into_owned();
+    let file = dir.join("bal.h5");
+    fs::copy(results, &file).unwrap();
+    let words: Vec<&str> = what.split(' ').collect();
+    if let ["line", row, field, value] = words[..] {
+        let f = hdf5::File::open_rw(&file).unwrap();
+        let ds = f.dataset("analysis/lines").unwrap();
+        let mut rows: Vec<LineRow> = ds.read_raw().unwrap();
+        let n = rows.len();
+        let r = &mut rows[row.parse::<usize>().unwrap() % n];
+        let v: f64 = value.parse().unwrap();
+        if field == "phase_deg" {
+            r.phase_deg = v;
+        } else {
+            r.amplitude_um = v;
+        }
+        ds.write(&rows).unwrap();
+        drop(f);
+        let (status, stderr) = run_limited(dir, &["balance", "bal.h5"]);
+        return (status, stderr, vec!["bal.h5".into()]);
+    }
+    // As `--holes=-1`: given apart, a value starting with `-` is read as another option.
+    let option = format!("{}={}", words[0], words[1]);
+    let (status, stderr) = run_limited(dir, &["balance", "bal.h5", &option]);
+    (status, stderr, vec![words[0].to_string()])
 }
 
 #[test]

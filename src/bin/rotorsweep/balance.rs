@@ -9,6 +9,7 @@ use std::path::PathBuf;
 
 use rotorsweep::signal::influence::PlaneLimits;
 use rotorsweep::study::balancing;
+use rotorsweep::text::number_text;
 
 use crate::error::CliError;
 
@@ -43,23 +44,22 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     let mut angles: Vec<f64> = a.angles_deg.iter().map(|d| d.to_radians()).collect();
     if let Some(n) = a.holes {
         if !(1..=360).contains(&n) {
-            return Err(CliError::usage("--holes must be 1 … 360"));
+            return Err(CliError::input("--holes must be 1 … 360"));
         }
         angles = (0..n)
             .map(|i| std::f64::consts::TAU * i as f64 / n as f64)
             .collect();
     }
-    if angles.iter().any(|x| !x.is_finite()) {
-        return Err(CliError::usage("--angles-deg must be finite angles"));
-    }
+    hole_angles(&a.angles_deg).map_err(|r| CliError::input(format!("--angles-deg: {r}")))?;
     if a.max_mass_g.is_some_and(|m| !(m.is_finite() && m > 0.0)) {
-        return Err(CliError::usage("--max-mass-g must be a positive mass"));
+        return Err(CliError::input("--max-mass-g must be a positive mass"));
     }
     let limits = PlaneLimits {
         angles,
         max_mass: a.max_mass_g,
     };
     let mut b = balancing::balance(&a.file, &limits)?;
+    finite_lines(&a.file, &b)?;
     if a.check {
         balancing::check(&mut b, a.study.as_deref())?;
     }
@@ -93,4 +93,56 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         table("check run", c);
     }
     Ok(())
+}
+
+/// Most holes `--angles-deg` may list (as `--holes`).
+const MAX_HOLES: usize = 360;
+
+/// The holes of `--angles-deg` [deg]: at most [`MAX_HOLES`], each in [−360, 360], no two at the
+/// same place (angles are taken modulo 360°, so 0 and 360 are one hole).
+fn hole_angles(deg: &[f64]) -> Result<(), String> {
+    if deg.len() > MAX_HOLES {
+        return Err(format!("{} angles: at most {MAX_HOLES} holes", deg.len()));
+    }
+    if let Some(d) = deg.iter().find(|d| !(-360.0..=360.0).contains(*d)) {
+        return Err(format!(
+            "{} is not an angle in [-360, 360] degrees",
+            number_text(*d)
+        ));
+    }
+    for (i, d) in deg.iter().enumerate() {
+        if let Some(e) = deg[..i].iter().find(|e| {
+            let gap = (d - *e).rem_euclid(360.0);
+            gap.min(360.0 - gap) < 1e-9
+        }) {
+            return Err(format!(
+                "{e} and {d} are the same hole (angles are taken modulo 360 degrees): list each \
+                 hole once"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The 1× amplitudes and phases the corrections come from are numbers: a NaN in the results
+/// file's `/analysis/lines` (a job whose analysis failed) leaves no corrections; the error names
+/// the row and the run.
+fn finite_lines(file: &std::path::Path, b: &balancing::Balance) -> Result<(), CliError> {
+    let Some((row, plane)) = b.non_finite() else {
+        return Ok(());
+    };
+    let r = &b.predicted[row];
+    let run = match plane {
+        None => "the reference run".to_string(),
+        Some(p) => format!("the trial run at z = {} mm", b.planes()[p]),
+    };
+    Err(rotorsweep::error::InputError::new(
+        file,
+        format!(
+            "/analysis/lines: the 1× of {}/{} at {} Hz in {run} is not a number: \
+             balancing needs every run's 1× amplitude and phase",
+            r.sensor, r.direction, r.speed_hz
+        ),
+    )
+    .into())
 }

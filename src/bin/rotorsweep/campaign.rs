@@ -34,6 +34,10 @@ pub struct RunArgs {
     /// Run only shard i of n (jobs whose index modulo n is i), e.g. `--shard 0/4`.
     #[arg(long, value_name = "i/n")]
     shard: Option<String>,
+    /// Accept a shard that holds no job (more shards than jobs): write its file of no jobs
+    /// instead of refusing the run.
+    #[arg(long, requires = "shard")]
+    allow_empty: bool,
     /// Replace an existing results file (only a rotorsweep results file; it stays intact until
     /// the new one is complete) and the saved jobs of an interrupted run.
     #[arg(long, conflicts_with = "resume")]
@@ -175,6 +179,19 @@ pub fn run(a: &RunArgs) -> Result<bool, crate::error::CliError> {
             (None, false) => ReferenceSource::Run,
         },
     };
+    if let Some((i, n)) = opts.shard {
+        if st.shard(i, n).is_empty() && !a.allow_empty {
+            return Err(CampaignError::Usage(format!(
+                "--shard {i}/{n}: holds no job ({} has {} jobs, and shard i runs the jobs whose \
+                 index modulo {n} is i); split into at most {} shards, or add --allow-empty to \
+                 write a file of no jobs",
+                a.study.display(),
+                st.jobs.len(),
+                st.jobs.len()
+            ))
+            .into());
+        }
+    }
     let t0 = std::time::Instant::now();
     let out = run_study(&st, &opts)?;
     if a.references_only {

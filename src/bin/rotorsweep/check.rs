@@ -6,9 +6,10 @@
 //! is derived from it: the axial positions of the named nodes, balancing planes and masses in mm
 //! (relative positions resolved), the wall (uniform, or the map's statistics), the speed and the
 //! record, each rollers support's contact law (as written, or fitted to its geometry: the
-//! geometry, the fit's loads and how far the law lies from the Roark relation), and, unless
-//! `--no-model`, the model: mass, mesh, reduced size, balancing masses and
-//! the first undamped frequencies on the linearised supports at standstill (vertical,
+//! geometry, the fit's loads and how far the law lies from the Roark relation), warnings for
+//! geometry that loads but is unlikely (a wall under 1 % of its diameter, a shell lighter than
+//! the roll's ends), and, unless `--no-model`, the model: mass, mesh, reduced size, balancing
+//! masses and the first undamped frequencies on the linearised supports at standstill (vertical,
 //! horizontal), as `rotorsweep modes` computes them. For a study: its jobs, models and
 //! references, the values of every swept key, then the first job's scene (the study's `[set]`
 //! and `[budget]` with that job's swept values) as above. Errors as in every command (exit 1
@@ -27,7 +28,7 @@ use rotorsweep::dynamics::summary::ModelSummary;
 use rotorsweep::error::InputError;
 use rotorsweep::linear::overview::SupportedHz;
 use rotorsweep::scene::source::Source;
-use rotorsweep::scene::{with_overrides, Scene};
+use rotorsweep::scene::{plausibility, with_overrides, Scene};
 use rotorsweep::study::Study;
 
 use crate::error::CliError;
@@ -113,6 +114,9 @@ fn scene(source: &Source, set: &[String], model: bool) -> Result<(), CliError> {
     print_wall(d.wall.as_ref());
     print_run(&d);
     print_contacts(&d.contacts);
+    for w in plausibility::warnings(source, set, &sc)? {
+        println!("warning: {w}");
+    }
     if model {
         let m = Model::build(&sc, None)?;
         print_model(&m.summary());
@@ -182,13 +186,17 @@ fn print_wall(wall: Option<&Wall>) {
 
 fn print_run(d: &Derived) {
     let speed = match &d.speed {
-        Speed::Constant(hz) => format!("constant {hz:.4} Hz"),
+        Speed::Constant(hz) => format!("constant {hz:.4} Hz ({:.2} rpm)", 60.0 * hz),
         Speed::Ramp {
             from_hz,
             to_hz,
             t0_s,
             t1_s,
-        } => format!("ramp {from_hz:.4} → {to_hz:.4} Hz over {t0_s} … {t1_s} s"),
+        } => format!(
+            "ramp {from_hz:.4} → {to_hz:.4} Hz ({:.2} → {:.2} rpm) over {t0_s} … {t1_s} s",
+            60.0 * from_hz,
+            60.0 * to_hz
+        ),
         Speed::Steps(steps) => format!(
             "steps: {}",
             steps

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use rotorsweep::results::measured;
+use rotorsweep::results::{measured, request};
 use rotorsweep::store::output::{self, OutputError};
 
 use crate::error::CliError;
@@ -20,7 +20,8 @@ pub struct Args {
     /// Replace an existing output file (only a rotorsweep results file).
     #[arg(long)]
     overwrite: bool,
-    /// Orders to analyse (default 1,2,3,4; fractional ones too, e.g. 0.92).
+    /// Orders to analyse (default 1,2,3,4; fractional ones too, e.g. 0.92; each in
+    /// [0.001, 10000]).
     #[arg(
         long,
         value_delimiter = ',',
@@ -32,9 +33,7 @@ pub struct Args {
 
 /// Runs `import`.
 pub fn run(a: &Args) -> Result<(), CliError> {
-    if a.orders.is_empty() || a.orders.iter().any(|o| !(o.is_finite() && *o > 0.0)) {
-        return Err(CliError::usage("--orders must be positive"));
-    }
+    request::check_orders(&a.orders).map_err(|r| CliError::input(format!("--orders: {r}")))?;
     let record = measured::read(&a.measured)?;
     let _lock = output::claim(&a.output, a.overwrite)?;
     let name = a

@@ -2,8 +2,8 @@
 //! [`rotorsweep::linear`]).
 //!
 //! In: a scene, `--speed-hz F` (that speed only) or `--speeds START:STOP:COUNT` [Hz] (default
-//! 0:100:101), `--set KEY=VALUE`, `--modes`, `--max-freq-hz`, `--unbalance`, `--floquet-cutoff-hz`,
-//! `--no-floquet`.
+//! 0:100:101; with a trailing `rpm` in rev/min), `--set KEY=VALUE`, `--modes`, `--max-freq-hz`,
+//! `--unbalance`, `--floquet-cutoff-hz`, `--no-floquet`.
 //! Out: tables, or with `--json` one object: `speeds_hz`; `modes` (per speed, ascending:
 //! `{freq_hz, damping_ratio, log_dec, whirl, kind, whirl_index}`, damped frequency [Hz]);
 //! with `--shapes` each mode's `shape` `{x_re, x_im, y_re, y_im}` at the nodes of `node_z_mm`;
@@ -34,10 +34,10 @@ use rotorsweep::linear::request::{self, PointUnbalance, Request, Results, PHASE_
 use rotorsweep::linear::scene_system::{in_scene, scene_system};
 use rotorsweep::linear::FRAME_NOTE;
 use rotorsweep::results::linear_file;
-use rotorsweep::scene::MAX_SPEED_HZ;
 use rotorsweep::store;
 
 use crate::error::CliError;
+use crate::speeds;
 
 /// Arguments of `rotorsweep linear`.
 #[derive(clap::Args)]
@@ -47,7 +47,8 @@ pub struct Args {
     /// One spin speed [Hz]: only this speed is solved.
     #[arg(long, conflicts_with = "speeds")]
     speed_hz: Option<f64>,
-    /// Spin speeds START:STOP:COUNT [Hz] (default 0:100:101).
+    /// Spin speeds START:STOP:COUNT [Hz] (default 0:100:101), or in rev/min with a trailing
+    /// `rpm` ("0:6000:101 rpm").
     #[arg(long)]
     speeds: Option<String>,
     /// Override a scene value, `--set roll.shell.elements=60` (repeatable).
@@ -91,16 +92,8 @@ fn request(a: &Args) -> Result<Request, String> {
         return Err("--floquet-cutoff-hz must be positive".into());
     }
     let speeds_hz = match a.speed_hz {
-        Some(f) if f.is_finite() && (0.0..=MAX_SPEED_HZ).contains(&f) => vec![f],
-        Some(f) if f > MAX_SPEED_HZ => {
-            return Err(format!(
-                "--speed-hz {f:e} is above {MAX_SPEED_HZ:e} Hz, the highest spin speed a scene may \
-                 ask for (speed.hz)"
-            ))
-        }
-        Some(_) => return Err("--speed-hz must be zero or positive".into()),
-        None => request::parse_speeds(a.speeds.as_deref().unwrap_or("0:100:101"))
-            .map_err(|e| format!("--{e}"))?,
+        Some(f) => vec![speeds::hz("speed-hz", f)?],
+        None => speeds::sweep(a.speeds.as_deref().unwrap_or("0:100:101"))?,
     };
     Ok(Request {
         speeds_hz,
@@ -164,13 +157,20 @@ fn print_tables(r: &Results) {
                 )
             })
             .collect();
-        println!("  {s:7.2} Hz: {}", row.join(" | "));
+        println!("  {}: {}", speeds::with_rpm(*s), row.join(" | "));
     }
     let crit: Vec<String> = r
         .campbell
         .critical
         .iter()
-        .map(|c| format!("{:.3} ({})", c.speed_hz, c.whirl))
+        .map(|c| {
+            format!(
+                "{:.3} ({}, {:.1} rpm)",
+                c.speed_hz,
+                c.whirl,
+                60.0 * c.speed_hz
+            )
+        })
         .collect();
     println!("\ncritical speeds [Hz]: {}", crit.join(", "));
     match r.campbell.threshold_hz {

@@ -21,6 +21,7 @@ mod linear;
 mod modes;
 mod report;
 mod simulate;
+mod speeds;
 
 use std::process::ExitCode;
 

@@ -16,6 +16,7 @@ use rotorsweep::dynamics::model::Model;
 use rotorsweep::linear::overview::{modes_report, ModesReport};
 
 use crate::error::CliError;
+use crate::speeds;
 
 /// Arguments of `rotorsweep modes`.
 #[derive(clap::Args)]
@@ -42,12 +43,10 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: &Args) -> Result<(), CliError> {
-    let speed_hz = a.speed_hz.unwrap_or(0.0);
-    if !(speed_hz.is_finite() && speed_hz >= 0.0) {
-        return Err(CliError::input("--speed-hz must be zero or positive"));
-    }
-    let max_speed_hz = a.max_speed_hz.unwrap_or(100.0);
-    if !(max_speed_hz.is_finite() && max_speed_hz > 0.0) {
+    let speed_hz = speeds::hz("speed-hz", a.speed_hz.unwrap_or(0.0)).map_err(CliError::input)?;
+    let max_speed_hz =
+        speeds::hz("max-speed-hz", a.max_speed_hz.unwrap_or(100.0)).map_err(CliError::input)?;
+    if max_speed_hz <= 0.0 {
         return Err(CliError::input("--max-speed-hz must be positive"));
     }
     // --speed-hz alone: that speed only, no sweep.

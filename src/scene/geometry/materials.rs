@@ -3,7 +3,8 @@
 //! In: the `[materials.NAME]` tables (Young's modulus in GPa, Poisson's ratio, density in
 //! kg/m³). Out: [`Materials`], each a [`Material`] (Pa, -, kg/m³), or an [`InputError`] at the
 //! key; a name no table defines is an error where it is used, listing the defined ones. Method:
-//! range checks (Poisson's ratio in [-0.99, 0.499]), in name order.
+//! range checks (Poisson's ratio in [-0.99, 0.499], Young's modulus and density within what a
+//! material can have), in name order.
 
 use std::collections::BTreeMap;
 
@@ -42,12 +43,27 @@ impl Materials {
     }
 }
 
+/// Young's modulus [GPa] a material may have: from soft rubber (1e-4) to ten times diamond's
+/// (1e4); E = 1e30 GPa left the eigen-solvers without an answer.
+pub(crate) const YOUNGS_MODULUS_GPA: (f64, f64) = (1e-4, 1e4);
+
+/// Density [kg/m³] a material may have: from foams (1) to five times osmium's (1e5); 1e300
+/// overflowed the mass matrix.
+pub(crate) const DENSITY_KG_M3: (f64, f64) = (1.0, 1e5);
+
 fn material(c: &Check, key: &str, m: &MaterialFile) -> Result<Material, InputError> {
     let nu = c.range(&format!("{key}.poisson"), m.poisson, -0.99, 0.499)?;
+    let (e0, e1) = YOUNGS_MODULUS_GPA;
+    let (d0, d1) = DENSITY_KG_M3;
     Ok(Material {
         youngs_modulus: 1e9
-            * c.positive(&format!("{key}.youngs_modulus_gpa"), m.youngs_modulus_gpa)?,
+            * c.range(
+                &format!("{key}.youngs_modulus_gpa"),
+                m.youngs_modulus_gpa,
+                e0,
+                e1,
+            )?,
         poisson: nu,
-        density: c.positive(&format!("{key}.density_kg_m3"), m.density_kg_m3)?,
+        density: c.range(&format!("{key}.density_kg_m3"), m.density_kg_m3, d0, d1)?,
     })
 }

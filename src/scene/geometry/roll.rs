@@ -29,8 +29,8 @@ pub(crate) fn build_roll(
 ) -> Result<Geometry, InputError> {
     let mat = materials.get(c, "roll.material", &roll.material)?;
     let sh = &roll.shell;
-    let outer = 1e-3 * c.positive("roll.shell.outer_diameter_mm", sh.outer_diameter_mm)?;
-    let length = 1e-3 * c.positive("roll.shell.length_mm", sh.length_mm)?;
+    let outer = 1e-3 * c.size_mm("roll.shell.outer_diameter_mm", sh.outer_diameter_mm)?;
+    let length = 1e-3 * c.size_mm("roll.shell.length_mm", sh.length_mm)?;
     let elements = c.count("roll.shell.elements", sh.elements, 1, 2000)?;
     let wall = nominal_wall(c, sh, outer)?;
     let map = thickness_map(c, sh, length, outer)?;
@@ -113,7 +113,7 @@ impl Ends {
         mat: Material,
         materials: &Materials,
     ) -> Result<Self, InputError> {
-        let head_t = 1e-3 * c.positive("roll.heads.thickness_mm", roll.heads.thickness_mm)?;
+        let head_t = 1e-3 * c.size_mm("roll.heads.thickness_mm", roll.heads.thickness_mm)?;
         let head_mat = match &roll.heads.material {
             Some(m) => materials.get(c, "roll.heads.material", m)?,
             None => mat,
@@ -184,6 +184,7 @@ fn sensors(
         let key = format!("roll.sensors[{i}]");
         let zk = format!("{key}.z_mm");
         let z = 1e-3 * c.range(&zk, c.position(&zk, &s.z_mm, frame)?, 0.0, length * 1e3)?;
+        crate::error::safe_name(&s.name).map_err(|r| c.err(&format!("{key}.name"), r))?;
         if named_points.iter().any(|(n, _)| n == &s.name) {
             return Err(c.err(
                 &format!("{key}.name"),
@@ -247,15 +248,18 @@ fn shaft(
     shell_outer: f64,
     mat: Material,
 ) -> Result<SegmentSpec, InputError> {
-    let d = 1e-3 * c.positive(&format!("{key}.diameter_mm"), s.diameter_mm)?;
+    let d = 1e-3 * c.size_mm(&format!("{key}.diameter_mm"), s.diameter_mm)?;
     if d > shell_outer {
-        return Err(c.err(
-            &format!("{key}.diameter_mm"),
+        return Err(c.err_among(
+            &[
+                &format!("{key}.diameter_mm"),
+                "roll.shell.outer_diameter_mm",
+            ],
             "a shaft cannot be thicker than the shell",
         ));
     }
     Ok(SegmentSpec {
-        length: 1e-3 * c.positive(&format!("{key}.length_mm"), s.length_mm)?,
+        length: 1e-3 * c.size_mm(&format!("{key}.length_mm"), s.length_mm)?,
         section: SectionSpec::Tube {
             outer: d,
             inner: 0.0,

@@ -26,7 +26,7 @@ pub(crate) fn build_rotor(
     let mut segments = Vec::new();
     for (i, s) in r.segments.iter().enumerate() {
         let k = format!("rotor.segments[{i}]");
-        let outer = 1e-3 * c.positive(&format!("{k}.outer_diameter_mm"), s.outer_diameter_mm)?;
+        let outer = 1e-3 * c.size_mm(&format!("{k}.outer_diameter_mm"), s.outer_diameter_mm)?;
         let inner =
             1e-3 * c.non_negative(&format!("{k}.inner_diameter_mm"), s.inner_diameter_mm)?;
         if inner >= outer {
@@ -36,7 +36,7 @@ pub(crate) fn build_rotor(
             ));
         }
         segments.push(SegmentSpec {
-            length: 1e-3 * c.positive(&format!("{k}.length_mm"), s.length_mm)?,
+            length: 1e-3 * c.size_mm(&format!("{k}.length_mm"), s.length_mm)?,
             section: SectionSpec::Tube { outer, inner },
             elements: c.count(&format!("{k}.elements"), s.elements, 1, 2000)?,
             material: materials.get(c, &format!("{k}.material"), &s.material)?,
@@ -64,6 +64,7 @@ pub(crate) fn build_rotor(
     let mut sensors = Vec::new();
     for (i, s) in r.sensors.iter().enumerate() {
         let k = format!("rotor.sensors[{i}]");
+        crate::error::safe_name(&s.name).map_err(|r| c.err(&format!("{k}.name"), r))?;
         if named_points.iter().any(|(n, _)| n == &s.name) {
             return Err(c.err(
                 &format!("{k}.name"),

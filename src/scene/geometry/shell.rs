@@ -8,7 +8,7 @@
 //! [`SectionSpec`], or an [`InputError`] at the key (an error inside the CSV names the CSV and
 //! its line, and where the scene names it). Method: a wall is nominal or a map, never both; the
 //! synthetic map is drawn from its [`SyntheticSpec`] (min < mean < max); a map's wall must fit
-//! the tube (0 < t < D/2).
+//! the tube (0 < t < D/2), blamed on whichever of wall and diameter an override set.
 
 use std::f64::consts::PI;
 use std::path::Path;
@@ -19,6 +19,9 @@ use crate::rotor::fe::SectionSpec;
 use crate::rotor::wall::{AxialShape, HarmonicSpec, SyntheticSpec, ThicknessMap};
 use crate::scene::check::Check;
 use crate::scene::file::{ShellFile, SyntheticMapFile};
+
+/// The key of the shell's outer diameter, which its wall must fit.
+const OUTER_KEY: &str = "roll.shell.outer_diameter_mm";
 
 /// The shell's nominal wall [m], if it gives one (`wall_thickness_mm`): never beside a map, and
 /// thinner than half the tube of diameter `outer` [m].
@@ -40,10 +43,10 @@ pub(super) fn nominal_wall(
                 ))
             }
             (Some(w), None, None) => {
-                let wall = 1e-3 * c.positive("roll.shell.wall_thickness_mm", w)?;
+                let wall = 1e-3 * c.size_mm("roll.shell.wall_thickness_mm", w)?;
                 if 2.0 * wall >= outer {
-                    return Err(c.err(
-                        "roll.shell.wall_thickness_mm",
+                    return Err(c.err_among(
+                        &["roll.shell.wall_thickness_mm", OUTER_KEY],
                         format!(
                             "a wall of {} mm does not fit in a {} mm tube",
                             wall * 1e3,
@@ -120,8 +123,12 @@ fn fits_tube(c: &Check, sh: &ShellFile, m: &ThicknessMap, outer: f64) -> Result<
             ),
             None => String::new(),
         };
-        return Err(c.err(
-            "roll.shell.thickness_map",
+        let map_key = match sh.thickness_map {
+            Some(_) => "roll.shell.thickness_map",
+            None => "roll.shell.synthetic_map",
+        };
+        return Err(c.err_among(
+            &[map_key, OUTER_KEY],
             format!(
                 "map thickness {:.3}..{:.3} mm{source} does not fit a {} mm tube",
                 st.min_m * 1e3,

@@ -68,7 +68,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         .map(|j| j.id.as_str())
         .chain(refs.iter().map(|r| r.id.as_str()))
         .collect();
-    let (done, stale) = saved_parts(&dir, &identity.digest, &wanted)?;
+    let (done, stale) = saved_parts(&dir, &identity, &wanted)?;
     if stale > 0 {
         eprintln!(
             "{}: {stale} saved job(s) were made from other inputs or are unreadable; they run again",
@@ -106,6 +106,10 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     let write_error = run_all(&pool, &work, &models, &dir, &identity, &progress);
     progress.finish();
     if let Some(e) = write_error {
+        progress.assembled(
+            &opts.output,
+            Some(&format!("a run could not be saved: {e}")),
+        );
         return Err(stopped(e, &dir, &identity, &wanted, work.len() + resumed));
     }
     let sources = Sources {
@@ -114,7 +118,9 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         shared: shared.as_ref(),
         models: &models,
     };
-    assemble(study, opts, &identity, &jobs, &refs, &sources)?;
+    let assembled = assemble(study, opts, &identity, &jobs, &refs, &sources);
+    progress.assembled(&opts.output, assembled.as_ref().err().map(|e| e as _));
+    assembled?;
     drop(shared);
     let outcome = Outcome::read(&opts.output, jobs.len(), resumed, stale)?;
     // Every part of this run's jobs was checked (saved_parts) or written by it.

@@ -3,7 +3,8 @@
 //! In: a finished run's result and attributes, and the study's digest ([`Identity`]). Out:
 //! `OUT.h5.parts/<id>.h5`, written under `<id>.h5.tmp` and renamed, so a `kill -9` at any
 //! moment loses only the runs still going; a rotorsweep results file with the run as its `job`
-//! group and the root attribute `study_digest`. Also: which saved parts a resumed run reuses
+//! group and the root attributes `study_digest` and `study_inputs` (which files, so a resume
+//! after an edit knows its own earlier parts). Also: which saved parts a resumed run reuses
 //! (those of its own runs with its digest), and the removal of a parts folder, which removes
 //! only files rotorsweep wrote (judged by content, not only by name) and refuses anything else.
 
@@ -39,6 +40,7 @@ pub(super) fn save_part(
         store::attr_str(&f, "tool", "rotorsweep")?;
         store::attr_str(&f, "tool_version", env!("CARGO_PKG_VERSION"))?;
         store::attr_str(&f, "study_digest", &identity.digest)?;
+        store::attr_str(&f, "study_inputs", &identity.inputs_text())?;
         store::write_job(&f, "job", params, integrator, r)?;
         f.close()
     };
@@ -51,16 +53,30 @@ pub(super) fn save_part(
     Ok(())
 }
 
-/// The saved parts of a run: ids whose part file carries `digest`, and the number of parts
-/// made from other inputs (or unreadable), which are run again. A file there that rotorsweep
-/// did not write (not HDF5 with `tool = rotorsweep` and a `job` group), or a saved job that is
-/// not one of this run's (another shard's, on the same output), is refused: nothing in the
-/// folder is replaced or removed that is not this run's own.
+/// The saved parts of a run: ids whose part file carries the study's digest, and the number of
+/// parts made from other inputs (or unreadable), which are run again: among them the parts of
+/// this study before an edit (the same study file, another digest), whose ids are no longer
+/// jobs when the edit changed a scene. A file there that rotorsweep did not write (not HDF5
+/// with `tool = rotorsweep` and a `job` group), or a saved job of another study or another
+/// shard on the same output, is refused: nothing in the folder is replaced or removed that is
+/// not this run's own.
 pub(super) fn saved_parts(
     dir: &Path,
-    digest: &str,
+    identity: &Identity,
     wanted: &BTreeSet<&str>,
 ) -> Result<(BTreeSet<String>, usize), CampaignError> {
+    let digest = identity.digest.as_str();
+    let study_file = identity.inputs.iter().find(|f| f.role == "study");
+    // A part of this study's earlier inputs: the same study file, edited (or what it reads).
+    let earlier = |f: &hdf5::File| {
+        let d = store::read_str(f, "study_digest").unwrap_or_default();
+        let inputs = store::read_str(f, "study_inputs").unwrap_or_default();
+        !d.is_empty()
+            && d != digest
+            && Identity::parse_inputs(&inputs)
+                .iter()
+                .any(|i| study_file.is_some_and(|s| s.role == i.role && s.path == i.path))
+    };
     let mut done = BTreeSet::new();
     let mut stale = 0;
     let Ok(rd) = std::fs::read_dir(dir) else {
@@ -79,9 +95,14 @@ pub(super) fn saved_parts(
             )
         })?;
         if !wanted.contains(id) {
+            if earlier(&f) {
+                stale += 1;
+                continue;
+            }
             return Err(CampaignError::Usage(format!(
                 "{}: a saved job that is not in this run (another shard's, or another study's, \
-                 on the same output?): finish that run into this output, or choose another -o",
+                 on the same output): finish that run into this output, or choose another -o, \
+                 or run with --overwrite instead of --resume to discard the saved jobs",
                 path.display()
             )));
         }

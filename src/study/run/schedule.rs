@@ -194,7 +194,7 @@ pub(super) fn stopped(
     wanted: &BTreeSet<&str>,
     runs: usize,
 ) -> CampaignError {
-    let saved = saved_parts(dir, &identity.digest, wanted).map_or(0, |p| p.0.len());
+    let saved = saved_parts(dir, identity, wanted).map_or(0, |p| p.0.len());
     CampaignError::Io {
         path: match &e {
             CampaignError::Io { path, .. } => path.clone(),
