@@ -340,7 +340,7 @@ impl Projected {
         let omega = self.omega;
         let kc = |theta: f64| self.kc(theta);
         match &self.flip {
-            Some(d) if steps % 2 == 0 => {
+            Some(d) if steps.is_multiple_of(2) => {
                 let half = propagate(&self.mr, omega, steps, steps / 2, kc)?;
                 let b = d.nrows();
                 let mut dd = DMatrix::zeros(2 * b, 2 * b);
