@@ -14,6 +14,7 @@ use std::path::Path;
 use super::position::{Frame, Position};
 use super::source::Source;
 use crate::error::InputError;
+use crate::text::number_text;
 
 /// The dimensions a body may have [mm] ([`Check::size_mm`]).
 pub(super) const SIZE_MM: (f64, f64) = (1e-3, 1e6);
@@ -56,7 +57,10 @@ impl Check<'_> {
         if v.is_finite() && v > 0.0 {
             Ok(v)
         } else {
-            Err(self.err(key, format!("must be a positive number, got {v}")))
+            Err(self.err(
+                key,
+                format!("must be a positive number, got {}", number_text(v)),
+            ))
         }
     }
 
@@ -64,7 +68,10 @@ impl Check<'_> {
         if v.is_finite() && v >= 0.0 {
             Ok(v)
         } else {
-            Err(self.err(key, format!("must be zero or positive, got {v}")))
+            Err(self.err(
+                key,
+                format!("must be zero or positive, got {}", number_text(v)),
+            ))
         }
     }
 
@@ -72,7 +79,10 @@ impl Check<'_> {
         if v.is_finite() {
             Ok(v)
         } else {
-            Err(self.err(key, format!("must be a finite number, got {v}")))
+            Err(self.err(
+                key,
+                format!("must be a finite number, got {}", number_text(v)),
+            ))
         }
     }
 
@@ -80,7 +90,15 @@ impl Check<'_> {
         if v.is_finite() && v >= lo && v <= hi {
             Ok(v)
         } else {
-            Err(self.err(key, format!("must lie in [{lo}, {hi}], got {v}")))
+            Err(self.err(
+                key,
+                format!(
+                    "must lie in [{}, {}], got {}",
+                    number_text(lo),
+                    number_text(hi),
+                    number_text(v)
+                ),
+            ))
         }
     }
 
@@ -94,7 +112,10 @@ impl Check<'_> {
         } else {
             Err(self.err(
                 key,
-                format!("must be a positive size in [{lo}, {hi:e}] mm (1 µm to 1 km), got {v}"),
+                format!(
+                    "must be a positive size in [{lo}, {hi:e}] mm (1 µm to 1 km), got {}",
+                    number_text(v)
+                ),
             ))
         }
     }
