@@ -37,6 +37,7 @@ import rotorsweep as rp
 from rotorsweep import figures
 from rotorsweep.figures import jobs as job_figures, ramps
 from rotorsweep.figures._common import significant
+from rotorsweep.figures.linear import peak_label
 from rotorsweep.figures.tables import NumberTexts, ReportTables
 from test_results import ROOT, binary, rotorsweep, run_ok
 
@@ -324,6 +325,39 @@ def test_linear_file_of_one_speed(tmp_path: Path) -> None:
         check_png(p)
     jeff = figures.linear_groups(tmp_path / "one.h5")["jeffcott"]
     assert len(figures.mode_shapes(jeff, "jeffcott").axes) == 4
+
+
+def test_bode_marks_the_peaks_the_sweep_misses(tmp_path: Path) -> None:
+    """Issue 20: on the new roll the default 1 Hz sweep passes between the samples of the first
+    critical pair; the Bode figure marks the refined peaks (the file's ``unbalance_peaks``) at
+    their speed and amplitude and says that the sweep misses them, the sampled curve drawn with
+    a dot per sample."""
+    scene = ROOT / "tests" / "fixtures" / "new-roll.toml"
+    run_ok("linear", scene, "--no-floquet", "-o", "new.h5", cwd=tmp_path)
+    written = figures.render(tmp_path / "new.h5", tmp_path / "plots")
+    assert "bode.png" in [p.name for p in written]
+    check_png(tmp_path / "plots" / "bode.png")
+    roll = figures.linear_groups(tmp_path / "new.h5")["new-roll"]
+    peaks = roll["unbalance_peaks"]
+    centre = max((p for p in peaks if p["sensor"] == "centre"), key=lambda p: p["major_um"])
+    assert centre["coarse"] and 27.2 < centre["speed_hz"] < 27.3, centre
+    fig = figures.bode(roll, "new-roll")
+    ax = next(a for a in fig.axes if a.get_title() == "centre")
+    texts = [t.get_text() for t in ax.texts]
+    assert peak_label(centre) in texts, texts
+    assert f"peak {centre['major_um']:.4g} µm at {centre['speed_hz']:.2f} Hz (sweep misses it)" \
+        in texts
+    # The marker sits on the refined peak, above every sample of the sweep.
+    marks = [ln for ln in ax.lines if ln.get_marker() == "X" and len(ln.get_xdata())]
+    xy = {(float(ln.get_xdata()[0]), float(ln.get_ydata()[0])) for ln in marks}
+    assert (centre["speed_hz"], centre["major_um"]) in xy
+    sampled = max(float(np.max(ln.get_ydata())) for ln in ax.lines
+                  if ln.get_marker() == "." and len(ln.get_ydata()))
+    assert sampled < 0.99 * centre["major_um"]
+    assert "misses" in fig.get_suptitle()
+    # A peak the sweep resolves is marked without the note.
+    resolved = dict(centre, coarse=False)
+    assert "misses" not in peak_label(resolved)
 
 
 def report_json(results: Path, *args: str) -> dict:

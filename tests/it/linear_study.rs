@@ -140,4 +140,18 @@ fn a_bad_linear_table_names_its_key_and_line() {
         assert!(msg.contains("bad.toml"), "{bad}: {msg}");
         assert!(msg.contains("line"), "{bad}: {msg}");
     }
+    // The Floquet switch is a boolean: `floquet = false` (the default) skips it; a string or a
+    // number is refused at its own line.
+    let off = STUDY.replace("floquet = true", "floquet = false");
+    Study::load(&write_file(&d, "off.toml", &off)).expect("floquet = false");
+    for bad in ["floquet = \"no\"", "floquet = 0"] {
+        let text = STUDY.replace("floquet = true", bad);
+        let e = Study::load(&write_file(&d, "bad.toml", &text)).unwrap_err();
+        let msg = e.to_string();
+        let line = text.lines().position(|l| l == bad).unwrap() + 1;
+        assert_eq!(e.line, Some(line), "{bad}: {msg}");
+        assert_eq!(e.key.as_deref(), Some("linear.floquet"), "{bad}: {msg}");
+        assert!(msg.contains("bad.toml"), "{bad}: {msg}");
+        assert!(msg.contains("expected a boolean"), "{bad}: {msg}");
+    }
 }

@@ -6,6 +6,8 @@ or a study's where its ``[linear]`` table asks): the Campbell diagram (damped wh
 
 from __future__ import annotations
 
+import json
+
 import h5py
 import numpy as np
 import pandas as pd
@@ -36,8 +38,10 @@ MAX_MAP_CRITICALS = 6
 
 def linear_system(g: h5py.Group) -> dict[str, object]:
     """The datasets of one ``/linear/<name>`` group as arrays (text decoded), under their path in
-    the group (``campbell/speed_hz``, ``critical_speeds_hz``, …), and its attributes
-    ``stability_threshold_hz``, ``vertical_hz`` and ``horizontal_hz`` (None when absent)."""
+    the group (``campbell/speed_hz``, ``critical_speeds_hz``, …), its attributes
+    ``stability_threshold_hz``, ``vertical_hz`` and ``horizontal_hz`` (None when absent), and
+    ``unbalance_peaks``: the refined response peaks of the group's ``json`` attribute, a list of
+    ``{sensor, critical_hz, speed_hz, major_um, sampled_um, coarse}`` ([] when absent)."""
     data: dict[str, object] = {}
 
     def visit(name: str, obj: h5py.HLObject) -> None:
@@ -49,6 +53,10 @@ def linear_system(g: h5py.Group) -> dict[str, object]:
     for name in ("stability_threshold_hz", "vertical_hz", "horizontal_hz"):
         value = g.attrs.get(name)
         data[name] = None if value is None else float(value)
+    text = g.attrs.get("json")
+    if isinstance(text, bytes):
+        text = text.decode()
+    data["unbalance_peaks"] = (json.loads(text).get("unbalance_peaks") or []) if text else []
     return data
 
 
@@ -274,16 +282,29 @@ def responses(sys_: dict[str, object]) -> list[str]:
     return names[:MAX_SENSORS]
 
 
+def peak_label(peak: dict[str, object]) -> str:
+    """A refined response peak as its figure label: ``peak 6468 µm at 27.25 Hz``, with ``(sweep
+    misses it)`` when it is ``coarse`` (the sampled curve stays more than 1 % below it)."""
+    text = f"peak {float(peak['major_um']):.4g} µm at {float(peak['speed_hz']):.2f} Hz"
+    return text + " (sweep misses it)" if peak["coarse"] else text
+
+
 def bode(sys_: dict[str, object], title: str) -> Figure | None:
     """Bode plot of the 1× unbalance response per sensor (one column each): amplitude [µm] and
     phase [°] (unwrapped, against roll angle 0; none at zero amplitude) over spin speed [Hz],
-    vertical and horizontal, the critical speeds dotted; None without a stored response."""
+    vertical and horizontal and the orbit's major semi-axis (grey), each sample a dot, the
+    critical speeds dotted; the refined peaks of the major semi-axis (``unbalance_peaks``) marked
+    and labelled with their amplitude and speed (★; ✕ and "sweep misses it" where the sampled
+    curve stays more than 1 % below the peak: the curve between the samples is not the response
+    there); None without a stored response."""
     sensors = responses(sys_)
     if not sensors or not _over_speed(sys_):
         return None
     speed = np.asarray(sys_["campbell/speed_hz"])
     fig = figure(figsize=(4.6 * len(sensors) + 0.6, 6.2))
     axes = fig.subplots(2, len(sensors), sharex=True, squeeze=False)
+    peaks = list(sys_.get("unbalance_peaks", []))
+    missed = 0
     for c, sensor in enumerate(sensors):
         for d, colour in zip(DIRECTIONS, ("tab:orange", "tab:blue")):
             key = f"unbalance_response/{sensor}/{d}"
@@ -291,8 +312,27 @@ def bode(sys_: dict[str, object], title: str) -> Figure | None:
             # Without amplitude (at standstill) the phase means nothing: left out, and the rest
             # unwrapped.
             phase = unwrap_deg(np.where(amp > 0, np.asarray(sys_[f"{key}/phase_deg"]), np.nan))
-            axes[0, c].plot(speed, amp, color=colour, label=d)
-            axes[1, c].plot(speed, phase, color=colour, label=d)
+            axes[0, c].plot(speed, amp, color=colour, marker=".", ms=3, label=d)
+            axes[1, c].plot(speed, phase, color=colour, marker=".", ms=3, label=d)
+        major = sys_.get(f"unbalance_response/{sensor}/major_um")
+        if major is not None:
+            axes[0, c].plot(speed, np.asarray(major), color="0.55", lw=0.8, marker=".", ms=2,
+                            label="orbit major semi-axis", zorder=1)
+        mine = sorted((p for p in peaks if p["sensor"] == sensor),
+                      key=lambda p: -float(p["major_um"]))
+        missed += sum(bool(p["coarse"]) for p in mine)
+        for i, p in enumerate(mine):
+            x, y = float(p["speed_hz"]), float(p["major_um"])
+            coarse = bool(p["coarse"])
+            axes[0, c].plot([x], [y], marker="X" if coarse else "*", ms=9, ls="none",
+                            color="tab:purple" if coarse else "black", zorder=5)
+            # Largest first, each label a line lower: close peaks' labels do not overlap.
+            axes[0, c].annotate(peak_label(p), (x, y), xytext=(7, -2 - 11 * i),
+                                textcoords="offset points", fontsize="x-small", va="top",
+                                color="tab:purple" if coarse else "black")
+        if mine:
+            # Room above the highest peak for its marker and label.
+            axes[0, c].set_ylim(top=1.12 * max(float(p["major_um"]) for p in mine))
         axes[0, c].set_title(sensor)
         axes[1, c].set_xlabel("spin speed [Hz]")
         for ax in axes[:, c]:
@@ -301,8 +341,18 @@ def bode(sys_: dict[str, object], title: str) -> Figure | None:
     axes[0, 0].set_ylabel("1× amplitude [µm]")
     axes[1, 0].set_ylabel("1× phase [°] (x = A cos(θ + φ))")
     axes[0, 0].plot([], [], color="tab:red", lw=0.8, ls=":", label="critical speeds")
-    axes[0, 0].legend(fontsize="small")
-    fig.suptitle(f"{title}: unbalance response (Bode)")
+    if not all(p["coarse"] for p in peaks):
+        axes[0, 0].plot([], [], marker="*", ls="none", color="black",
+                        label="refined peak (major semi-axis)")
+    if missed:
+        axes[0, 0].plot([], [], marker="X", ls="none", color="tab:purple",
+                        label="peak the sweep misses")
+    # In the phase panel's free middle: the amplitude panel's is the peaks' labels'.
+    axes[1, 0].legend(*axes[0, 0].get_legend_handles_labels(), fontsize="small",
+                      loc="center right")
+    note = (f"\nthe {speed.size}-speed sweep misses {missed} peak{'s' if missed > 1 else ''}: "
+            "the curve between samples is not the response there" if missed else "")
+    fig.suptitle(f"{title}: unbalance response (Bode){note}")
     return fig
 
 
