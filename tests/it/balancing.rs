@@ -97,26 +97,7 @@ fn balance_command_computes_and_checks_corrections_from_a_study() {
     // and 9 Hz. Closed form: W₁ = W₂ = −5 g e^{i30°} (the unbalance sits midway), i.e. 5 g at
     // 210° in each plane; the check run's 1× must fall by ≥ 95 % at both bearings' planes.
     let dir = support::scratch("balance");
-    let spring = "kx_n_per_m = 1e5, ky_n_per_m = 1e5, cx_ns_per_m = 450.0, cy_ns_per_m = 450.0";
-    let run_keys = "[speed]\nhz = 5.0\n[simulation]\nt_end_s = 6.0\nsettle_s = 3.0\n\
-                    sample_rate_hz = 500.0\ngravity_m_s2 = 0.0\nstatic_start = false\n\
-                    [solver]\nhmax = 1e-3\ntolerance = 1e-9\n";
-    // Sensors at both planes: they belong to [rotor], so before the first support.
-    let text = support::stiff_jeffcott(spring, "", run_keys);
-    let (head, rest) = text.split_once("[[supports]]").unwrap();
-    let sensors = "[[rotor.sensors]]\nname = \"a\"\nz_mm = 100.0\n\
-                   [[rotor.sensors]]\nname = \"b\"\nz_mm = 300.0\n";
-    let scene = format!("{head}{sensors}[[supports]]{rest}");
-    support::write_file(&dir, "scene.toml", &scene);
-    let own = "{ z_mm = 200.0, radius_mm = 100.0, angle_deg = 30.0, mass_g = 10.0 }";
-    let study = format!(
-        "name = \"balance-test\"\nscene = \"scene.toml\"\n[[axes]]\nkey = \"rotor.masses\"\n\
-         values = [[{own}], [{own}, {{ z_mm = 100.0, radius_mm = 100.0, angle_deg = 0.0, mass_g = 50.0 }}], \
-         [{own}, {{ z_mm = 300.0, radius_mm = 100.0, angle_deg = 0.0, mass_g = 50.0 }}]]\n\
-         labels = [\"reference\", \"trial a\", \"trial b\"]\n[[axes]]\nkey = \"speed.hz\"\n\
-         values = [5.0, 9.0]\n[analysis]\nbaseline = \"reference\"\norders = [1.0]\n"
-    );
-    let study = support::write_file(&dir, "study.toml", &study);
+    let study = support::trial_mass_study(&dir, "balance-test", &[100.0, 300.0]);
     let out = dir.join("out.h5");
     support::rotorsweep_ok(&["run", study.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     let bal = support::rotorsweep_ok(&["balance", out.to_str().unwrap(), "--check", "--json"]);

@@ -134,30 +134,7 @@ fn balance_refuses_nan_lines_and_holes_that_are_not_holes() {
     // speeds), run, then one 1× amplitude set to NaN: `balance` panicked in the SVD (or, with
     // --holes or --max-mass-g, printed NaN or nothing).
     let dir = support::scratch("balance-refuses");
-    let spring = "kx_n_per_m = 1e5, ky_n_per_m = 1e5, cx_ns_per_m = 450.0, cy_ns_per_m = 450.0";
-    let run_keys = "[speed]\nhz = 5.0\n[simulation]\nt_end_s = 6.0\nsettle_s = 3.0\n\
-                    sample_rate_hz = 500.0\ngravity_m_s2 = 0.0\nstatic_start = false\n\
-                    [solver]\nhmax = 1e-3\ntolerance = 1e-9\n";
-    let text = support::stiff_jeffcott(spring, "", run_keys);
-    let (head, rest) = text.split_once("[[supports]]").unwrap();
-    let sensors = "[[rotor.sensors]]\nname = \"a\"\nz_mm = 100.0\n";
-    support::write_file(
-        &dir,
-        "scene.toml",
-        &format!("{head}{sensors}[[supports]]{rest}"),
-    );
-    let own = "{ z_mm = 200.0, radius_mm = 100.0, angle_deg = 30.0, mass_g = 10.0 }";
-    let trial =
-        |z: u32| format!("{{ z_mm = {z}.0, radius_mm = 100.0, angle_deg = 0.0, mass_g = 50.0 }}");
-    let study = format!(
-        "name = \"balance-nan\"\nscene = \"scene.toml\"\n[[axes]]\nkey = \"rotor.masses\"\n\
-         values = [[{own}], [{own}, {}], [{own}, {}]]\n\
-         labels = [\"reference\", \"trial a\", \"trial b\"]\n[[axes]]\nkey = \"speed.hz\"\n\
-         values = [5.0, 9.0]\n[analysis]\nbaseline = \"reference\"\norders = [1.0]\n",
-        trial(100),
-        trial(300)
-    );
-    support::write_file(&dir, "study.toml", &study);
+    support::trial_mass_study(&dir, "balance-nan", &[100.0]);
     support::rotorsweep_ok(&[
         "run",
         dir.join("study.toml").to_str().unwrap(),

@@ -576,32 +576,9 @@ struct LineRow {
 
 /// Runs the small trial-mass study of tests/it/balancing.rs into `base`; its results file.
 fn balance_results(base: &Path) -> std::path::PathBuf {
-    let spring = "kx_n_per_m = 1e5, ky_n_per_m = 1e5, cx_ns_per_m = 450.0, cy_ns_per_m = 450.0";
-    let run_keys = "[speed]\nhz = 5.0\n[simulation]\nt_end_s = 6.0\nsettle_s = 3.0\n\
-                    sample_rate_hz = 500.0\ngravity_m_s2 = 0.0\nstatic_start = false\n\
-                    [solver]\nhmax = 1e-3\ntolerance = 1e-9\n";
-    let text = crate::support::stiff_jeffcott(spring, "", run_keys);
-    let (head, rest) = text.split_once("[[supports]]").unwrap();
-    let sensors = "[[rotor.sensors]]\nname = \"a\"\nz_mm = 100.0\n";
     let dir = base.join("balance");
     fs::create_dir_all(&dir).unwrap();
-    crate::support::write_file(
-        &dir,
-        "scene.toml",
-        &format!("{head}{sensors}[[supports]]{rest}"),
-    );
-    let own = "{ z_mm = 200.0, radius_mm = 100.0, angle_deg = 30.0, mass_g = 10.0 }";
-    let trial =
-        |z: u32| format!("{{ z_mm = {z}.0, radius_mm = 100.0, angle_deg = 0.0, mass_g = 50.0 }}");
-    let study = format!(
-        "name = \"balance-mutation\"\nscene = \"scene.toml\"\n[[axes]]\nkey = \"rotor.masses\"\n\
-         values = [[{own}], [{own}, {}], [{own}, {}]]\n\
-         labels = [\"reference\", \"trial a\", \"trial b\"]\n[[axes]]\nkey = \"speed.hz\"\n\
-         values = [5.0, 9.0]\n[analysis]\nbaseline = \"reference\"\norders = [1.0]\n",
-        trial(100),
-        trial(300)
-    );
-    let study = crate::support::write_file(&dir, "study.toml", &study);
+    let study = crate::support::trial_mass_study(&dir, "balance-mutation", &[100.0]);
     let out = dir.join("bal.h5");
     crate::support::rotorsweep_ok(&["run", study.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     out

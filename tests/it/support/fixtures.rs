@@ -58,6 +58,47 @@ pub fn stiff_jeffcott(spring: &str, extra: &str, tail: &str) -> String {
         .replace("{tail}", tail)
 }
 
+/// The trial-mass study of tests/it/balancing.rs written into `dir` (`scene.toml` and
+/// `study.toml`, named `name`): the stiff Jeffcott rotor on 1e5 N/m, 450 N·s/m supports with
+/// sensors at `sensor_z_mm` (named a, b, …), its own 10 g at r = 100 mm, 30°, z = 200 mm; a
+/// reference run and trials of 50 g at 0° at z = 100 and 300 mm; 5 and 9 Hz; 1× analysed
+/// against the reference. Returns the study's path.
+pub fn trial_mass_study(
+    dir: &std::path::Path,
+    name: &str,
+    sensor_z_mm: &[f64],
+) -> std::path::PathBuf {
+    let spring = "kx_n_per_m = 1e5, ky_n_per_m = 1e5, cx_ns_per_m = 450.0, cy_ns_per_m = 450.0";
+    let run_keys = "[speed]\nhz = 5.0\n[simulation]\nt_end_s = 6.0\nsettle_s = 3.0\n\
+                    sample_rate_hz = 500.0\ngravity_m_s2 = 0.0\nstatic_start = false\n\
+                    [solver]\nhmax = 1e-3\ntolerance = 1e-9\n";
+    // Sensors belong to [rotor], so before the first support.
+    let text = stiff_jeffcott(spring, "", run_keys);
+    let (head, rest) = text.split_once("[[supports]]").unwrap();
+    let sensors: String = sensor_z_mm
+        .iter()
+        .zip('a'..)
+        .map(|(z, n)| format!("[[rotor.sensors]]\nname = \"{n}\"\nz_mm = {z:?}\n"))
+        .collect();
+    write_file(
+        dir,
+        "scene.toml",
+        &format!("{head}{sensors}[[supports]]{rest}"),
+    );
+    let own = "{ z_mm = 200.0, radius_mm = 100.0, angle_deg = 30.0, mass_g = 10.0 }";
+    let trial =
+        |z: u32| format!("{{ z_mm = {z}.0, radius_mm = 100.0, angle_deg = 0.0, mass_g = 50.0 }}");
+    let study = format!(
+        "name = \"{name}\"\nscene = \"scene.toml\"\n[[axes]]\nkey = \"rotor.masses\"\n\
+         values = [[{own}], [{own}, {}], [{own}, {}]]\n\
+         labels = [\"reference\", \"trial a\", \"trial b\"]\n[[axes]]\nkey = \"speed.hz\"\n\
+         values = [5.0, 9.0]\n[analysis]\nbaseline = \"reference\"\norders = [1.0]\n",
+        trial(100),
+        trial(300)
+    );
+    write_file(dir, "study.toml", &study)
+}
+
 /// 1-based line of the one line that reads exactly `line` (after trimming).
 pub fn line_number(text: &str, line: &str) -> usize {
     let hits: Vec<usize> = text
