@@ -40,7 +40,8 @@ use super::events::{self, Tracker};
 use super::stability::Modes;
 use super::SolverSettings;
 use super::{
-    corrector, finite, same_key, Guard, Newton, Observer, SecondOrder, Stats, Status, StepView,
+    corrector, finite, same_key, Flow, Guard, Newton, Observer, SecondOrder, Stats, Status,
+    StepView,
 };
 
 struct Point {
@@ -172,15 +173,6 @@ pub(super) fn run(
     let last = b.hist.pop_front().expect("history never empty");
     guard.finish(&mut b.st, b.t);
     (last.q, last.v, b.st)
-}
-
-/// How a try of a step that is not accepted goes on.
-#[derive(Debug, PartialEq)]
-enum Flow {
-    /// Try again from the same point (with the step and order the failure set).
-    Retry,
-    /// The run ends (its status and cause are set).
-    Stop,
 }
 
 /// One try of a step: where it ends, its order, whether orders 1–2 use the NDF there, and the

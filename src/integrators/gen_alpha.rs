@@ -13,7 +13,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::SolverSettings;
 use super::{
-    corrector, finite, wnorm, Guard, Newton, Observer, SecondOrder, Stats, Status, StepView,
+    corrector, finite, wnorm, Flow, Guard, Newton, Observer, SecondOrder, Stats, Status, StepView,
 };
 
 /// Runs generalized-α (see the module doc): from the start point and its acceleration
@@ -40,15 +40,6 @@ pub(super) fn run(
     }
     guard.finish(&mut g.st, g.t);
     (g.q0, g.v0, g.st)
-}
-
-/// How a try of a step that is not accepted goes on.
-#[derive(Debug, PartialEq)]
-enum Flow {
-    /// Try again from the same point with the shorter step the failure set.
-    Retry,
-    /// The run ends (its status and cause are set).
-    Stop,
 }
 
 /// The method's coefficients for ρ∞ (module doc).

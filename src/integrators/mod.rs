@@ -295,6 +295,15 @@ pub fn thread_cpu_time() -> f64 {
     cpu_time::ThreadTime::try_now().map_or(0.0, |t| t.as_duration().as_secs_f64())
 }
 
+/// How a try of a step that an integrator does not accept goes on (BDF, generalized-α).
+#[derive(Debug, PartialEq)]
+enum Flow {
+    /// Try again from the same point (with the step, and for BDF the order, the failure set).
+    Retry,
+    /// The run ends (its status and cause are set).
+    Stop,
+}
+
 /// Budget and failure checks shared by the integrators.
 struct Guard {
     cpu0: f64,
