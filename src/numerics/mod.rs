@@ -2,11 +2,12 @@
 //!
 //! In: dense matrices and vectors (f64, nalgebra / faer), or a seed. Out: products, inverses,
 //! factorisations ([`dense`]), eigenvalues and eigenvectors of symmetric, generalized and general
-//! problems ([`eigen`]), the SVD with a bounded iteration ([`svd`]), and a seeded random stream
-//! ([`rng`]). Each module's doc states its method
+//! problems ([`eigen`]), the SVD with a bounded iteration ([`svd`]), the median of a sample ([`median`]) and a
+//! seeded random stream ([`rng`]). Each module's doc states its method
 //! and cost.
 
 pub mod dense;
 pub mod eigen;
+pub mod median;
 pub mod rng;
 pub mod svd;

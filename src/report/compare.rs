@@ -37,6 +37,7 @@ use rustfft::num_complex::Complex64;
 use super::table::{Cell, Report, Table};
 use super::tables::{pick, records, OrderRow};
 use crate::error::InputError;
+use crate::numerics::median::median;
 use crate::results::noise::{noise_floors, NoiseFloor};
 use crate::results::request::{analysis_of_text, DEFAULT_ORDER_REVOLUTIONS};
 use crate::signal;
@@ -75,21 +76,6 @@ fn amplitude_curves(rows: &[OrderRow], by_job: bool) -> BTreeMap<Channel, Vec<(f
             .push((r.speed_hz, r.amplitude_um));
     }
     out
-}
-
-/// The median of the finite values of `v` (NaN for none).
-fn median(v: impl Iterator<Item = f64>) -> f64 {
-    let mut v: Vec<f64> = v.filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
 }
 
 /// The noise floor of each measured (job, "sensor/direction") with a waterfall (module doc),

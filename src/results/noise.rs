@@ -27,6 +27,8 @@
 
 use std::collections::BTreeMap;
 
+use crate::numerics::median::median;
+
 /// Probability that noise alone lifts one block's order amplitude above the floor (module doc):
 /// 1e-4 per block, i.e. about 0.3 % that a noise-only order over 30 blocks has a block above it.
 pub const FALSE_ALARM: f64 = 1e-4;
@@ -55,20 +57,6 @@ impl NoiseFloor {
         let m = self.revolutions * self.sample_rate_hz / speed_hz;
         let scale = (3.0 * self.sigma_um * self.sigma_um / m).sqrt();
         scale * (2.0 * (1.0 / FALSE_ALARM).ln()).sqrt()
-    }
-}
-
-/// The median of `v` (NaN when empty).
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
     }
 }
 
