@@ -9,11 +9,17 @@
 /// rather than `0.0001`, `16.4` as written (shortest round-trip form; scientific below 1e-3 and
 /// from 1e6, as [`significant`]).
 pub fn number_text(x: f64) -> String {
-    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
+    if scientific(x) {
         format!("{x:e}")
     } else {
         format!("{x}")
     }
+}
+
+/// Whether a number is written in scientific notation: nonzero and below 1e-3 or from 1e6 in
+/// magnitude.
+pub fn scientific(x: f64) -> bool {
+    x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6)
 }
 
 /// A measured value to `sig` significant digits (scientific below 1e-3 and from 1e6, as

@@ -27,7 +27,7 @@ use super::replaced_keys::replaced_keys;
 use super::values::flatten;
 use crate::error::InputError;
 use crate::scene::source::Source;
-use crate::text::number_text;
+use crate::text::{number_text, scientific};
 
 /// An expanded, validated study.
 #[derive(Debug, Clone)]
@@ -127,9 +127,7 @@ impl Study {
             return job.prune.map(|p| p.to_string());
         }
         self.value_of(job, key).map(|v| match v {
-            toml::Value::Float(x) if *x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) => {
-                number_text(*x)
-            }
+            toml::Value::Float(x) if scientific(*x) => number_text(*x),
             other => other.to_string(),
         })
     }
