@@ -11,6 +11,7 @@
 //! Frame: stationary (module doc of [`crate::linear`]).
 
 use nalgebra::{Complex, DMatrix, DVector};
+use rayon::prelude::*;
 
 use super::basis::Coordinates;
 use super::modes::{damped_modes_in, mac, DampedMode, Kind, ModeSet, Split, Whirl, UNSTABLE_ZETA};
@@ -185,9 +186,13 @@ pub fn sweep(
         .unwrap_or(0.0)
         .max(max_freq_hz.unwrap_or(0.0));
     let coords = Coordinates::new(sys, Some(range))?;
+    // Each speed's eigen-solve on the caller's rayon pool; collected in speed order, so the
+    // first failing speed's error is the one reported, at any thread count.
     let sets = speeds_hz
-        .iter()
+        .par_iter()
         .map(|s| set_at(&coords, *s, max_freq_hz))
+        .collect::<Vec<_>>()
+        .into_iter()
         .collect::<Result<Vec<_>, _>>()?;
     let ns = speeds_hz.len();
     let mut branches: Vec<Branch> = Vec::new();

@@ -10,17 +10,17 @@
 //! (`results::write`, as `merge` and `simulate -o` write theirs). Shared references, their
 //! models and linearised systems are copied from the references file.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeSet;
 use std::path::Path;
 
 use super::error::{describe_hdf5, free_bytes, CampaignError};
+use super::linear::Systems;
 use super::models::Models;
 use super::options::RunOptions;
 use super::references::write_errors;
-use crate::dynamics::linear_system::LinearSystem;
 use crate::dynamics::model::Model;
+use crate::linear::request::Results;
 use crate::results::write::{write_whole, Analysis};
-use crate::scene::Scene;
 use crate::store::{self, output};
 use crate::study::identity::Identity;
 use crate::study::{Job, Reference, Study};
@@ -33,6 +33,8 @@ pub(super) struct Sources<'a> {
     pub(super) linear: &'a [&'a Job],
     pub(super) shared: Option<&'a hdf5::File>,
     pub(super) models: &'a Models<'a>,
+    /// The linear systems the run computed (`linear`).
+    pub(super) systems: &'a Systems,
 }
 
 /// Builds the final file from the part files (module doc), written under a temporary name.
@@ -59,7 +61,7 @@ pub(super) fn assemble(
         store::attr_str(f, "varying_keys", &study.varying.join("\n"))?;
         store::attr_str(f, "shard", &opts.shard_text())?;
         write_models(f, refs, src)?;
-        write_linear_systems(f, study, src)?;
+        write_linear_systems(f, src)?;
         write_runs(f, study, jobs, refs, src)?;
         Ok(study.varying.clone())
     });
@@ -90,24 +92,15 @@ fn write_models(f: &hdf5::File, refs: &[&Reference], src: &Sources) -> hdf5::Res
 
 /// `/linear`: one linearised system per distinct model, supports, drive and gravity; copied
 /// when the references file holds it.
-fn write_linear_systems(f: &hdf5::File, study: &Study, src: &Sources) -> hdf5::Result<()> {
+fn write_linear_systems(f: &hdf5::File, src: &Sources) -> hdf5::Result<()> {
     let lg = f.create_group("linear")?;
-    let mut linear: BTreeMap<&str, &Job> = BTreeMap::new();
-    for j in src.linear {
-        linear.entry(j.linear_id.as_str()).or_insert(j);
-    }
+    let ids: BTreeSet<&str> = src.linear.iter().map(|j| j.linear_id.as_str()).collect();
     let shared_linear = src.shared.map(|s| s.group("linear")).transpose()?;
-    for (lid, j) in linear {
+    for lid in ids {
         if let Some(sl) = shared_linear.as_ref().filter(|g| g.link_exists(lid)) {
             store::copy_object(sl, lid, &lg, lid)?;
-        } else if let Some(Ok(m)) = src.models.built.get(j.model_id.as_str()) {
-            write_linear(
-                &lg.create_group(lid)?,
-                &study.linear,
-                &j.model_id,
-                &j.scene,
-                m,
-            )?;
+        } else if let Some((model_id, results)) = src.systems.get(lid) {
+            write_linear(&lg.create_group(lid)?, model_id, results)?;
         }
     }
     Ok(())
@@ -155,22 +148,18 @@ fn write_runs(
 }
 
 /// A job's model on its linearised supports (`/linear/<linear_id>`): the analyses the study's
-/// `[linear]` table asks for (damped modes over its speeds always) in the layout of `rotorsweep
-/// linear -o` ([`crate::linear::request::Results::write`], without wall times), and the
-/// attribute `model_id`; a failure is stored as the attribute `linear_error`.
+/// `[linear]` table asks for in the layout of `rotorsweep linear -o`
+/// ([`crate::linear::request::Results::write`], without wall times), and the attribute
+/// `model_id`; a failure is stored as the attribute `linear_error`.
 fn write_linear(
     g: &hdf5::Group,
-    req: &crate::linear::request::Request,
     model_id: &str,
-    scene: &Scene,
-    m: &Model,
+    results: &Result<Results, String>,
 ) -> hdf5::Result<()> {
     store::attr_str(g, "model_id", model_id)?;
-    let results = LinearSystem::of_scene(scene, m)
-        .and_then(|sys| crate::linear::request::compute(req, scene, m, &sys));
     match results {
         Ok(r) => r.write(g, false),
-        Err(e) => store::attr_str(g, "linear_error", &e.to_string()),
+        Err(e) => store::attr_str(g, "linear_error", e),
     }
 }
 

@@ -13,6 +13,7 @@ use std::path::Path;
 
 use super::assemble::{assemble, Sources};
 use super::error::CampaignError;
+use super::linear;
 use super::models::Models;
 use super::options::{Outcome, ReferenceSource, RunOptions};
 use super::parts::{parts_dir, remove_parts, saved_parts};
@@ -103,7 +104,11 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
             opts.threads
         ),
     );
-    let write_error = run_all(&pool, &work, &models, &dir, &identity, &progress);
+    let in_shared = shared_linear_ids(shared.as_ref())?;
+    let systems_to_compute = linear::distinct(&linear_jobs, &in_shared);
+    let (write_error, systems) = run_all(&pool, &work, &models, &dir, &identity, &progress, || {
+        linear::compute_all(&study.linear, &systems_to_compute, &models)
+    });
     progress.finish();
     if let Some(e) = write_error {
         progress.assembled(
@@ -117,6 +122,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         linear: &linear_jobs,
         shared: shared.as_ref(),
         models: &models,
+        systems: &systems,
     };
     let assembled = assemble(study, opts, &identity, &jobs, &refs, &sources);
     progress.assembled(&opts.output, assembled.as_ref().err().map(|e| e as _));
@@ -126,6 +132,18 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     // Every part of this run's jobs was checked (saved_parts) or written by it.
     remove_parts(&dir, &wanted)?;
     Ok(outcome)
+}
+
+/// The linear ids the shared references file holds (copied from it, not computed).
+fn shared_linear_ids(shared: Option<&hdf5::File>) -> Result<BTreeSet<String>, CampaignError> {
+    let Some(f) = shared else {
+        return Ok(BTreeSet::new());
+    };
+    let names = f
+        .group("linear")
+        .and_then(|g| g.member_names())
+        .map_err(|e| CampaignError::io(Path::new(&f.filename()), e.to_string()))?;
+    Ok(names.into_iter().collect())
 }
 
 /// The options that do not fit the study: shared or only references without a `[reference]`

@@ -35,12 +35,14 @@
 //! The files, in the order a run uses them: `options` (what is asked, what is reported),
 //! `error` (why a run stops), `campaign` ([`run`], step by step), `parts` (the saved runs),
 //! `references` (the shared references file, errors against reference runs), `models`
-//! (models, pruning pilots, one run on its model), `schedule` (the work list on the pool),
+//! (models, pruning pilots, one run on its model), `linear` (the study's linearised systems,
+//! beside the jobs), `schedule` (the work list on the pool),
 //! `assemble` (the results file). Merging shard files is `study::merge`.
 
 mod assemble;
 mod campaign;
 mod error;
+mod linear;
 mod models;
 mod options;
 mod parts;

@@ -6,7 +6,7 @@
 //! (`parts`); the progress line per run. A worker hands its result over only when the saving
 //! thread takes it (memory bounded by one finished run per worker). The first failed save stops
 //! new runs from starting; running ones finish and are saved if they can be, and the error says
-//! how many are saved.
+//! how many are saved. The study's linear systems are computed on the same pool meanwhile.
 //! Results do not depend on the thread count or the order in which runs finish.
 
 use std::collections::BTreeSet;
@@ -135,16 +135,18 @@ impl Work<'_> {
     }
 }
 
-/// Runs `work` on `pool` and saves each result in `dir` as it arrives (module doc); the first
-/// failed save, if any.
-pub(super) fn run_all(
+/// Runs `work` on `pool` and saves each result in `dir` as it arrives (module doc), with
+/// `beside` (the study's linear systems) on the same pool at the same time; the first failed
+/// save, if any, and what `beside` returned.
+pub(super) fn run_all<T: Send>(
     pool: &rayon::ThreadPool,
     work: &[Work],
     models: &Models,
     dir: &Path,
     identity: &Identity,
     progress: &Progress,
-) -> Option<CampaignError> {
+    beside: impl FnOnce() -> T + Send,
+) -> (Option<CampaignError>, T) {
     // A rendezvous channel: a worker hands its result over only when this thread takes it, so
     // finished runs never pile up in memory while saves are slower than the runs, and after a
     // failed save each worker has started at most the run it is handing over.
@@ -152,8 +154,10 @@ pub(super) fn run_all(
     let mut write_error: Option<CampaignError> = None;
     // Set at the first failed save: no new job starts; running ones finish.
     let stop = AtomicBool::new(false);
-    std::thread::scope(|scope| {
+    let beside = std::thread::scope(|scope| {
         let stop_ref = &stop;
+        // Its tasks share the pool's threads with the jobs' (work stealing).
+        let beside = scope.spawn(|| pool.install(beside));
         scope.spawn(move || {
             pool.install(|| {
                 work.par_iter().enumerate().for_each_with(tx, |tx, (i, w)| {
@@ -181,8 +185,12 @@ pub(super) fn run_all(
                 write_error.get_or_insert(e);
             }
         }
+        match beside.join() {
+            Ok(t) => t,
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
     });
-    write_error
+    (write_error, beside)
 }
 
 /// The error of a run stopped by the failed save `e`: its path and cause, how many of the
