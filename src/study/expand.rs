@@ -14,7 +14,7 @@ use std::collections::BTreeMap;
 
 use super::context::{override_key, Ctx};
 use super::grid::Combo;
-use super::ids::{job_id, linear_id, merged, model_id, scene_inputs};
+use super::ids::{job_id, linear_id, map_of, map_text, merged, model_id, scene_inputs};
 use super::jobs::Job;
 use super::pruning::{share, PRUNE_KEY};
 use super::reference::References;
@@ -50,6 +50,8 @@ impl Expansion<'_> {
     ) -> Result<Vec<Job>, InputError> {
         let mut jobs = Vec::new();
         let mut physics_of = BTreeMap::new();
+        // The inputs' hash by thickness map: each map read and hashed once.
+        let mut inputs_of = BTreeMap::new();
         for (index, (combo, labels)) in combos.into_iter().enumerate() {
             let (overrides, prune) = self.overrides(index, combo)?;
             let scene = self.scene(index, &overrides)?;
@@ -57,11 +59,15 @@ impl Expansion<'_> {
             let merged = merged(&self.source.table, &overrides, |k, r| {
                 self.c.err(&self.locate_key(index, k), r)
             })?;
-            let inputs = scene_inputs(self.source, &merged);
-            let model_id = model_id(&inputs, &merged);
-            let linear_id = linear_id(&inputs, &merged);
-            let id = job_id(&inputs, &merged, prune, self.pilot);
-            let reference_id = references.add(index, &overrides, &inputs, &merged)?;
+            let map = map_of(&merged).map(str::to_string);
+            let inputs = *inputs_of.entry(map).or_insert_with_key(|m| {
+                let text = m.as_deref().map(|csv| map_text(self.source, csv));
+                scene_inputs(self.source, text.as_deref())
+            });
+            let model_id = model_id(inputs, &merged);
+            let linear_id = linear_id(inputs, &merged);
+            let id = job_id(inputs, &merged, prune, self.pilot);
+            let reference_id = references.add(index, &overrides, inputs, &merged)?;
             jobs.push(Job {
                 index,
                 id,

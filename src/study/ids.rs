@@ -30,7 +30,14 @@ pub(crate) fn pilot_text(pilot: &[(String, toml::Value)]) -> String {
 
 /// FNV-1a 64-bit: a stable hash for ids (the same on every machine and run).
 pub fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    fnv1a_from(FNV_OFFSET, bytes)
+}
+
+const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// FNV-1a 64 continued from `state` (the hash of what came before) over `bytes`.
+fn fnv1a_from(state: u64, bytes: &[u8]) -> u64 {
+    let mut h = state;
     for b in bytes {
         h ^= u64::from(*b);
         h = h.wrapping_mul(0x0100_0000_01b3);
@@ -38,26 +45,52 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     h
 }
 
-/// The text of every file a scene reads (the scene, the scenes it extends and its thickness
-/// map), for hashing.
-pub(super) fn scene_inputs(source: &Source, merged: &toml::Value) -> String {
-    let scene_path = source.path();
-    let mut text: String = source.layers.iter().map(|l| l.text.as_str()).collect();
-    if let Some(csv) = merged
+/// The text of every file a scene reads (the scene, the scenes it extends, then its thickness
+/// map), as the state of FNV-1a after it: every id starts with it, so a study hashes it once
+/// per distinct map, not once per id (the reference roll's map alone is longer than the rest of
+/// a job's id text).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Inputs {
+    state: u64,
+}
+
+/// The inputs of a scene `source` whose thickness map (if any) has the text `map_text`.
+pub(super) fn scene_inputs(source: &Source, map_text: Option<&str>) -> Inputs {
+    let mut state = FNV_OFFSET;
+    for l in &source.layers {
+        state = fnv1a_from(state, l.text.as_bytes());
+    }
+    if let Some(t) = map_text {
+        state = fnv1a_from(state, t.as_bytes());
+    }
+    Inputs { state }
+}
+
+/// The thickness map a merged scene reads (`roll.shell.thickness_map`), as written.
+pub(super) fn map_of(merged: &toml::Value) -> Option<&str> {
+    merged
         .get("roll")
         .and_then(|r| r.get("shell"))
         .and_then(|s| s.get("thickness_map"))
         .and_then(|m| m.as_str())
-    {
-        let p = scene_path.parent().unwrap_or(Path::new(".")).join(csv);
-        text.push_str(&crate::error::read_text(&p).unwrap_or_default());
-    }
-    text
 }
 
-fn hash_id(prefix: char, parts: &[&str]) -> String {
-    let joined = parts.join("\u{1f}");
-    format!("{prefix}{:016x}", fnv1a(joined.as_bytes()))
+/// The text of the thickness map `csv` (relative to the scene `source`); empty when it cannot
+/// be read (the scene's own check reports that).
+pub(super) fn map_text(source: &Source, csv: &str) -> String {
+    let p = source.path().parent().unwrap_or(Path::new(".")).join(csv);
+    crate::error::read_text(&p).unwrap_or_default()
+}
+
+/// `prefix` and 16 hex digits of FNV-1a over the inputs' text and `parts`, each part after a
+/// U+001F.
+fn hash_id(prefix: char, inputs: Inputs, parts: &[&str]) -> String {
+    let mut h = inputs.state;
+    for p in parts {
+        h = fnv1a_from(h, "\u{1f}".as_bytes());
+        h = fnv1a_from(h, p.as_bytes());
+    }
+    format!("{prefix}{h:016x}")
 }
 
 /// Subtree of a merged scene table, serialised canonically.
@@ -85,14 +118,14 @@ pub(super) fn merged(
 }
 
 /// The id of the unpruned reduced model of a merged scene.
-pub(super) fn model_id(inputs: &str, merged: &toml::Value) -> String {
+pub(super) fn model_id(inputs: Inputs, merged: &toml::Value) -> String {
     let model_part = canonical(merged, &MODEL_TABLES, &[]);
-    hash_id('m', &[inputs, &model_part])
+    hash_id('m', inputs, &[&model_part])
 }
 
 /// The id of a merged scene's linearised system: its model on its supports and drive, with
 /// gravity.
-pub(super) fn linear_id(inputs: &str, merged: &toml::Value) -> String {
+pub(super) fn linear_id(inputs: Inputs, merged: &toml::Value) -> String {
     let linear_part = canonical(
         merged,
         &[
@@ -110,12 +143,12 @@ pub(super) fn linear_id(inputs: &str, merged: &toml::Value) -> String {
         .and_then(|s| s.get("gravity_m_s2"))
         .map(value_text)
         .unwrap_or_default();
-    hash_id('l', &[inputs, &linear_part, &gravity])
+    hash_id('l', inputs, &[&linear_part, &gravity])
 }
 
 /// The id of a job: its whole merged scene and, for a pruned job, how its pilot ran.
 pub(super) fn job_id(
-    inputs: &str,
+    inputs: Inputs,
     merged: &toml::Value,
     prune: Option<f64>,
     pilot: &[(String, toml::Value)],
@@ -125,13 +158,13 @@ pub(super) fn job_id(
         .map(|p| format!("{p:e}|{}", pilot_text(pilot)))
         .unwrap_or_default();
     let all = canonical(merged, &[], &[]);
-    hash_id('j', &[inputs, &all, &prune_text])
+    hash_id('j', inputs, &[&all, &prune_text])
 }
 
 /// The id of a job's reference run: the job's physics (its scene without the solver keys, and
 /// without the mode set when the reference sets its own) and the reference's solver keys.
 pub(super) fn reference_id(
-    inputs: &str,
+    inputs: Inputs,
     merged: &toml::Value,
     reference_merged: &toml::Value,
     sets_modes: bool,
@@ -143,10 +176,7 @@ pub(super) fn reference_id(
     };
     hash_id(
         'r',
-        &[
-            inputs,
-            &physics,
-            &canonical(reference_merged, &["solver"], &[]),
-        ],
+        inputs,
+        &[&physics, &canonical(reference_merged, &["solver"], &[])],
     )
 }

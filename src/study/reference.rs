@@ -12,7 +12,7 @@
 use std::collections::BTreeMap;
 
 use super::context::{override_key, Ctx};
-use super::ids::{merged, model_id, reference_id};
+use super::ids::{merged, model_id, reference_id, Inputs};
 use super::jobs::Reference;
 use super::values::{flatten, value_text};
 use crate::error::InputError;
@@ -66,7 +66,7 @@ impl<'a> References<'a> {
         &mut self,
         index: usize,
         overrides: &[(String, toml::Value)],
-        inputs: &str,
+        inputs: Inputs,
         job_merged: &toml::Value,
     ) -> Result<String, InputError> {
         let mut ref_over = overrides.to_vec();

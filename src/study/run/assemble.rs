@@ -1,6 +1,6 @@
 //! Assembly: the finished runs of a run joined into its results file.
 //!
-//! In: the saved part files, the models the run built and the pruning pilots' shares, the jobs
+//! In: the saved part files (where each run is), the models the run built and the pruning pilots' shares, the jobs
 //! whose linearised systems it stores, and the shared references file (if any). Out: `OUT.h5`,
 //! written under `OUT.h5.tmp` and renamed over the output when complete and read back: the
 //! study's attributes (digest, inputs, name, path, text, varying keys, shard, threads),
@@ -10,13 +10,14 @@
 //! (`results::write`, as `merge` and `simulate -o` write theirs). Shared references, their
 //! models and linearised systems are copied from the references file.
 
-use std::collections::BTreeSet;
-use std::path::Path;
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
 
 use super::error::{describe_hdf5, free_bytes, CampaignError};
 use super::linear::Systems;
 use super::models::Models;
 use super::options::RunOptions;
+use super::parts::Saved;
 use super::references::write_errors;
 use crate::dynamics::model::Model;
 use crate::linear::request::Results;
@@ -29,12 +30,13 @@ use crate::study::{Job, Reference, Study};
 /// stores, the shared references file (if any), the models it built and the pruning pilots'
 /// shares.
 pub(super) struct Sources<'a> {
-    pub(super) dir: &'a Path,
     pub(super) linear: &'a [&'a Job],
     pub(super) shared: Option<&'a hdf5::File>,
     pub(super) models: &'a Models<'a>,
     /// The linear systems the run computed (`linear`).
     pub(super) systems: &'a Systems,
+    /// Where each saved run is (`parts`).
+    pub(super) saved: &'a BTreeMap<String, Saved>,
 }
 
 /// Builds the final file from the part files (module doc), written under a temporary name.
@@ -107,7 +109,8 @@ fn write_linear_systems(f: &hdf5::File, src: &Sources) -> hdf5::Result<()> {
 }
 
 /// `/references` (from the parts, or copied from the shared references file) and `/jobs`
-/// (from the parts, with their errors against their reference runs).
+/// (from the parts, with their errors against their reference runs), in plan order: a group's
+/// members are listed in the order they were made, and the analysis reads them in that order.
 fn write_runs(
     f: &hdf5::File,
     study: &Study,
@@ -115,11 +118,7 @@ fn write_runs(
     refs: &[&Reference],
     src: &Sources,
 ) -> hdf5::Result<()> {
-    let open_part = |id: &str| {
-        let p = src.dir.join(format!("{id}.h5"));
-        hdf5::File::open(&p)
-            .map_err(|e| hdf5::Error::from(format!("cannot open {}: {e}", p.display()).as_str()))
-    };
+    let mut parts = OpenParts::default();
     let rg = f.create_group("references")?;
     for r in refs {
         match src.shared {
@@ -127,16 +126,12 @@ fn write_runs(
                 let g = shared.group("references")?;
                 store::copy_object(&g, &r.id, &rg, &r.id)?
             }
-            None => {
-                let part = open_part(&r.id)?;
-                store::copy_object(&part, "job", &rg, &r.id)?
-            }
+            None => parts.copy(src.saved, &r.id, &rg)?,
         }
     }
     let jg = f.create_group("jobs")?;
     for j in jobs {
-        let part = open_part(&j.id)?;
-        store::copy_object(&part, "job", &jg, &j.id)?;
+        parts.copy(src.saved, &j.id, &jg)?;
         let g = jg.group(&j.id)?;
         let reference = rg
             .group(&j.reference_id)
@@ -145,6 +140,48 @@ fn write_runs(
         write_errors(&g, &j.reference_id, reference.as_ref())?;
     }
     Ok(())
+}
+
+/// The part files last read from, most recent last. Runs are batched in the order they finish,
+/// which is close to plan order, so copying in plan order mostly stays in one batch and a few
+/// open files spare reopening one per run.
+#[derive(Default)]
+struct OpenParts {
+    open: Vec<(PathBuf, hdf5::File)>,
+}
+
+impl OpenParts {
+    /// How many part files stay open at once.
+    const KEEP: usize = 8;
+
+    /// Copies the saved run `id` into `dst` under its id.
+    fn copy(
+        &mut self,
+        saved: &BTreeMap<String, Saved>,
+        id: &str,
+        dst: &hdf5::Group,
+    ) -> hdf5::Result<()> {
+        let s = saved.get(id).ok_or_else(|| {
+            hdf5::Error::from(format!("run {id} is not saved in the parts").as_str())
+        })?;
+        let at = match self.open.iter().position(|(p, _)| *p == s.file) {
+            Some(i) => i,
+            None => {
+                let part = hdf5::File::open(&s.file).map_err(|e| {
+                    hdf5::Error::from(format!("cannot open {}: {e}", s.file.display()).as_str())
+                })?;
+                if self.open.len() == Self::KEEP {
+                    self.open.remove(0);
+                }
+                self.open.push((s.file.clone(), part));
+                self.open.len() - 1
+            }
+        };
+        let entry = self.open.remove(at);
+        store::copy_object(&entry.1, &s.group, dst, id)?;
+        self.open.push(entry);
+        Ok(())
+    }
 }
 
 /// A job's model on its linearised supports (`/linear/<linear_id>`): the analyses the study's

@@ -91,8 +91,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     let own_refs: &[&Reference] = if shared.is_none() { &refs } else { &[] };
     let models = Models::prepare(&pool, study, &linear_jobs, &jobs, own_refs, &dir);
     let mut work = work_list(study, &jobs, own_refs);
-    let resumed = jobs.iter().filter(|j| done.contains(&j.id)).count();
-    work.retain(|w| !done.contains(&w.id));
+    let resumed = jobs.iter().filter(|j| done.contains_key(&j.id)).count();
+    work.retain(|w| !done.contains_key(&w.id));
     let total = work.len();
     let progress = Progress::new(
         total as u64,
@@ -106,23 +106,25 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     );
     let in_shared = shared_linear_ids(shared.as_ref())?;
     let systems_to_compute = linear::distinct(&linear_jobs, &in_shared);
-    let (write_error, systems) = run_all(&pool, &work, &models, &dir, &identity, &progress, || {
+    let ran = run_all(&pool, &work, &models, &dir, &identity, &progress, || {
         linear::compute_all(&study.linear, &systems_to_compute, &models)
     });
     progress.finish();
-    if let Some(e) = write_error {
+    if let Some(e) = ran.error {
         progress.assembled(
             &opts.output,
             Some(&format!("a run could not be saved: {e}")),
         );
         return Err(stopped(e, &dir, &identity, &wanted, work.len() + resumed));
     }
+    let mut saved = done;
+    saved.extend(ran.saved);
     let sources = Sources {
-        dir: &dir,
         linear: &linear_jobs,
         shared: shared.as_ref(),
         models: &models,
-        systems: &systems,
+        systems: &ran.beside,
+        saved: &saved,
     };
     let assembled = assemble(study, opts, &identity, &jobs, &refs, &sources);
     progress.assembled(&opts.output, assembled.as_ref().err().map(|e| e as _));

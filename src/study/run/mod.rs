@@ -9,9 +9,9 @@
 //! - The output is locked for the whole run (`store::output`: one writer per output); an
 //!   existing output is replaced only with `overwrite`, and only if it is a rotorsweep results
 //!   file; the new file is renamed over it when complete.
-//! - Every finished job is first written to its own file `OUT.h5.parts/<id>.h5` (under a
-//!   temporary name, then renamed), so a `kill -9` at any moment loses only the jobs that were
-//!   running. Each part file carries the study's digest ([`Identity`](crate::study::identity::Identity)); `resume` reuses a saved
+//! - Finished jobs are first written, in batches, to part files `OUT.h5.parts/batch-….h5` (under
+//!   a temporary name, then renamed; at least once a second), so a `kill -9` at any moment
+//!   loses only the jobs that were running or finished in the last second. Each part file carries the study's digest ([`Identity`](crate::study::identity::Identity)); `resume` reuses a saved
 //!   job only when its id and digest match the current study and runs every other job.
 //! - An assembled output is resumed only when its digest and shard match (then there is
 //!   nothing to do); one made from other inputs is refused, naming what changed.
@@ -36,7 +36,7 @@
 //! `error` (why a run stops), `campaign` ([`run`], step by step), `parts` (the saved runs),
 //! `references` (the shared references file, errors against reference runs), `models`
 //! (models, pruning pilots, one run on its model), `linear` (the study's linearised systems,
-//! beside the jobs), `schedule` (the work list on the pool),
+//! beside the jobs), `schedule` (the work list on the pool), `saver` (the batches of finished runs),
 //! `assemble` (the results file). Merging shard files is `study::merge`.
 
 mod assemble;
@@ -47,6 +47,7 @@ mod models;
 mod options;
 mod parts;
 mod references;
+mod saver;
 mod schedule;
 
 pub(crate) use assemble::finish_output;

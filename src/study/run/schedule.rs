@@ -2,23 +2,25 @@
 //!
 //! In: the run's reference runs and jobs, the built [`Models`], the parts folder. Out: the work
 //! list (reference runs unless shared, then jobs in study order, the saved ones left out), each
-//! item run on one thread of the pool and saved by the calling thread as it finishes
-//! (`parts`); the progress line per run. A worker hands its result over only when the saving
-//! thread takes it (memory bounded by one finished run per worker). The first failed save stops
+//! item run on one thread of the pool and saved by the calling thread in batches as they finish
+//! (`saver`, `parts`); the progress line per run. A worker hands its result over only when the
+//! saving thread takes it (memory bounded by one batch and one finished run per worker). The
+//! first failed save stops
 //! new runs from starting; running ones finish and are saved if they can be, and the error says
 //! how many are saved. The study's linear systems are computed on the same pool meanwhile.
 //! Results do not depend on the thread count or the order in which runs finish.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::mpsc::{self, RecvTimeoutError};
 
 use rayon::prelude::*;
 
 use super::error::CampaignError;
 use super::models::Models;
-use super::parts::{save_part, saved_parts};
+use super::parts::{saved_parts, Saved};
+use super::saver::Saver;
 use crate::dynamics::simulation::JobResult;
 use crate::scene::Scene;
 use crate::store::Param;
@@ -30,13 +32,13 @@ use crate::study::{Job, Reference, Study};
 pub(super) struct Work<'a> {
     pub(super) id: String,
     kind: Kind,
-    scene: &'a Scene,
+    pub(super) scene: &'a Scene,
     model_id: &'a str,
     linear_id: Option<&'a str>,
     prune: Option<f64>,
     params: Vec<(String, Param)>,
     /// What the progress lines call it: the job's labels, else its varying values.
-    name: String,
+    pub(super) name: String,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -112,7 +114,7 @@ impl Work<'_> {
     /// The attributes of its part file's `job` group besides the result: its overrides (and
     /// labels), the ids of its model and linearised system, what the analysis reads of its
     /// scene, its pruning threshold, and its kind (and job index).
-    fn part_params(&self) -> Vec<(String, Param)> {
+    pub(super) fn part_params(&self) -> Vec<(String, Param)> {
         let mut params = self.params.clone();
         params.push(("model_id".into(), Param::Text(self.model_id.to_string())));
         if let Some(l) = self.linear_id {
@@ -135,9 +137,16 @@ impl Work<'_> {
     }
 }
 
-/// Runs `work` on `pool` and saves each result in `dir` as it arrives (module doc), with
-/// `beside` (the study's linear systems) on the same pool at the same time; the first failed
-/// save, if any, and what `beside` returned.
+/// What [`run_all`] leaves: where each run it saved is, the first failed save, and what the
+/// work beside the jobs returned.
+pub(super) struct Ran<T> {
+    pub(super) saved: BTreeMap<String, Saved>,
+    pub(super) error: Option<CampaignError>,
+    pub(super) beside: T,
+}
+
+/// Runs `work` on `pool` and saves the results in `dir` in batches as they arrive (module doc,
+/// `saver`), with `beside` (the study's linear systems) on the same pool at the same time.
 pub(super) fn run_all<T: Send>(
     pool: &rayon::ThreadPool,
     work: &[Work],
@@ -146,12 +155,12 @@ pub(super) fn run_all<T: Send>(
     identity: &Identity,
     progress: &Progress,
     beside: impl FnOnce() -> T + Send,
-) -> (Option<CampaignError>, T) {
+) -> Ran<T> {
     // A rendezvous channel: a worker hands its result over only when this thread takes it, so
-    // finished runs never pile up in memory while saves are slower than the runs, and after a
-    // failed save each worker has started at most the run it is handing over.
+    // finished runs never pile up in memory beyond one batch while saves are slower than the
+    // runs, and after a failed save each worker has started at most the run it is handing over.
     let (tx, rx) = mpsc::sync_channel::<(usize, JobResult)>(0);
-    let mut write_error: Option<CampaignError> = None;
+    let mut saver = Saver::new(dir, identity, progress, work);
     // Set at the first failed save: no new job starts; running ones finish.
     let stop = AtomicBool::new(false);
     let beside = std::thread::scope(|scope| {
@@ -170,19 +179,21 @@ pub(super) fn run_all<T: Send>(
                 });
             });
         });
-        for (i, r) in rx {
-            let w = &work[i];
-            let integrator = w.scene.solver.integrator.name();
-            let saved = save_part(dir, &w.id, &w.part_params(), integrator, &r, identity);
-            progress.job_done(
-                &w.id,
-                &w.name,
-                &r.stats,
-                saved.as_ref().err().map(|e| e as &dyn std::fmt::Display),
-            );
-            if let Err(e) = saved {
+        loop {
+            let next = match saver.due_in() {
+                None => rx.recv().map_err(|_| RecvTimeoutError::Disconnected),
+                Some(left) => rx.recv_timeout(left),
+            };
+            match next {
+                Ok((i, r)) => saver.add(i, r),
+                Err(RecvTimeoutError::Timeout) => saver.flush(),
+                Err(RecvTimeoutError::Disconnected) => {
+                    saver.flush();
+                    break;
+                }
+            }
+            if saver.error.is_some() {
                 stop.store(true, Ordering::SeqCst);
-                write_error.get_or_insert(e);
             }
         }
         match beside.join() {
@@ -190,7 +201,11 @@ pub(super) fn run_all<T: Send>(
             Err(panic) => std::panic::resume_unwind(panic),
         }
     });
-    (write_error, beside)
+    Ran {
+        saved: saver.saved,
+        error: saver.error,
+        beside,
+    }
 }
 
 /// The error of a run stopped by the failed save `e`: its path and cause, how many of the
