@@ -81,6 +81,10 @@ fn marginals_pass_kolmogorov_smirnov() {
         // The 1 % critical value of the one-sample KS test, 1.63/√n (Massey 1951, Table 1,
         // asymptotic form): independent draws stay below it.
         let critical = 1.63 / (n as f64).sqrt();
+        eprintln!(
+            "{method}: KS distances {distances:?} (1 % critical {critical}, 1/n {})",
+            1.0 / n as f64
+        );
         for (k, dn) in distances.iter().enumerate() {
             assert!(
                 *dn < critical,
@@ -124,6 +128,7 @@ fn gaussian_copula_gives_the_asked_correlation() {
     // Normal marginals: the samples' correlation is the copula's 0.6. Fisher's z = atanh r is
     // normal with standard error 1/√(n − 3) (Fisher 1921): within 2.58 of them (99 %).
     let z_err = (r.atanh() - 0.6f64.atanh()).abs() * ((n - 3) as f64).sqrt();
+    eprintln!("copula: r = {r} against 0.6 ({z_err} standard errors of Fisher's z)");
     assert!(z_err < 2.58, "r = {r}, {z_err} standard errors from 0.6");
 }
 
@@ -170,6 +175,18 @@ fn saltelli_and_jansen_estimators_recover_the_ishigami_indices() {
     assert_eq!(used, n);
     for i in 0..3 {
         let (s, t) = (ix[i].first_order, ix[i].total);
+        eprintln!(
+            "Ishigami x{}: S {:.4} [{:.4}, {:.4}] exact {:.4}; S_T {:.4} [{:.4}, {:.4}] exact {:.4}",
+            i + 1,
+            s.value,
+            s.low,
+            s.high,
+            first[i],
+            t.value,
+            t.low,
+            t.high,
+            total[i]
+        );
         assert!(
             s.low <= first[i] && first[i] <= s.high,
             "S_{}: {} [{}, {}], exact {}",
@@ -274,6 +291,10 @@ fn shipped_jeffcott_study_indices_match_their_closed_form() {
                 );
                 // The speed moves neither output: its estimates are exactly 0.
                 let tol = if want == 0.0 { 1e-12 } else { 0.0 };
+                eprintln!(
+                    "{output} {param} {col}: {} [{lo}, {hi}], closed form {want}",
+                    num(&row, col)
+                );
                 assert!(
                     lo - tol <= want && want <= hi + tol,
                     "{output} {param} {col}: {} [{lo}, {hi}], closed form {want}",
@@ -321,6 +342,10 @@ fn mean_and_std_of_the_static_sag_under_a_normal_density() {
     // variance within the χ²(n − 1) quantiles 0.5 % and 99.5 % (for 199 degrees of freedom
     // 153.0 and 253.9, Wilson–Hilferty).
     let m = num(&row, "mean");
+    eprintln!(
+        "sag: mean {m} µm (exact {mean}), std {} µm (exact {std})",
+        num(&row, "std")
+    );
     assert!(
         (m - mean).abs() < 2.58 * std / (n as f64).sqrt(),
         "{m} against {mean}"
