@@ -457,6 +457,16 @@ fn bad_sample_tables_name_file_key_and_line() {
     assert_eq!(key.as_deref(), Some("sample"));
     assert!(msg.contains("[[axes]]"), "{msg}");
 
+    // A sampled key that would replace a [set] key inside it (dropping it silently).
+    let replacing = format!(
+        "[set]\n\"solver.hmax.x\" = 1.0\n{head}distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n"
+    )
+    .replace("key = \"speed.hz\"", "key = \"solver.hmax\"");
+    let (key, at, msg, text) = error_of(&replacing);
+    assert_eq!(key.as_deref(), Some("sample.parameters[0].key"));
+    assert_eq!(at, line(&text, "key = \"solver.hmax\""));
+    assert!(msg.contains("would replace"), "{msg}");
+
     let (key, _, msg, _) = error_of(
         "[sample]\nmethod = \"grid\"\nn = 10\n[[sample.parameters]]\nkey = \"speed.hz\"\n\
          distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n",

@@ -71,6 +71,23 @@ pub(crate) struct Spec {
 }
 
 impl SampleFile {
+    /// Every sampled key as written and where: (`key`, `sample.parameters[i].key`), for the
+    /// check of replaced keys.
+    pub(in crate::study) fn key_places(&self) -> Vec<(String, String)> {
+        self.parameters
+            .iter()
+            .enumerate()
+            .flat_map(|(i, p)| {
+                let at = if p.key.is_some() { "key" } else { "keys" };
+                let place = format!("sample.parameters[{i}].{at}");
+                axis_keys(&p.key, &p.keys)
+                    .unwrap_or_default()
+                    .into_iter()
+                    .map(move |k| (k, place.clone()))
+            })
+            .collect()
+    }
+
     /// The checked spec (module doc).
     pub(in crate::study) fn check(&self, c: &Ctx) -> Result<Spec, InputError> {
         let method = Method::parse(&self.method).ok_or_else(|| {
