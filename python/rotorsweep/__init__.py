@@ -11,6 +11,11 @@ Driving the binary (:mod:`rotorsweep.scene`, :mod:`rotorsweep.runner`):
 >>> s = rs.Scene("studies/scenes/reference-roll.toml")
 >>> s.set("roll.shell.outer_diameter_mm", 300.0)      # --set semantics, checked by the binary
 >>> c = rs.linear(s, speeds="0:60:61")                # what rs.campbell reads from `linear -o`
+
+A sampled study's statistics and Sobol' indices (:mod:`rotorsweep.statistics`):
+
+>>> st = rs.statistics("sens.h5")                     # per output: mean, std, quantiles, 95 % CIs
+>>> si = rs.sensitivity("sens.h5")                    # per output and parameter: first_order, total
 """
 
 from .results import (
@@ -57,15 +62,16 @@ from .runner import (
     simulate,
 )
 from .scene import Scene, SceneError, SceneKeyError, SceneValueError
+from .statistics import sensitivity, statistics
 
 __all__ = [
     "COUNT_COLUMNS",
     "DEFAULT_TIMEOUT",
-    "RUN_GROUPS",
     "Job",
     "JobRef",
     "Model",
     "PathLike",
+    "RUN_GROUPS",
     "RotorsweepError",
     "RotorsweepTimeout",
     "RotorsweepWarning",
@@ -96,9 +102,11 @@ __all__ = [
     "orbits",
     "run",
     "runout",
+    "sensitivity",
     "simulate",
     "spectral_map",
     "spectrum",
+    "statistics",
     "summary",
     "sweeps",
     "varying_keys",

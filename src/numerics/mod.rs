@@ -2,12 +2,15 @@
 //!
 //! In: dense matrices and vectors (f64, nalgebra / faer), or a seed. Out: products, inverses,
 //! factorisations ([`dense`]), eigenvalues and eigenvectors of symmetric, generalized and general
-//! problems ([`eigen`]), the SVD with a bounded iteration ([`svd`]), the median of a sample ([`median`]) and a
-//! seeded random stream ([`rng`]). Each module's doc states its method
+//! problems ([`eigen`]), the SVD with a bounded iteration ([`svd`]), the median of a sample ([`median`]), a
+//! seeded random stream ([`rng`]), a sample's statistics with bootstrap intervals
+//! ([`sample_statistics`]) and Sobol' indices from a Saltelli design ([`sobol_indices`]). Each module's doc states its method
 //! and cost.
 
 pub mod dense;
 pub mod eigen;
 pub mod median;
 pub mod rng;
+pub mod sample_statistics;
+pub mod sobol_indices;
 pub mod svd;

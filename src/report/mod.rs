@@ -35,6 +35,11 @@
 //! - `balancing`, `balancing_residual`: for trial-mass runs on a masses axis, the influence
 //!   coefficients' correction masses and the model-based ("ideal") reference, and the 1×
 //!   predicted after each (`tables/balancing.rs`).
+//! - `statistics` (a study with `[sample]`): per output, the mean, standard deviation,
+//!   quantiles, min and max over the samples, with bootstrap intervals (`tables/statistics.rs`);
+//! - `sensitivity` (a Saltelli design): per output and parameter, the first-order and total
+//!   Sobol' indices with bootstrap intervals (`tables/sensitivity.rs`); both read the jobs'
+//!   outputs through `tables/outputs.rs`.
 //!
 //! Each table appears only when the file holds what it needs.
 //! `compare` and `compare_resonances` (module `compare`, `report --compare`): a measured file's

@@ -3,7 +3,8 @@
 //! In: the path of a study `.toml` (the commented `studies/smoke.toml` documents the format).
 //! Out: its text and a [`StudyFile`]: `name`, `description`, `scene`, `[set]`, `[[axes]]`,
 //! `[[jobs]]`, `[reference]`, `[budget]` (CPU seconds, steps), `[pruning]`, `[analysis]`
-//! (parsed into the results stage's [`AnalysisSpec`]) and `[linear]` (frequencies in Hz).
+//! (parsed into the results stage's [`AnalysisSpec`]), `[linear]` (frequencies in Hz) and
+//! `[sample]` (the sampled study's design, [`super::sample`]).
 //! Unknown keys are errors with the file and line; a scene file given where a study is
 //! expected says so.
 
@@ -37,6 +38,8 @@ pub(super) struct StudyFile {
     pub(super) analysis: AnalysisSpec,
     #[serde(default)]
     pub(super) linear: LinearFile,
+    /// `[sample]`: jobs drawn from distributions ([`super::sample`]).
+    pub(super) sample: Option<super::sample::SampleFile>,
 }
 
 /// The study's `[linear]` table: the linear analyses stored per distinct linear system under

@@ -4,7 +4,8 @@
 //! In: the path of a study `.toml`. Out: a [`Study`]: its name, text and base scene, the keys
 //! that vary, its [`Job`]s and [`Reference`]s, the pruning pilot's overrides and its linear
 //! request. The steps, each with its own errors, in this order: the file and its base scene,
-//! the axes' rows and the job count, the grid of the axes and `[[jobs]]`, `[reference]`,
+//! the axes' rows and the job count, the grid of the axes and `[[jobs]]` (or of `[sample]`),
+//! `[reference]`,
 //! `[pruning]`, `[budget]`, `[analysis]`, `[linear]`, the order of replaced keys, every job
 //! (scene, inputs, ids, reference), the pruning pilots, the Nyquist limit of the orders, and
 //! distinct job ids. Also what callers ask of a study: a key's value in a job, a shard's jobs.
@@ -24,6 +25,7 @@ use super::linear::linear_request;
 use super::pruning::{self, pilots_load, PRUNE_KEY};
 use super::reference::References;
 use super::replaced_keys::replaced_keys;
+use super::sample;
 use super::values::flatten;
 use crate::error::InputError;
 use crate::scene::source::Source;
@@ -66,7 +68,17 @@ impl Study {
         flatten("", &raw.set, &mut base);
         let rows = axes::rows(&c, &raw.axes)?;
         job_count(&c, &rows, raw.jobs.len())?;
-        let grid = Grid::new(&c, &raw.axes, rows, &raw.jobs)?;
+        let mut grid = Grid::new(&c, &raw.axes, rows, &raw.jobs)?;
+        let sampled = match &raw.sample {
+            Some(s) => Some(sample::into_grid(
+                &c,
+                s,
+                !raw.axes.is_empty(),
+                !raw.jobs.is_empty(),
+                &mut grid,
+            )?),
+            None => None,
+        };
         let mut references = References::new(&c, &source, &raw.reference)?;
         let pilot = pruning::pilot(&c, &raw.pruning)?;
         let budget = budget::overrides(&c, &raw.budget)?;
@@ -87,7 +99,9 @@ impl Study {
             axis_of_key: &grid.axis_of_key,
             axis_combos: grid.axis_combos,
         };
-        let jobs = expansion.jobs(grid.combos, &mut references)?;
+        let jobs = expansion
+            .jobs(grid.combos, &mut references)
+            .map_err(|e| sample::relocate(&c, sampled.as_ref(), e))?;
         if jobs.is_empty() {
             return Err(c.err("axes", "the study has no jobs: add axes or [[jobs]]"));
         }

@@ -18,6 +18,7 @@
 //!
 //! The files, in the order `Study::load` uses them: `file` (the raw tables), `context` (where
 //! errors point), `axes`, `limit`, `grid` (the product of the axes and the explicit jobs),
+//! `sample` (a `[sample]` table's jobs instead of the grid's),
 //! `reference`, `pruning`, `budget`, `analysis`, `linear`, `replaced_keys`, `expand` (each job's
 //! overrides, scene, ids and reference), with `values` (values as text) and `ids` (the hashes);
 //! `jobs` holds the jobs and references, `load` the [`Study`].
@@ -29,6 +30,7 @@ pub mod overview;
 pub mod plan;
 pub mod progress;
 pub mod run;
+pub mod sample;
 
 mod analysis;
 mod axes;

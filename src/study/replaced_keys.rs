@@ -2,7 +2,7 @@
 //! it, which would drop the earlier silently.
 //!
 //! In: the keys of `[set]`, `[budget]` (as `solver.cpu_budget_s`, `solver.max_steps`), every
-//! axis, every explicit job, `[reference]` and `[pruning]`. Out: an error at the later key
+//! axis (and every `[sample]` parameter), every explicit job, `[reference]` and `[pruning]`. Out: an error at the later key
 //! naming the earlier one and where it was set (`speed.hz` on an axis after `speed.hz.x` in
 //! `[set]`). A later key inside an earlier one refines it and is allowed.
 
@@ -37,6 +37,9 @@ pub(super) fn replaced_keys(
         for k in a.key_list().unwrap_or_default() {
             with_axes.push((k, format!("axes[{i}]")));
         }
+    }
+    if let Some(sample) = &raw.sample {
+        with_axes.extend(sample.key_places());
     }
     jobs.push(with_axes);
     for (j, t) in raw.jobs.iter().enumerate() {

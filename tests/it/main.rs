@@ -48,6 +48,7 @@ mod report_linear;
 mod rotating_frame;
 mod run_log;
 mod runup;
+mod sample_study;
 mod scene_errors;
 mod scene_files;
 mod scene_keys;

@@ -6,15 +6,20 @@
 mod balancing;
 mod linear;
 pub(crate) mod orders;
+mod outputs;
 mod resonances;
+mod sensitivity;
 mod solver;
 mod stability;
+mod statistics;
 mod trial_mass;
 
 pub(crate) use balancing::balancing_tables;
 pub(crate) use linear::linear_table;
 pub(crate) use orders::{order_resonance_table, orders_table, records, OrderRow};
 pub(crate) use resonances::{pick, resonance_table};
+pub(crate) use sensitivity::sensitivity_table;
 pub(crate) use solver::solver_table;
 pub(crate) use stability::stability_table;
+pub(crate) use statistics::statistics_table;
 pub(crate) use trial_mass::trial_mass_table;

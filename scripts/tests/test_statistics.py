@@ -1,0 +1,80 @@
+"""A sampled study read from Python (issue 24): :func:`rotorsweep.statistics` and
+:func:`rotorsweep.sensitivity` on studies/sensitivity-jeffcott.toml (n = 32 instead of 256),
+against the closed forms its comments derive, and the static sag's mean under a normal density
+against the exact value.
+
+The binary is $ROTORSWEEP_BIN (scripts/python-test sets it), as in test_results.py.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+import rotorsweep as rs
+from test_results import ROOT, binary
+
+STUDY = ROOT / "studies" / "sensitivity-jeffcott.toml"
+SCENE = ROOT / "studies" / "scenes" / "rigid-jeffcott.toml"
+
+
+@pytest.fixture(autouse=True)
+def _binary_env(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("ROTORSWEEP_BIN", str(binary()))
+
+
+@pytest.fixture(scope="module")
+def sens(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    d = tmp_path_factory.mktemp("sens")
+    text = STUDY.read_text().replace("n = 256", "n = 32")
+    text = text.replace('scene = "scenes/rigid-jeffcott.toml"', f'scene = "{SCENE.as_posix()}"')
+    study = d / "sens.toml"
+    study.write_text(text)
+    out = d / "sens.h5"
+    rs.run(study, output=out, threads=2)
+    return out
+
+
+def test_sensitivity_frame_holds_the_closed_form(sens: Path) -> None:
+    si = rs.sensitivity(sens)
+    assert list(si.columns) == [
+        "output", "parameter", "n", "first_order", "first_order_low", "first_order_high",
+        "total", "total_low", "total_high",
+    ]
+    # Critical speed f ∝ k^(1/2) ρ^(-1/2) with log-stds 0.2 and 0.1: the factors' log-stds are
+    # a = 0.1, b = 0.05 and S_k = (e^{a²} − 1)/(e^{a²+b²} − 1) = 0.79900, S_Tρ = 1 − S_k
+    # (studies/sensitivity-jeffcott.toml).
+    a2, b2 = 0.1**2, 0.05**2
+    s_k = math.expm1(a2) / math.expm1(a2 + b2)
+    row = si[(si.output == "critical_speed_hz:1") & (si.parameter == "supports[0].spring.kx_n_per_m")].iloc[0]
+    assert row.n == 32
+    assert row.first_order_low <= s_k <= row.first_order_high
+    rho = si[(si.output == "critical_speed_hz:1") & (si.parameter == "materials.steel.density_kg_m3")].iloc[0]
+    assert rho.total_low <= 1 - s_k <= rho.total_high
+    speed = si[(si.output == "critical_speed_hz:1") & (si.parameter == "speed.hz")].iloc[0]
+    assert speed.first_order == 0.0 and speed.total == 0.0
+
+
+def test_statistics_frame_holds_the_lognormal_mean(sens: Path) -> None:
+    st = rs.statistics(sens)
+    assert {"output", "n", "mean", "mean_low", "mean_high", "std", "q05", "q95", "min", "max"} <= set(st.columns)
+    row = st[st.output == "critical_speed_hz:1"].iloc[0]
+    # f = √(2k/m)/2π with m = ρ π (0.1 m)² 0.4 m; at the medians (k = 1e5 N/m, ρ = 7850 kg/m³)
+    # 7.1663 Hz, and E[f] = median · e^{(a² + b²)/2} for the lognormal f (a = 0.1, b = 0.05).
+    median = math.sqrt(2e5 / (7850 * math.pi * 0.01 * 0.4)) / (2 * math.pi)
+    mean = median * math.exp((0.1**2 + 0.05**2) / 2)
+    assert row.n == 64  # the rows of A and B
+    assert row.mean_low <= mean <= row.mean_high
+    assert isinstance(st, pd.DataFrame) and st.attrs["title"]
+
+
+def test_a_grid_study_has_no_sensitivity_table(tmp_path: Path) -> None:
+    study = tmp_path / "grid.toml"
+    study.write_text(f'name = "g"\nscene = "{SCENE.as_posix()}"\n[[axes]]\nkey = "speed.hz"\nvalues = [5.0, 6.0]\n')
+    out = tmp_path / "grid.h5"
+    rs.run(study, output=out)
+    with pytest.raises(rs.RotorsweepError):
+        rs.sensitivity(out)

@@ -1,0 +1,487 @@
+//! Sampled studies (`[sample]`) and their statistics and Sobol' indices, each against a closed
+//! form or a published value: the marginals of Monte Carlo, Latin hypercube and scrambled
+//! Sobol' samples (Kolmogorov–Smirnov), a Gaussian copula's correlation (Fisher's z), the
+//! Saltelli/Jansen estimators on the Ishigami function (Ishigami & Homma 1990), the shipped
+//! rigid-Jeffcott study's indices against their closed form (derived in
+//! studies/sensitivity-jeffcott.toml), the mean and standard deviation of a linear output (the
+//! static sag, linear in the density) under a normal input, identical bytes at 1 and 2 threads
+//! and through shards, and bad `[sample]` tables named by file, key and line.
+
+use crate::support;
+
+use rotorsweep::numerics::rng::SplitMix64;
+use rotorsweep::numerics::sobol_indices::sobol_indices;
+use rotorsweep::study::merge;
+use rotorsweep::study::run::{self as campaign, RunOptions};
+use rotorsweep::study::Study;
+use statrs::distribution::{ContinuousCDF, LogNormal, Normal};
+use std::f64::consts::PI;
+use support::{report_table, results_content, scratch, write_file};
+
+/// A study text on the rigid Jeffcott rotor (studies/scenes/rigid-jeffcott.toml) with `body`.
+fn jeffcott_study(body: &str) -> String {
+    let scene = support::repo().join("studies/scenes/rigid-jeffcott.toml");
+    format!(
+        "name = \"sampled\"\nscene = {:?}\n{body}",
+        scene.display().to_string()
+    )
+}
+
+/// The values of `key` over the study's jobs, as numbers.
+fn values(st: &Study, key: &str) -> Vec<f64> {
+    st.jobs
+        .iter()
+        .map(|j| st.value_of(j, key).and_then(|v| v.as_float()).unwrap())
+        .collect()
+}
+
+/// The Kolmogorov–Smirnov distance sup |F_n − F| of a sample against the CDF `cdf`.
+fn ks_distance(mut x: Vec<f64>, cdf: impl Fn(f64) -> f64) -> f64 {
+    x.sort_by(f64::total_cmp);
+    let n = x.len() as f64;
+    x.iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let f = cdf(*v);
+            (f - i as f64 / n).abs().max(((i + 1) as f64 / n - f).abs())
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn marginals_pass_kolmogorov_smirnov() {
+    let d = scratch("sample-ks");
+    let n = 512;
+    let normal = Normal::new(7.0, 0.5).unwrap();
+    // Lognormal from mean 7850, std 400: σ² = ln(1 + (400/7850)²), μ = ln 7850 − σ²/2.
+    let s2 = (1.0 + (400.0f64 / 7850.0).powi(2)).ln();
+    let lognormal = LogNormal::new(7850f64.ln() - s2 / 2.0, s2.sqrt()).unwrap();
+    let trunc = Normal::new(1e-3, 5e-4).unwrap();
+    let (ta, tb) = (trunc.cdf(2e-4), trunc.cdf(2e-3));
+    for method in ["monte-carlo", "latin-hypercube", "sobol"] {
+        let text = jeffcott_study(&format!(
+            "[sample]\nmethod = \"{method}\"\nn = {n}\nseed = 7\n\
+             [[sample.parameters]]\nkey = \"speed.hz\"\ndistribution = \"normal\"\nmean = 7.0\nstd = 0.5\n\
+             [[sample.parameters]]\nkey = \"materials.steel.density_kg_m3\"\ndistribution = \"lognormal\"\nmean = 7850.0\nstd = 400.0\n\
+             [[sample.parameters]]\nkey = \"simulation.t_end_s\"\ndistribution = \"uniform\"\nlower = 0.1\nupper = 0.2\n\
+             [[sample.parameters]]\nkey = \"solver.hmax\"\ndistribution = \"truncated-normal\"\nmean = 1e-3\nstd = 5e-4\nlower = 2e-4\nupper = 2e-3\n"
+        ));
+        let st = Study::load(&write_file(&d, "s.toml", &text)).unwrap();
+        assert_eq!(st.jobs.len(), n);
+        let distances = [
+            ks_distance(values(&st, "speed.hz"), |x| normal.cdf(x)),
+            ks_distance(values(&st, "materials.steel.density_kg_m3"), |x| {
+                lognormal.cdf(x)
+            }),
+            ks_distance(values(&st, "simulation.t_end_s"), |x| (x - 0.1) / 0.1),
+            ks_distance(values(&st, "solver.hmax"), |x| {
+                (trunc.cdf(x) - ta) / (tb - ta)
+            }),
+        ];
+        // The 1 % critical value of the one-sample KS test, 1.63/√n (Massey 1951, Table 1,
+        // asymptotic form): independent draws stay below it.
+        let critical = 1.63 / (n as f64).sqrt();
+        eprintln!(
+            "{method}: KS distances {distances:?} (1 % critical {critical}, 1/n {})",
+            1.0 / n as f64
+        );
+        for (k, dn) in distances.iter().enumerate() {
+            assert!(
+                *dn < critical,
+                "{method}, parameter {k}: D = {dn} ≥ {critical}"
+            );
+        }
+        // A Latin hypercube has one point in each of the n equal-probability strata (McKay,
+        // Beckman & Conover 1979), and the scrambled Sobol' points of n = 2⁹ are a (0, 9, 1)-net
+        // in each coordinate (Owen 1995): both have D ≤ 1/n (up to the Sobol' points' 2⁻²⁴).
+        if method != "monte-carlo" {
+            for (k, dn) in distances.iter().enumerate() {
+                assert!(
+                    *dn <= 1.0 / n as f64 + 1e-6,
+                    "{method}, parameter {k}: D = {dn}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn gaussian_copula_gives_the_asked_correlation() {
+    let d = scratch("sample-copula");
+    let n = 2000;
+    let text = jeffcott_study(&format!(
+        "[sample]\nmethod = \"monte-carlo\"\nn = {n}\nseed = 3\ncorrelation = [[1.0, 0.6], [0.6, 1.0]]\n\
+         [[sample.parameters]]\nkey = \"speed.hz\"\ndistribution = \"normal\"\nmean = 7.0\nstd = 0.5\n\
+         [[sample.parameters]]\nkey = \"materials.steel.density_kg_m3\"\ndistribution = \"normal\"\nmean = 7850.0\nstd = 300.0\n"
+    ));
+    let st = Study::load(&write_file(&d, "s.toml", &text)).unwrap();
+    let (x, y) = (
+        values(&st, "speed.hz"),
+        values(&st, "materials.steel.density_kg_m3"),
+    );
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let (mx, my) = (mean(&x), mean(&y));
+    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
+    let syy: f64 = y.iter().map(|b| (b - my).powi(2)).sum();
+    let r = sxy / (sxx * syy).sqrt();
+    // Normal marginals: the samples' correlation is the copula's 0.6. Fisher's z = atanh r is
+    // normal with standard error 1/√(n − 3) (Fisher 1921): within 2.58 of them (99 %).
+    let z_err = (r.atanh() - 0.6f64.atanh()).abs() * ((n - 3) as f64).sqrt();
+    eprintln!("copula: r = {r} against 0.6 ({z_err} standard errors of Fisher's z)");
+    assert!(z_err < 2.58, "r = {r}, {z_err} standard errors from 0.6");
+}
+
+#[test]
+fn saltelli_and_jansen_estimators_recover_the_ishigami_indices() {
+    // Ishigami & Homma (1990): f = sin x₁ + a sin² x₂ + b x₃⁴ sin x₁, xᵢ ~ U(−π, π), a = 7,
+    // b = 0.1. Analytic variances (Sobol' & Levitan 1999): V₁ = bπ⁴/5 + b²π⁸/50 + 1/2,
+    // V₂ = a²/8, V₃ = 0, V₁₃ = 8b²π⁸/225, V = V₁ + V₂ + V₁₃.
+    let (a, b) = (7.0, 0.1);
+    let v1 = b * PI.powi(4) / 5.0 + b * b * PI.powi(8) / 50.0 + 0.5;
+    let v2 = a * a / 8.0;
+    let v13 = 8.0 * b * b * PI.powi(8) / 225.0;
+    let v = v1 + v2 + v13;
+    let first = [v1 / v, v2 / v, 0.0];
+    let total = [(v1 + v13) / v, v2 / v, v13 / v];
+    // The published values (Saltelli et al. 2010, §4): S = 0.3139, 0.4424, 0; S_T = 0.5576,
+    // 0.4424, 0.2437.
+    for (got, want) in first.iter().zip([0.3139, 0.4424, 0.0]) {
+        assert!((got - want).abs() < 1e-4);
+    }
+    for (got, want) in total.iter().zip([0.5576, 0.4424, 0.2437]) {
+        assert!((got - want).abs() < 1e-4);
+    }
+    let f = |x: &[f64]| x[0].sin() + a * x[1].sin().powi(2) + b * x[2].powi(4) * x[0].sin();
+    let n = 20_000;
+    let mut rng = SplitMix64::new(11);
+    let mut draw = || -> Vec<f64> { (0..3).map(|_| -PI + 2.0 * PI * rng.uniform()).collect() };
+    let (pa, pb): (Vec<Vec<f64>>, Vec<Vec<f64>>) = (0..n).map(|_| (draw(), draw())).unzip();
+    let fa: Vec<f64> = pa.iter().map(|x| f(x)).collect();
+    let fb: Vec<f64> = pb.iter().map(|x| f(x)).collect();
+    let fab: Vec<Vec<f64>> = (0..3)
+        .map(|i| {
+            pa.iter()
+                .zip(&pb)
+                .map(|(x, y)| {
+                    let mut m = x.clone();
+                    m[i] = y[i];
+                    f(&m)
+                })
+                .collect()
+        })
+        .collect();
+    let (ix, used) = sobol_indices(&fa, &fb, &fab, 300, 5).unwrap();
+    assert_eq!(used, n);
+    for i in 0..3 {
+        let (s, t) = (ix[i].first_order, ix[i].total);
+        eprintln!(
+            "Ishigami x{}: S {:.4} [{:.4}, {:.4}] exact {:.4}; S_T {:.4} [{:.4}, {:.4}] exact {:.4}",
+            i + 1,
+            s.value,
+            s.low,
+            s.high,
+            first[i],
+            t.value,
+            t.low,
+            t.high,
+            total[i]
+        );
+        assert!(
+            s.low <= first[i] && first[i] <= s.high,
+            "S_{}: {} [{}, {}], exact {}",
+            i + 1,
+            s.value,
+            s.low,
+            s.high,
+            first[i]
+        );
+        assert!(
+            t.low <= total[i] && total[i] <= t.high,
+            "S_T{}: {} [{}, {}], exact {}",
+            i + 1,
+            t.value,
+            t.low,
+            t.high,
+            total[i]
+        );
+    }
+}
+
+/// The rows of a `report --table NAME --format json` table as (column → value) objects.
+fn rows(table: &serde_json::Value) -> Vec<serde_json::Map<String, serde_json::Value>> {
+    let cols: Vec<String> = table["columns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_str().unwrap().to_string())
+        .collect();
+    table["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            cols.iter()
+                .cloned()
+                .zip(r.as_array().unwrap().iter().cloned())
+                .collect()
+        })
+        .collect()
+}
+
+fn num(row: &serde_json::Map<String, serde_json::Value>, col: &str) -> f64 {
+    row[col].as_f64().unwrap()
+}
+
+#[test]
+fn shipped_jeffcott_study_indices_match_their_closed_form() {
+    // studies/sensitivity-jeffcott.toml with n = 64 instead of 256 (wider intervals, a quarter
+    // of the time); its comments derive the closed forms.
+    let d = scratch("sample-jeffcott");
+    let text = std::fs::read_to_string(support::repo().join("studies/sensitivity-jeffcott.toml"))
+        .unwrap()
+        .replace("n = 256", "n = 64")
+        .replace(
+            "scene = \"scenes/rigid-jeffcott.toml\"",
+            &format!(
+                "scene = {:?}",
+                support::repo()
+                    .join("studies/scenes/rigid-jeffcott.toml")
+                    .display()
+                    .to_string()
+            ),
+        );
+    let st = Study::load(&write_file(&d, "s.toml", &text)).unwrap();
+    assert_eq!(st.jobs.len(), 64 * 5);
+    let out = d.join("s.h5");
+    campaign::run(&st, &support::run_options(&out)).unwrap();
+    let table = report_table(&out, "sensitivity");
+    assert_eq!(table["name"], "sensitivity");
+    let e = |x: f64| x.exp() - 1.0;
+    // (output, a, b): log-std of the factor of k and of ρ (studies/sensitivity-jeffcott.toml).
+    for (output, a, b) in [
+        ("critical_speed_hz:1", 0.1f64, 0.05f64),
+        ("sag_vertical_um:centre", 0.2, 0.1),
+    ] {
+        let (a2, b2) = (a * a, b * b);
+        let exact = [
+            // (parameter, S, S_T)
+            (
+                "supports[0].spring.kx_n_per_m",
+                e(a2) / e(a2 + b2),
+                1.0 - e(b2) / e(a2 + b2),
+            ),
+            (
+                "materials.steel.density_kg_m3",
+                e(b2) / e(a2 + b2),
+                1.0 - e(a2) / e(a2 + b2),
+            ),
+            ("speed.hz", 0.0, 0.0),
+        ];
+        for (param, s, t) in exact {
+            let row = rows(&table)
+                .into_iter()
+                .find(|r| r["output"] == output && r["parameter"] == param)
+                .unwrap_or_else(|| panic!("{output} {param}"));
+            assert_eq!(num(&row, "n"), 64.0);
+            for (col, want) in [("first_order", s), ("total", t)] {
+                let (lo, hi) = (
+                    num(&row, &format!("{col}_low")),
+                    num(&row, &format!("{col}_high")),
+                );
+                // The speed moves neither output: its estimates are exactly 0.
+                let tol = if want == 0.0 { 1e-12 } else { 0.0 };
+                eprintln!(
+                    "{output} {param} {col}: {} [{lo}, {hi}], closed form {want}",
+                    num(&row, col)
+                );
+                assert!(
+                    lo - tol <= want && want <= hi + tol,
+                    "{output} {param} {col}: {} [{lo}, {hi}], closed form {want}",
+                    num(&row, col)
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn mean_and_std_of_the_static_sag_under_a_normal_density() {
+    // The static sag of the rigid Jeffcott rotor is s = ρ V g/(2k), linear in ρ: with
+    // ρ ~ N(7850, 392.5²) it is normal with mean 7850 V g/(2k) and standard deviation
+    // 392.5 V g/(2k), V = π (0.1 m)² 0.4 m, k = 1e5 N/m, g = 9.81 m/s² (downward: negative).
+    let d = scratch("sample-sag");
+    let n = 200;
+    let text = jeffcott_study(&format!(
+        "[linear]\nspeeds = \"0:1:2\"\nstatic = true\n[sample]\nmethod = \"monte-carlo\"\nn = {n}\nseed = 5\n\
+         [[sample.parameters]]\nkey = \"materials.steel.density_kg_m3\"\ndistribution = \"normal\"\nmean = 7850.0\nstd = 392.5\n"
+    ));
+    let st = Study::load(&write_file(&d, "s.toml", &text)).unwrap();
+    let out = d.join("s.h5");
+    campaign::run(&st, &support::run_options(&out)).unwrap();
+    let per_rho = PI * 0.01 * 0.4 * 9.81 / 2e5 * 1e6; // µm per kg/m³
+    let (mean, std) = (-7850.0 * per_rho, 392.5 * per_rho);
+    let table = report_table(&out, "statistics");
+    let row = rows(&table)
+        .into_iter()
+        .find(|r| r["output"] == "sag_vertical_um:centre")
+        .unwrap();
+    assert_eq!(num(&row, "n"), n as f64);
+    // The exact values within the table's 95 % bootstrap intervals …
+    for (col, exact) in [("mean", mean), ("std", std)] {
+        let (lo, hi) = (
+            num(&row, &format!("{col}_low")),
+            num(&row, &format!("{col}_high")),
+        );
+        assert!(
+            lo <= exact && exact <= hi,
+            "{col}: [{lo}, {hi}], exact {exact}"
+        );
+    }
+    // … and the estimates within normal theory's 99 % bounds: the mean within 2.58 σ/√n, the
+    // variance within the χ²(n − 1) quantiles 0.5 % and 99.5 % (for 199 degrees of freedom
+    // 153.0 and 253.9, Wilson–Hilferty).
+    let m = num(&row, "mean");
+    eprintln!(
+        "sag: mean {m} µm (exact {mean}), std {} µm (exact {std})",
+        num(&row, "std")
+    );
+    assert!(
+        (m - mean).abs() < 2.58 * std / (n as f64).sqrt(),
+        "{m} against {mean}"
+    );
+    let ratio = (n - 1) as f64 * (num(&row, "std") / std).powi(2);
+    assert!((153.0..253.9).contains(&ratio), "(n − 1) s²/σ² = {ratio}");
+}
+
+#[test]
+fn sampled_jobs_have_the_same_bytes_at_one_and_two_threads_and_through_shards() {
+    let d = scratch("sample-determinism");
+    let text = jeffcott_study(
+        "[sample]\nmethod = \"saltelli\"\nn = 4\nseed = 9\n\
+         [[sample.parameters]]\nkey = \"speed.hz\"\ndistribution = \"uniform\"\nlower = 5.0\nupper = 9.0\n\
+         [[sample.parameters]]\nkey = \"materials.steel.density_kg_m3\"\ndistribution = \"lognormal\"\nmean = 7850.0\nstd = 300.0\n",
+    );
+    let path = write_file(&d, "s.toml", &text);
+    let st = Study::load(&path).unwrap();
+    assert_eq!(st.jobs.len(), 4 * 4);
+    // The same ids when loaded again (a resumed run finds its jobs).
+    let again = Study::load(&path).unwrap();
+    let ids = |s: &Study| s.jobs.iter().map(|j| j.id.clone()).collect::<Vec<_>>();
+    assert_eq!(ids(&st), ids(&again));
+    let run = |name: &str, threads: usize, shard: Option<(usize, usize)>| {
+        let out = d.join(name);
+        let opts = RunOptions {
+            threads,
+            shard,
+            ..support::run_options(&out)
+        };
+        campaign::run(&st, &opts).unwrap();
+        out
+    };
+    let one = results_content(&run("one.h5", 1, None));
+    let two = results_content(&run("two.h5", 2, None));
+    let (s0, s1) = (run("s0.h5", 2, Some((0, 2))), run("s1.h5", 2, Some((1, 2))));
+    let merged = d.join("merged.h5");
+    merge::merge(&[s0, s1], &merged, &merge::MergeOptions::default()).unwrap();
+    assert!(
+        one.iter().any(|(p, _)| p.ends_with("@speed.hz")),
+        "the sample is stored per job"
+    );
+    assert!(one.iter().any(|(p, _)| p.ends_with("@label:sample")));
+    assert_eq!(one, two);
+    assert_eq!(one, results_content(&merged));
+}
+
+/// Loads a study of `body` and returns its error's (key, line, text).
+fn error_of(body: &str) -> (Option<String>, Option<usize>, String, String) {
+    let d = scratch("sample-errors");
+    let text = jeffcott_study(body);
+    let p = write_file(&d, "s.toml", &text);
+    let e = Study::load(&p).unwrap_err();
+    assert!(e.to_string().contains("s.toml"), "{e}");
+    (e.key.clone(), e.line, e.to_string(), text)
+}
+
+fn line(text: &str, needle: &str) -> Option<usize> {
+    Some(support::line_number(text, needle))
+}
+
+#[test]
+fn bad_sample_tables_name_file_key_and_line() {
+    let head =
+        "[sample]\nmethod = \"monte-carlo\"\nn = 10\n[[sample.parameters]]\nkey = \"speed.hz\"\n";
+    let (key, at, msg, text) = error_of(&format!(
+        "{head}distribution = \"normal\"\nmean = 7.0\nstd = -0.5\n"
+    ));
+    assert_eq!(key.as_deref(), Some("sample.parameters[0].std"));
+    assert_eq!(at, line(&text, "std = -0.5"));
+    assert!(msg.contains("must be positive"), "{msg}");
+
+    let (key, at, msg, text) = error_of(&format!(
+        "{head}distribution = \"uniform\"\nlower = 9.0\nupper = 5.0\n"
+    ));
+    assert_eq!(key.as_deref(), Some("sample.parameters[0].upper"));
+    assert_eq!(at, line(&text, "upper = 5.0"));
+    assert!(msg.contains("below"), "{msg}");
+
+    let (key, at, msg, text) = error_of(&format!("{head}distribution = \"weibull\"\n"));
+    assert_eq!(key.as_deref(), Some("sample.parameters[0].distribution"));
+    assert_eq!(at, line(&text, "distribution = \"weibull\""));
+    assert!(msg.contains("truncated-normal"), "{msg}");
+
+    let corr = "[sample]\nmethod = \"monte-carlo\"\nn = 10\n\
+                correlation = [[1.0, 0.9, 0.9], [0.9, 1.0, -0.9], [0.9, -0.9, 1.0]]\n";
+    let params: String = ["speed.hz", "simulation.t_end_s", "solver.hmax"]
+        .iter()
+        .map(|k| {
+            format!(
+                "[[sample.parameters]]\nkey = \"{k}\"\ndistribution = \"uniform\"\nlower = 0.1\nupper = 0.2\n"
+            )
+        })
+        .collect();
+    let (key, at, msg, text) = error_of(&format!("{corr}{params}"));
+    assert_eq!(key.as_deref(), Some("sample.correlation"));
+    assert_eq!(
+        at,
+        line(
+            &text,
+            "correlation = [[1.0, 0.9, 0.9], [0.9, 1.0, -0.9], [0.9, -0.9, 1.0]]"
+        )
+    );
+    assert!(msg.contains("positive definite"), "{msg}");
+
+    let (key, _, msg, _) = error_of(&format!(
+        "[[axes]]\nkey = \"solver.hmax\"\nvalues = [1e-3]\n{head}distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n"
+    ));
+    assert_eq!(key.as_deref(), Some("sample"));
+    assert!(msg.contains("[[axes]]"), "{msg}");
+
+    // A sampled key that would replace a [set] key inside it (dropping it silently).
+    let replacing = format!(
+        "[set]\n\"solver.hmax.x\" = 1.0\n{head}distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n"
+    )
+    .replace("key = \"speed.hz\"", "key = \"solver.hmax\"");
+    let (key, at, msg, text) = error_of(&replacing);
+    assert_eq!(key.as_deref(), Some("sample.parameters[0].key"));
+    assert_eq!(at, line(&text, "key = \"solver.hmax\""));
+    assert!(msg.contains("would replace"), "{msg}");
+
+    let (key, _, msg, _) = error_of(
+        "[sample]\nmethod = \"grid\"\nn = 10\n[[sample.parameters]]\nkey = \"speed.hz\"\n\
+         distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n",
+    );
+    assert_eq!(key.as_deref(), Some("sample.method"));
+    assert!(msg.contains("latin-hypercube"), "{msg}");
+}
+
+/// The scene's own errors in a sampled value point at the parameter that sampled it.
+#[test]
+fn a_sampled_value_the_scene_refuses_names_its_parameter() {
+    let (key, at, msg, text) = error_of(
+        "[sample]\nmethod = \"monte-carlo\"\nn = 4\n[[sample.parameters]]\nkey = \"solver.hmax\"\n\
+         distribution = \"uniform\"\nlower = -2.0\nupper = -1.0\n",
+    );
+    assert_eq!(key.as_deref(), Some("solver.hmax"), "{msg}");
+    assert_eq!(at, line(&text, "key = \"solver.hmax\""), "{msg}");
+}
