@@ -49,6 +49,7 @@ mod parts;
 mod references;
 mod saver;
 mod schedule;
+mod work;
 
 pub(crate) use assemble::finish_output;
 pub use campaign::run;

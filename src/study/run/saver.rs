@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 
 use super::error::CampaignError;
 use super::parts::{save_batch, Finished, Saved, BATCH_RUNS, BATCH_SAMPLES, BATCH_SECONDS};
-use super::schedule::Work;
+use super::work::Work;
 use crate::dynamics::simulation::JobResult;
 use crate::study::identity::Identity;
 use crate::study::progress::Progress;

@@ -1,14 +1,13 @@
 //! The work of a run in order, on the worker pool, each finished run saved as it arrives.
 //!
-//! In: the run's reference runs and jobs, the built [`Models`], the parts folder. Out: the work
-//! list (reference runs unless shared, then jobs in study order, the saved ones left out), each
-//! item run on one thread of the pool and saved by the calling thread in batches as they finish
-//! (`saver`, `parts`); the progress line per run. A worker hands its result over only when the
-//! saving thread takes it (memory bounded by one batch and one finished run per worker). The
-//! first failed save stops
-//! new runs from starting; running ones finish and are saved if they can be, and the error says
-//! how many are saved. The study's linear systems are computed on the same pool meanwhile.
-//! Results do not depend on the thread count or the order in which runs finish.
+//! In: the run's work list (`work`: reference runs unless shared, then jobs in study order, the
+//! saved ones left out), the built [`Models`], the parts folder. Out: each item run on one
+//! thread of the pool and saved by the calling thread in batches as they finish (`saver`,
+//! `parts`); the progress line per run. A worker hands its result over only when the saving
+//! thread takes it (memory bounded by one batch and one finished run per worker). The first
+//! failed save stops new runs from starting; running ones finish and are saved if they can be,
+//! and the error says how many are saved. The study's linear systems are computed on the same
+//! pool meanwhile. Results do not depend on the thread count or the order in which runs finish.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -21,121 +20,10 @@ use super::error::CampaignError;
 use super::models::Models;
 use super::parts::{saved_parts, Saved};
 use super::saver::Saver;
+use super::work::Work;
 use crate::dynamics::simulation::JobResult;
-use crate::scene::Scene;
-use crate::store::Param;
 use crate::study::identity::Identity;
 use crate::study::progress::Progress;
-use crate::study::{Job, Reference, Study};
-
-/// A unit of work for the pool.
-pub(super) struct Work<'a> {
-    pub(super) id: String,
-    kind: Kind,
-    pub(super) scene: &'a Scene,
-    model_id: &'a str,
-    linear_id: Option<&'a str>,
-    prune: Option<f64>,
-    params: Vec<(String, Param)>,
-    /// What the progress lines call it: the job's labels, else its varying values.
-    pub(super) name: String,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Kind {
-    Job(usize),
-    Reference,
-}
-
-fn params_of(overrides: &[(String, toml::Value)]) -> Vec<(String, Param)> {
-    overrides
-        .iter()
-        .map(|(k, v)| (k.clone(), Param::from_toml(v)))
-        .collect()
-}
-
-/// The work list: the reference runs `refs`, then the jobs.
-pub(super) fn work_list<'a>(
-    study: &Study,
-    jobs: &[&'a Job],
-    refs: &[&'a Reference],
-) -> Vec<Work<'a>> {
-    let mut work: Vec<Work> = Vec::new();
-    for r in refs {
-        work.push(Work {
-            id: r.id.clone(),
-            kind: Kind::Reference,
-            scene: &r.scene,
-            model_id: &r.model_id,
-            linear_id: None,
-            prune: None,
-            params: params_of(&r.overrides),
-            name: "reference run".into(),
-        });
-    }
-    for j in jobs {
-        let mut params = params_of(&j.overrides);
-        // Its labels, then the values of the varying keys no label stands for.
-        let name = j
-            .labels
-            .iter()
-            .map(|(_, l)| l.clone())
-            .chain(
-                study
-                    .varying
-                    .iter()
-                    .filter(|k| !j.labels.iter().any(|(lk, _)| lk == *k))
-                    .map(|k| format!("{k}={}", study.value_text(j, k).unwrap_or_default())),
-            )
-            .collect::<Vec<_>>()
-            .join(", ");
-        if !j.labels.is_empty() {
-            let all: Vec<&str> = j.labels.iter().map(|(_, l)| l.as_str()).collect();
-            params.push(("label".into(), Param::Text(all.join(", "))));
-            for (k, l) in &j.labels {
-                params.push((format!("label:{k}"), Param::Text(l.clone())));
-            }
-        }
-        work.push(Work {
-            id: j.id.clone(),
-            kind: Kind::Job(j.index),
-            scene: &j.scene,
-            model_id: &j.model_id,
-            linear_id: Some(&j.linear_id),
-            prune: j.prune,
-            params,
-            name,
-        });
-    }
-    work
-}
-
-impl Work<'_> {
-    /// The attributes of its part file's `job` group besides the result: its overrides (and
-    /// labels), the ids of its model and linearised system, what the analysis reads of its
-    /// scene, its pruning threshold, and its kind (and job index).
-    pub(super) fn part_params(&self) -> Vec<(String, Param)> {
-        let mut params = self.params.clone();
-        params.push(("model_id".into(), Param::Text(self.model_id.to_string())));
-        if let Some(l) = self.linear_id {
-            params.push(("linear_id".into(), Param::Text(l.to_string())));
-        }
-        // The spin speed over the record, the roll angle's offset and the roller ratios, for
-        // the spectral analysis.
-        params.extend(crate::results::analyse::job_attrs(self.scene));
-        if let Some(p) = self.prune {
-            params.push((crate::study::PRUNE_KEY.into(), Param::Number(p)));
-        }
-        match self.kind {
-            Kind::Job(i) => {
-                params.push(("job_index".into(), Param::Count(i as u64)));
-                params.push(("kind".into(), Param::Text("job".into())));
-            }
-            Kind::Reference => params.push(("kind".into(), Param::Text("reference".into()))),
-        }
-        params
-    }
-}
 
 /// What [`run_all`] leaves: where each run it saved is, the first failed save, and what the
 /// work beside the jobs returned.
