@@ -8,9 +8,11 @@
 //! units throughout, except for the readers' accounts: the model's [`summary`] and what a scene
 //! asks for, [`derived`] (mm, g, Hz: what `modes` and `check` print).
 
+pub mod bodies;
 pub mod derived;
 pub mod linear_system;
 pub mod model;
+pub mod nip;
 pub mod simulation;
 pub mod summary;
 pub mod system;

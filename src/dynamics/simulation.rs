@@ -40,21 +40,61 @@ pub struct JobResult {
     pub channels: Vec<Channel>,
     /// First time [s] after settling at which a roller carried no load, if any.
     pub lift_off_s: Option<f64>,
+    /// Sampled fields along a second axis (a nip's segments), each [rows × time].
+    pub fields: Vec<Field>,
 }
 
-struct Recorder<'a> {
+/// A sampled field: one row per point of its axis (a nip's segments), one column per sample.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Field {
+    /// Path-like name, e.g. `nips/main/force`.
+    pub name: String,
+    /// Units of the samples.
+    pub units: &'static str,
+    /// Name of the row axis, a dataset beside the field (e.g. `z_mm`).
+    pub axis: &'static str,
+    /// The row axis's values.
+    pub axis_values: Vec<f64>,
+    /// Their units.
+    pub axis_units: &'static str,
+    /// Samples, row-major [rows × time].
+    pub data: Vec<f64>,
+}
+
+pub(super) struct Recorder<'a> {
     sys: &'a RollSystem,
     scene: &'a Scene,
-    next: f64,
-    dt: f64,
-    t_end: f64,
-    time: Vec<f64>,
-    channels: Vec<Channel>,
-    lift_off: Option<f64>,
+    pub(super) next: f64,
+    pub(super) dt: f64,
+    pub(super) t_end: f64,
+    pub(super) time: Vec<f64>,
+    pub(super) channels: Vec<Channel>,
+    pub(super) lift_off: Option<f64>,
+}
+
+/// The state at t inside a step by cubic Hermite interpolation of its ends.
+pub(super) fn hermite(s: &StepView, t: f64) -> (DVector<f64>, DVector<f64>) {
+    let h = s.t1 - s.t0;
+    let x = ((t - s.t0) / h).clamp(0.0, 1.0);
+    let (h00, h10, h01, h11) = (
+        2.0 * x.powi(3) - 3.0 * x * x + 1.0,
+        x.powi(3) - 2.0 * x * x + x,
+        -2.0 * x.powi(3) + 3.0 * x * x,
+        x.powi(3) - x * x,
+    );
+    let (d00, d10, d01, d11) = (
+        (6.0 * x * x - 6.0 * x) / h,
+        3.0 * x * x - 4.0 * x + 1.0,
+        (-6.0 * x * x + 6.0 * x) / h,
+        3.0 * x * x - 2.0 * x,
+    );
+    let q = h00 * s.q0 + (h10 * h) * s.v0 + h01 * s.q1 + (h11 * h) * s.v1;
+    let v = d00 * s.q0 + d10 * s.v0 + d01 * s.q1 + d11 * s.v1;
+    (q, v)
 }
 
 impl<'a> Recorder<'a> {
-    fn new(sys: &'a RollSystem, scene: &'a Scene) -> Self {
+    pub(super) fn new(sys: &'a RollSystem, scene: &'a Scene) -> Self {
         let o = scene.outputs;
         let mut channels = Vec::new();
         let mut add = |name: String, units| {
@@ -107,7 +147,7 @@ impl<'a> Recorder<'a> {
         }
     }
 
-    fn sample(&mut self, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
+    pub(super) fn sample(&mut self, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
         let o = self.scene.outputs;
         let mut c = 0;
         let mut push = |x: f64, channels: &mut Vec<Channel>| {
@@ -159,22 +199,7 @@ impl<'a> Recorder<'a> {
     fn step(&mut self, s: &StepView) {
         while self.next <= s.t1 + 1e-12 && self.next <= self.t_end + 1e-12 {
             let t = self.next;
-            let h = s.t1 - s.t0;
-            let x = ((t - s.t0) / h).clamp(0.0, 1.0);
-            let (h00, h10, h01, h11) = (
-                2.0 * x.powi(3) - 3.0 * x * x + 1.0,
-                x.powi(3) - 2.0 * x * x + x,
-                -2.0 * x.powi(3) + 3.0 * x * x,
-                x.powi(3) - x * x,
-            );
-            let (d00, d10, d01, d11) = (
-                (6.0 * x * x - 6.0 * x) / h,
-                3.0 * x * x - 4.0 * x + 1.0,
-                (-6.0 * x * x + 6.0 * x) / h,
-                3.0 * x * x - 2.0 * x,
-            );
-            let q = h00 * s.q0 + (h10 * h) * s.v0 + h01 * s.q1 + (h11 * h) * s.v1;
-            let v = d00 * s.q0 + d10 * s.v0 + d01 * s.q1 + d11 * s.v1;
+            let (q, v) = hermite(s, t);
             self.sample(t, &q, &v);
             self.next = self.scene.simulation.settle + self.time.len() as f64 * self.dt;
         }
@@ -197,7 +222,7 @@ fn linear_guess(scene: &Scene, model: &Model, sys: &RollSystem) -> Result<DVecto
         .ok_or_else(|| "the linearised supports do not hold every rigid mode".to_string())
 }
 
-fn failed(cause: String, model: &Model, coordinates: usize) -> JobResult {
+pub(super) fn failed(cause: String, model: &Model, coordinates: usize) -> JobResult {
     JobResult {
         stats: Stats::failed(cause),
         modes: model.reduced.counts_label(),
@@ -205,24 +230,36 @@ fn failed(cause: String, model: &Model, coordinates: usize) -> JobResult {
         time: Vec::new(),
         channels: Vec::new(),
         lift_off_s: None,
+        fields: Vec::new(),
     }
 }
 
-/// Runs one job (module doc).
+/// The state a run starts from: the static equilibrium under gravity when the scene asks for
+/// it (and has supports), else rest at q = 0.
+pub(super) fn start(
+    scene: &Scene,
+    model: &Model,
+    sys: &RollSystem,
+) -> Result<DVector<f64>, String> {
+    if scene.simulation.static_start && !scene.supports.is_empty() {
+        let guess =
+            linear_guess(scene, model, sys).map_err(|e| format!("static equilibrium: {e}"))?;
+        sys.static_equilibrium(&guess)
+    } else {
+        Ok(DVector::zeros(sys.n))
+    }
+}
+
+/// Runs one job (module doc): a machine of several rolls in nips on its own path.
 pub fn run(scene: &Scene, model: &Model) -> JobResult {
+    if let Some(machine) = &scene.machine {
+        return super::bodies::run(machine, model);
+    }
     let sys = RollSystem::new(scene, model);
     let n = sys.n;
-    let q0 = if scene.simulation.static_start && !scene.supports.is_empty() {
-        let guess = match linear_guess(scene, model, &sys) {
-            Ok(g) => g,
-            Err(e) => return failed(format!("static equilibrium: {e}"), model, n),
-        };
-        match sys.static_equilibrium(&guess) {
-            Ok(q) => q,
-            Err(e) => return failed(e, model, n),
-        }
-    } else {
-        DVector::zeros(n)
+    let q0 = match start(scene, model, &sys) {
+        Ok(q) => q,
+        Err(e) => return failed(e, model, n),
     };
     let mut rec = Recorder::new(&sys, scene);
     let bound = scene.simulation.runout_bound;
@@ -273,5 +310,6 @@ pub fn run(scene: &Scene, model: &Model) -> JobResult {
         time: rec.time,
         channels: rec.channels,
         lift_off_s: rec.lift_off,
+        fields: Vec::new(),
     }
 }

@@ -34,6 +34,8 @@ mod keys_docs;
 mod limits;
 mod load;
 pub mod locate;
+mod machine;
+mod machine_file;
 mod overrides;
 pub mod plausibility;
 pub mod position;
@@ -45,6 +47,7 @@ mod types;
 
 pub use contact_fit::{ContactFit, ContactGeometry};
 pub use limits::{MAX_FE_NODES, MAX_RECORD_VALUES, MAX_SAMPLES_PER_CHANNEL};
+pub use machine::{Machine, MachineRoll, Nip, NipLaw};
 pub use overrides::{parse_override, replaces, set_path, with_overrides};
 pub use settings::{DampingBands, Outputs, SimulationSettings};
 pub use speed::{SpeedProfile, MAX_SPEED_HZ};

@@ -53,6 +53,8 @@ pub struct Scene {
     pub solver: SolverSettings,
     /// What a run records.
     pub outputs: Outputs,
+    /// Several rolls in nips (a machine file), this scene being its first roll's.
+    pub machine: Option<Arc<super::machine::Machine>>,
 }
 
 /// A support at a named node.
