@@ -188,15 +188,16 @@ fn build(c: &Check, raw: &MachineFile) -> Result<Machine, InputError> {
             scene.solver = first.scene.solver.clone();
             scene.outputs = first.scene.outputs;
         }
-        let position = [
-            1e-3 * c.finite(&key("position_mm"), r.position_mm[0])?,
-            1e-3 * c.finite(&key("position_mm"), r.position_mm[1])?,
-        ];
-        let arm = r.arm_force_n.unwrap_or([0.0, 0.0]);
-        let arm_force = [
-            c.finite(&key("arm_force_n"), arm[0])?,
-            c.finite(&key("arm_force_n"), arm[1])?,
-        ];
+        let pair = |k: &str, v: &[f64]| match v {
+            [x, y] => Ok([c.finite(&key(k), *x)?, c.finite(&key(k), *y)?]),
+            _ => Err(c.err(&key(k), format!("must be [x, y], got {} numbers", v.len()))),
+        };
+        let [x, y] = pair("position_mm", &r.position_mm)?;
+        let position = [1e-3 * x, 1e-3 * y];
+        let arm_force = pair(
+            "arm_force_n",
+            r.arm_force_n.as_deref().unwrap_or(&[0.0, 0.0]),
+        )?;
         rolls.push(MachineRoll {
             name: r.name.clone(),
             scene,

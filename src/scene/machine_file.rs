@@ -20,9 +20,9 @@ pub(crate) struct MachineRollFile {
     pub scene: String,
     #[serde(default)]
     pub set: Vec<String>,
-    pub position_mm: [f64; 2],
+    pub position_mm: Vec<f64>,
     pub surface_speed_of: Option<String>,
-    pub arm_force_n: Option<[f64; 2]>,
+    pub arm_force_n: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Deserialize)]

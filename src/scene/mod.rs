@@ -31,6 +31,7 @@ mod file;
 mod geometry;
 pub mod keys;
 mod keys_docs;
+mod keys_docs_machine;
 mod limits;
 mod load;
 pub mod locate;
