@@ -22,6 +22,7 @@
 //! - `cover`: a Winkler layer on one roll, foundation modulus k = E/((1 − ν²) h) [N/m³]
 //!   (plane strain, thin layer); with R = R_a R_b/(R_a + R_b) the band is 2a, a = √(2Rδ), and
 //!   the force per length ∫k(δ − x²/2R)dx = (4√2/3) k √R δ^1.5.
+//!
 //! The line load q [N/m] presses roll_b toward roll_a: q (to − from) split evenly over roll_b's
 //! supports' nodes, beside the arms' forces of `arm_force_n` on every support node of a roll.
 
