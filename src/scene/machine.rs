@@ -55,6 +55,8 @@ pub struct MachineRoll {
     pub name: String,
     /// Its own scene (its speed tied to another roll's where the file says so).
     pub scene: Scene,
+    /// The overrides of its scene (`set`).
+    pub set: Vec<String>,
     /// Axis position (x, y) in the inertial frame [m].
     pub position: [f64; 2],
     /// Loading-arm force (x, y) on each of its support nodes, inertial frame [N].
@@ -202,6 +204,7 @@ fn build(c: &Check, raw: &MachineFile) -> Result<Machine, InputError> {
         rolls.push(MachineRoll {
             name: r.name.clone(),
             scene,
+            set: r.set.clone(),
             position,
             arm_force,
         });

@@ -340,3 +340,45 @@ fn bad_machines_are_clear_errors_at_their_key_and_line() {
         assert!(e.reason.contains(reason), "{e}");
     }
 }
+
+#[test]
+fn check_and_modes_show_every_roll() {
+    let dir = support::scratch("nips-cli");
+    support::write_file(
+        &dir,
+        "roll.toml",
+        &cylinder("kx_n_per_m = 1.0e5, ky_n_per_m = 1.0e5", ""),
+    );
+    let nips = "[[nips]]\nname = \"main\"\nroll_a = \"top\"\nroll_b = \"bottom\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
+                segments = 4\nlaw = \"hertz\"\nline_load_kn_per_m = 20.0\n";
+    let path = machine(
+        &dir,
+        &[
+            ("top", "roll.toml", [0.0, 200.0], ""),
+            ("bottom", "roll.toml", [0.0, 0.0], ""),
+        ],
+        nips,
+    );
+    let p = path.to_str().unwrap();
+    let check = String::from_utf8(support::rotorsweep_ok(&["check", p])).unwrap();
+    for want in [
+        "# Roll top:",
+        "# Roll bottom:",
+        "# Nip main: top → bottom",
+        "law: hertz",
+    ] {
+        assert!(check.contains(want), "{want} missing:\n{check}");
+    }
+    let modes = String::from_utf8(support::rotorsweep_ok(&["modes", p])).unwrap();
+    assert!(
+        modes.contains("# roll top") && modes.contains("# roll bottom"),
+        "{modes}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&support::rotorsweep_ok(&["modes", p, "--json"])).unwrap();
+    let names: Vec<&str> = (json["rolls"].as_array().unwrap().iter())
+        .map(|r| r["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["top", "bottom"]);
+    assert!(json["critical_speeds_hz"].is_array(), "today's keys kept");
+}

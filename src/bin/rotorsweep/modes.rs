@@ -57,10 +57,41 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     };
     let (scene, model) = Model::load(&a.scene, &a.set, a.modes.as_deref())?;
     let report = modes_report(&scene, &model, speed_hz, sweep_to_hz)?;
+    // A machine: its first roll's report as for a scene, then every roll's (first with the
+    // selection given, the others with their scenes' own) under `rolls` with their names.
+    let mut rolls = Vec::new();
+    if let Some(m) = &scene.machine {
+        for (i, r) in m.rolls.iter().enumerate() {
+            let own = if i == 0 {
+                model.clone()
+            } else {
+                Model::build(&r.scene, None)?
+            };
+            rolls.push((
+                r.name.clone(),
+                modes_report(&r.scene, &own, speed_hz, sweep_to_hz)?,
+            ));
+        }
+    }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
+        let mut v = serde_json::to_value(&report)?;
+        if let (Some(obj), false) = (v.as_object_mut(), rolls.is_empty()) {
+            let list = (rolls.iter())
+                .map(|(n, r)| {
+                    Ok(serde_json::json!({ "name": n, "report": serde_json::to_value(r)? }))
+                })
+                .collect::<Result<Vec<_>, serde_json::Error>>()?;
+            obj.insert("rolls".into(), serde_json::Value::Array(list));
+        }
+        println!("{}", serde_json::to_string_pretty(&v)?);
+    } else if rolls.is_empty() {
         print_tables(&report);
+    } else {
+        for (name, r) in &rolls {
+            println!("# roll {name}");
+            print_tables(r);
+            println!();
+        }
     }
     Ok(())
 }
