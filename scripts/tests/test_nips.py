@@ -88,3 +88,24 @@ def test_band_width_is_the_winkler_layers(nip_file: Path) -> None:
     # Symmetric about the centre within 1 % of the largest segment force.
     v = f.values
     assert max(abs(v - v[::-1])) < 0.01 * max(v)
+
+
+def test_a_study_sweeps_the_line_load(tmp_path: Path) -> None:
+    study = tmp_path / "study.toml"
+    study.write_text(
+        f'name = "nip-load"\nscene = "{SCENE.as_posix()}"\n'
+        '[[axes]]\nkey = "nips[0].line_load_kn_per_m"\nvalues = [5.0, 10.0]\n'
+    )
+    out = tmp_path / "study.h5"
+    p = subprocess.run(
+        [str(binary()), "run", str(study), "-o", str(out)], capture_output=True, text=True, timeout=600
+    )
+    assert p.returncode == 0, p.stderr
+    df = rp.summary(out)
+    totals = {
+        float(row["nips[0].line_load_kn_per_m"]): float(rp.nip_forces(out, row["job_id"], nip="press").sum("z_mm").mean())
+        for _, row in df.iterrows()
+    }
+    # 5 kN/m more over 4 m: 20 kN more through the nip (the housings' 1e5 N/m vertical springs
+    # take a little of it).
+    assert totals[10.0] - totals[5.0] == pytest.approx(20e3, rel=0.02)
