@@ -20,9 +20,9 @@
 
 use nalgebra::{DMatrix, DVector, Matrix2};
 
+use super::job::{failed, hermite, start, Field, JobResult, Recorder};
 use super::model::Model;
 use super::nip::{band_width, law_force, NipSys, RollView, SegmentState};
-use super::simulation::{failed, hermite, start, Field, JobResult, Recorder};
 use super::system::RollSystem;
 use crate::integrators::{integrate, SecondOrder, StepView};
 use crate::scene::{Machine, NipLaw};

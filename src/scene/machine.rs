@@ -30,87 +30,14 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::check::Check;
-use super::contact_fit::{ContactFit, ContactGeometry};
+use super::contact_fit::ContactGeometry;
 use super::locate;
 use super::machine_file::{MachineFile, NipFile};
 use super::overrides::{override_error_key, with_overrides};
 use super::source::Source;
-use super::types::Scene;
+use super::types::{Machine, MachineRoll, Nip, NipLaw, Scene};
 use crate::error::InputError;
 use crate::rotor::fe::{RotorSpec, SectionSpec};
-
-/// Several rolls in nips (module doc).
-#[derive(Debug, Clone)]
-pub struct Machine {
-    /// The rolls, in file order.
-    pub rolls: Vec<MachineRoll>,
-    /// The nips, in file order.
-    pub nips: Vec<Nip>,
-}
-
-/// One roll of a machine.
-#[derive(Debug, Clone)]
-pub struct MachineRoll {
-    /// Its name.
-    pub name: String,
-    /// Its own scene (its speed tied to another roll's where the file says so).
-    pub scene: Scene,
-    /// The overrides of its scene (`set`).
-    pub set: Vec<String>,
-    /// Axis position (x, y) in the inertial frame [m].
-    pub position: [f64; 2],
-    /// Loading-arm force (x, y) on each of its support nodes, inertial frame [N].
-    pub arm_force: [f64; 2],
-}
-
-/// A nip between two rolls.
-#[derive(Debug, Clone)]
-pub struct Nip {
-    /// Its name.
-    pub name: String,
-    /// Index of roll_a and roll_b among the machine's rolls.
-    pub rolls: (usize, usize),
-    /// Segment centres z [m].
-    pub z: Vec<f64>,
-    /// Segment length [m].
-    pub segment_length: f64,
-    /// Unit vector from roll_a's axis to roll_b's (inertial x, y).
-    pub normal: [f64; 2],
-    /// Gap between the unloaded surfaces [m] (≥ 0).
-    pub gap: f64,
-    /// Outer radii of roll_a and roll_b at the nip, a cover included [m].
-    pub radii: (f64, f64),
-    /// The contact law per segment.
-    pub law: NipLaw,
-    /// Damping per length [Ns/m²] (acts while a segment is in contact).
-    pub damping: f64,
-    /// Line load pressing roll_b toward roll_a [N/m].
-    pub line_load: f64,
-}
-
-/// A nip's contact law (module doc).
-#[derive(Debug, Clone, PartialEq)]
-pub enum NipLaw {
-    /// Force per length k δ, k [N/m²].
-    Linear {
-        /// k [N/m²].
-        stiffness: f64,
-    },
-    /// Steel on steel: the Roark line contact of one segment, fitted to F = k δ^e.
-    Hertz {
-        /// The fit (its geometry: the two diameters, the segment length, the materials).
-        fit: ContactFit,
-    },
-    /// A Winkler cover layer.
-    Cover {
-        /// Foundation modulus E/((1 − ν²) h) [N/m³].
-        foundation: f64,
-        /// R_a R_b/(R_a + R_b) [m].
-        radius: f64,
-        /// Layer thickness [m].
-        thickness: f64,
-    },
-}
 
 /// Reads a machine file (`source`, with `--set` overrides) and its rolls' scenes (module doc).
 pub(super) fn load(source: &Source, overrides: &[String]) -> Result<Scene, InputError> {

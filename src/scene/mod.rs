@@ -48,11 +48,10 @@ mod types;
 
 pub use contact_fit::{ContactFit, ContactGeometry};
 pub use limits::{MAX_FE_NODES, MAX_RECORD_VALUES, MAX_SAMPLES_PER_CHANNEL};
-pub use machine::{Machine, MachineRoll, Nip, NipLaw};
 pub use overrides::{parse_override, replaces, set_path, with_overrides};
 pub use settings::{DampingBands, Outputs, SimulationSettings};
 pub use speed::{SpeedProfile, MAX_SPEED_HZ};
 pub use types::{
-    ContactLaw, Drive, Harmonic, LinearSupport, Roller, RollerPhase, RollerSupport, Scene,
-    SpringDamper, Stand, Support, SupportModel,
+    ContactLaw, Drive, Harmonic, LinearSupport, Machine, MachineRoll, Nip, NipLaw, Roller,
+    RollerPhase, RollerSupport, Scene, SpringDamper, Stand, Support, SupportModel,
 };
