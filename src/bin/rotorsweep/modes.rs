@@ -73,17 +73,17 @@ pub fn run(a: &Args) -> Result<(), CliError> {
             ));
         }
     }
-    if a.json {
-        let mut v = serde_json::to_value(&report)?;
-        if let (Some(obj), false) = (v.as_object_mut(), rolls.is_empty()) {
-            let list = (rolls.iter())
-                .map(|(n, r)| {
-                    Ok(serde_json::json!({ "name": n, "report": serde_json::to_value(r)? }))
-                })
-                .collect::<Result<Vec<_>, serde_json::Error>>()?;
-            obj.insert("rolls".into(), serde_json::Value::Array(list));
-        }
-        println!("{}", serde_json::to_string_pretty(&v)?);
+    if a.json && rolls.is_empty() {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else if a.json {
+        let rolls = (rolls.iter())
+            .map(|(name, report)| NamedReport { name, report })
+            .collect();
+        let all = MachineReport {
+            report: &report,
+            rolls,
+        };
+        println!("{}", serde_json::to_string_pretty(&all)?);
     } else if rolls.is_empty() {
         print_tables(&report);
     } else {
@@ -148,4 +148,20 @@ fn print_tables(r: &ModesReport) {
     for w in &r.warnings {
         println!("warning: {w}");
     }
+}
+
+/// A machine's `modes --json`: the first roll's report with today's keys (in today's order),
+/// then `rolls`.
+#[derive(serde::Serialize)]
+struct MachineReport<'a> {
+    #[serde(flatten)]
+    report: &'a ModesReport,
+    rolls: Vec<NamedReport<'a>>,
+}
+
+/// One roll's report under its name.
+#[derive(serde::Serialize)]
+struct NamedReport<'a> {
+    name: &'a str,
+    report: &'a ModesReport,
 }
