@@ -543,6 +543,32 @@ def contact_forces(path: PathLike, job: JobRef) -> xr.Dataset:
     return _family_of(path, job, "contact")
 
 
+def nip_forces(path: PathLike, job: JobRef, *, nip: str, quantity: str = "force") -> xr.DataArray:
+    """A nip's segment forces [N] (``quantity="force"``) or band widths [mm] (``"width"``, for
+    the hertz and cover laws) of a machine's run, over (``z_mm``, ``time``): the segment
+    centres along the rolls [mm] and the sample times [s], each a coordinate with its units.
+    ``nip_forces(path, job, nip="main").sum("z_mm")`` is the nip's total force over time."""
+    if quantity not in ("force", "width"):
+        raise ValueError(f"nip_forces: quantity is 'force' or 'width', not {quantity!r}")
+    with h5py.File(path, "r") as f:
+        g = _resolve(f, job)
+        nips = g.get("nips")
+        if nips is None or nip not in nips:
+            have = ", ".join(nips) if nips is not None else "none: not a machine's run"
+            raise KeyError(f"{g.name}: no nip {nip!r} (nips: {have})")
+        if quantity not in nips[nip]:
+            raise KeyError(f"{g.name}/nips/{nip}: no {quantity!r} (a linear nip has no band width)")
+        ds = nips[nip][quantity]
+        z, t = _axis(ds, 0, None), _axis(ds, 1, None)
+        return xr.DataArray(
+            _read(ds),
+            dims=("z_mm", "time"),
+            coords={"z_mm": _coord(z, "z_mm"), "time": _coord(t, "time")},
+            name=f"nips/{nip}/{quantity}",
+            attrs={"units": _units(ds)},
+        )
+
+
 def channel(path: PathLike, job: JobRef, name: str) -> xr.DataArray:
     """One dataset of a run with its own axis, e.g. ``"runout/centre/vertical"`` over ``time``
     [s] or ``"spectrum/centre/vertical"`` over ``freq_hz`` [Hz]. A channel whose axis is

@@ -1,228 +1,30 @@
 //! One job: a scene on its reduced model, started from static equilibrium and integrated in time,
 //! with the outputs the scene asks for sampled at a fixed rate.
 //!
-//! In: a validated [`Scene`] and its [`Model`].
+//! In: a validated [`Scene`] and its [`Model`]; a machine (several rolls in nips) runs on its
+//! own path, [`super::bodies`].
 //! Out: a [`JobResult`]: solver statistics (status, cause, counts, times) and sampled channels
 //! (runout and journal/stand motion in µm, contact forces in N, modal coordinates, and the spin
 //! speed [Hz] and roll angle [rad] when the scene records them), each with its units. A failure at any stage is a result with status `diverged` and its cause, never a panic.
 
-use nalgebra::DVector;
+pub use super::job::{Channel, Field, JobResult};
 
-use crate::dynamics::linear_system::{linear_stages, LinearSystem};
+use super::job::{failed, start, Recorder};
 use crate::dynamics::model::Model;
 use crate::dynamics::system::RollSystem;
-use crate::integrators::{integrate, Stats, StepView};
-use crate::scene::{Scene, SupportModel};
+use crate::integrators::{integrate, StepView};
+use crate::scene::Scene;
 
-/// One sampled output channel.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Channel {
-    /// Path-like name, e.g. `runout/centre/vertical`.
-    pub name: String,
-    /// Units of the samples (`um`, `N`, `1`).
-    pub units: &'static str,
-    /// Samples, one per entry of [`JobResult::time`].
-    pub data: Vec<f64>,
-}
-
-/// The outcome of a job.
-#[derive(Debug, Clone)]
-pub struct JobResult {
-    /// Solver statistics, status and cause.
-    pub stats: Stats,
-    /// Modes kept, as "Nn+Mst".
-    pub modes: String,
-    /// Number of coordinates integrated.
-    pub coordinates: usize,
-    /// Sample times [s].
-    pub time: Vec<f64>,
-    /// Sampled channels.
-    pub channels: Vec<Channel>,
-    /// First time [s] after settling at which a roller carried no load, if any.
-    pub lift_off_s: Option<f64>,
-}
-
-struct Recorder<'a> {
-    sys: &'a RollSystem,
-    scene: &'a Scene,
-    next: f64,
-    dt: f64,
-    t_end: f64,
-    time: Vec<f64>,
-    channels: Vec<Channel>,
-    lift_off: Option<f64>,
-}
-
-impl<'a> Recorder<'a> {
-    fn new(sys: &'a RollSystem, scene: &'a Scene) -> Self {
-        let o = scene.outputs;
-        let mut channels = Vec::new();
-        let mut add = |name: String, units| {
-            channels.push(Channel {
-                name,
-                units,
-                data: Vec::new(),
-            })
-        };
-        if o.runout {
-            for (name, _) in &sys.sensors {
-                add(format!("runout/{name}/vertical"), "um");
-                add(format!("runout/{name}/horizontal"), "um");
-            }
-        }
-        for s in &scene.supports {
-            if o.journal_orbits {
-                add(format!("journal/{}/x", s.node), "um");
-                add(format!("journal/{}/y", s.node), "um");
-            }
-            if o.stand_motion && s.has_mass() {
-                add(format!("stand/{}/x", s.node), "um");
-                add(format!("stand/{}/y", s.node), "um");
-            }
-            if let (true, SupportModel::Rollers(r)) = (o.contact_forces, &s.model) {
-                for roller in &r.rollers {
-                    add(format!("contact/{}/{}", s.node, roller.name), "N");
-                }
-            }
-        }
-        if o.modal {
-            for i in 0..sys.nm {
-                add(format!("modal/{i:03}"), "kg^0.5 m");
-            }
-        }
-        if o.speed {
-            add("speed/hz".into(), "Hz");
-            add("speed/roll_angle".into(), "rad");
-        }
-        let sim = &scene.simulation;
-        Self {
-            sys,
-            scene,
-            next: sim.settle,
-            dt: 1.0 / sim.sample_rate,
-            t_end: sim.t_end,
-            time: Vec::new(),
-            channels,
-            lift_off: None,
-        }
-    }
-
-    fn sample(&mut self, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
-        let o = self.scene.outputs;
-        let mut c = 0;
-        let mut push = |x: f64, channels: &mut Vec<Channel>| {
-            channels[c].data.push(x);
-            c += 1;
-        };
-        if o.runout {
-            for d in self.sys.sensor_displacements(t, q) {
-                push(1e6 * d.y, &mut self.channels);
-                push(1e6 * d.x, &mut self.channels);
-            }
-        }
-        let need_supports = o.journal_orbits || o.stand_motion || o.contact_forces;
-        if need_supports {
-            let states = self.sys.support_states(t, q, v);
-            for (s, stt) in self.scene.supports.iter().zip(&states) {
-                if o.journal_orbits {
-                    push(1e6 * stt.journal.x, &mut self.channels);
-                    push(1e6 * stt.journal.y, &mut self.channels);
-                }
-                if o.stand_motion && s.has_mass() {
-                    push(1e6 * stt.stand.x, &mut self.channels);
-                    push(1e6 * stt.stand.y, &mut self.channels);
-                }
-                if o.contact_forces {
-                    for f in &stt.contact {
-                        if *f == 0.0 && self.lift_off.is_none() {
-                            self.lift_off = Some(t);
-                        }
-                        push(*f, &mut self.channels);
-                    }
-                }
-            }
-        }
-        if o.modal {
-            for i in 0..self.sys.nm {
-                push(q[i], &mut self.channels);
-            }
-        }
-        if o.speed {
-            let (theta, omega, _) = self.scene.speed.at(t);
-            push(omega / std::f64::consts::TAU, &mut self.channels);
-            push(theta, &mut self.channels);
-        }
-        self.time.push(t);
-    }
-
-    /// Samples every output time in (t0, t1] by cubic Hermite interpolation of the step.
-    fn step(&mut self, s: &StepView) {
-        while self.next <= s.t1 + 1e-12 && self.next <= self.t_end + 1e-12 {
-            let t = self.next;
-            let h = s.t1 - s.t0;
-            let x = ((t - s.t0) / h).clamp(0.0, 1.0);
-            let (h00, h10, h01, h11) = (
-                2.0 * x.powi(3) - 3.0 * x * x + 1.0,
-                x.powi(3) - 2.0 * x * x + x,
-                -2.0 * x.powi(3) + 3.0 * x * x,
-                x.powi(3) - x * x,
-            );
-            let (d00, d10, d01, d11) = (
-                (6.0 * x * x - 6.0 * x) / h,
-                3.0 * x * x - 4.0 * x + 1.0,
-                (-6.0 * x * x + 6.0 * x) / h,
-                3.0 * x * x - 2.0 * x,
-            );
-            let q = h00 * s.q0 + (h10 * h) * s.v0 + h01 * s.q1 + (h11 * h) * s.v1;
-            let v = d00 * s.q0 + d10 * s.v0 + d01 * s.q1 + d11 * s.v1;
-            self.sample(t, &q, &v);
-            self.next = self.scene.simulation.settle + self.time.len() as f64 * self.dt;
-        }
-    }
-}
-
-/// The gravity load at rest, solved on the linearised supports: a start for the static Newton.
-fn linear_guess(scene: &Scene, model: &Model, sys: &RollSystem) -> Result<DVector<f64>, String> {
-    let stages = linear_stages(scene, &model.rotor).map_err(|e| e.to_string())?;
-    let drive = scene
-        .drive
-        .as_ref()
-        .map(|d| (model.rotor.named[&d.node], d.axial_stiffness));
-    let lin = LinearSystem::new(&model.reduced, &stages, drive);
-    let load = sys.gravity_at_rest();
-    lin.k
-        .clone()
-        .lu()
-        .solve(&load)
-        .ok_or_else(|| "the linearised supports do not hold every rigid mode".to_string())
-}
-
-fn failed(cause: String, model: &Model, coordinates: usize) -> JobResult {
-    JobResult {
-        stats: Stats::failed(cause),
-        modes: model.reduced.counts_label(),
-        coordinates,
-        time: Vec::new(),
-        channels: Vec::new(),
-        lift_off_s: None,
-    }
-}
-
-/// Runs one job (module doc).
+/// Runs one job (module doc): a machine of several rolls in nips on its own path.
 pub fn run(scene: &Scene, model: &Model) -> JobResult {
+    if let Some(machine) = &scene.machine {
+        return super::bodies::run(machine, model);
+    }
     let sys = RollSystem::new(scene, model);
     let n = sys.n;
-    let q0 = if scene.simulation.static_start && !scene.supports.is_empty() {
-        let guess = match linear_guess(scene, model, &sys) {
-            Ok(g) => g,
-            Err(e) => return failed(format!("static equilibrium: {e}"), model, n),
-        };
-        match sys.static_equilibrium(&guess) {
-            Ok(q) => q,
-            Err(e) => return failed(e, model, n),
-        }
-    } else {
-        DVector::zeros(n)
+    let q0 = match start(scene, model, &sys) {
+        Ok(q) => q,
+        Err(e) => return failed(e, model, n),
     };
     let mut rec = Recorder::new(&sys, scene);
     let bound = scene.simulation.runout_bound;
@@ -273,5 +75,6 @@ pub fn run(scene: &Scene, model: &Model) -> JobResult {
         time: rec.time,
         channels: rec.channels,
         lift_off_s: rec.lift_off,
+        fields: Vec::new(),
     }
 }

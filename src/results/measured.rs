@@ -389,6 +389,7 @@ pub fn write(
         time: r.time.clone(),
         channels,
         lift_off_s: None,
+        fields: Vec::new(),
     };
     let orders_text: Vec<String> = order_list.iter().map(|o| format!("{o:?}")).collect();
     let study_text = format!(

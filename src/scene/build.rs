@@ -64,6 +64,7 @@ pub(super) fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         damping: settings::damping(c, &raw.damping)?,
         simulation,
         solver: settings::solver(c, &raw.solver)?,
+        machine: None,
     };
     record_size(c, &scene)?;
     Ok(scene)

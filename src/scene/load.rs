@@ -33,6 +33,9 @@ impl Scene {
     /// Validates a scene read with its bases ([`Source`]), with `key=value` overrides.
     pub fn from_source(source: &Source, overrides: &[String]) -> Result<Scene, InputError> {
         let path = source.path();
+        if source.table.contains_key("rolls") {
+            return super::machine::load(source, overrides);
+        }
         let not_study = |e: InputError| {
             if crate::error::toml_kind(&source.layers[0].text) == Some("study") {
                 InputError::new(

@@ -31,9 +31,12 @@ mod file;
 mod geometry;
 pub mod keys;
 mod keys_docs;
+mod keys_docs_machine;
 mod limits;
 mod load;
 pub mod locate;
+mod machine;
+mod machine_file;
 mod overrides;
 pub mod plausibility;
 pub mod position;
@@ -49,6 +52,6 @@ pub use overrides::{parse_override, replaces, set_path, with_overrides};
 pub use settings::{DampingBands, Outputs, SimulationSettings};
 pub use speed::{SpeedProfile, MAX_SPEED_HZ};
 pub use types::{
-    ContactLaw, Drive, Harmonic, LinearSupport, Roller, RollerPhase, RollerSupport, Scene,
-    SpringDamper, Stand, Support, SupportModel,
+    ContactLaw, Drive, Harmonic, LinearSupport, Machine, MachineRoll, Nip, NipLaw, Roller,
+    RollerPhase, RollerSupport, Scene, SpringDamper, Stand, Support, SupportModel,
 };

@@ -117,6 +117,35 @@ impl SpeedProfile {
         }
     }
 
+    /// The same profile with every speed (and so every angle and acceleration) times `factor`:
+    /// a roll driven at equal surface speed through a nip (`factor` = −R_other/R_own, the
+    /// minus for the opposite sense of turning).
+    pub fn scaled(&self, factor: f64) -> SpeedProfile {
+        let times = |v: &[f64]| v.iter().map(|x| x * factor).collect::<Vec<_>>();
+        match self {
+            Self::Constant(w) => Self::Constant(w * factor),
+            Self::Ramp { from, to, t0, t1 } => Self::Ramp {
+                from: from * factor,
+                to: to * factor,
+                t0: *t0,
+                t1: *t1,
+            },
+            Self::Table {
+                times: t,
+                speeds,
+                angles,
+            } => Self::Table {
+                times: t.clone(),
+                speeds: times(speeds),
+                angles: times(angles),
+            },
+            Self::Steps { times: t, speeds } => Self::Steps {
+                times: t.clone(),
+                speeds: times(speeds),
+            },
+        }
+    }
+
     /// The speed Ω [rad/s] and roll-angle offset δ [rad] (θ = Ω t + δ) when Ω is constant over
     /// [t0, t1] (a ramp or step that ends before t0 counts); `None` when it changes there.
     pub fn constant_over(&self, t0: f64, t1: f64) -> Option<(f64, f64)> {

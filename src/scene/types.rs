@@ -5,7 +5,7 @@
 //! window, solver, outputs) and its support models in SI units: m, kg, N, s, rad; stiffness
 //! [N/m], damping [Ns/m], the contact law's k [N/m^e]. Method: plain data, with the few
 //! evaluations the dynamics needs (a speed-dependent spring between its points, a contact's
-//! static penetration and tangent stiffness).
+//! static penetration and tangent stiffness); a machine of several rolls in nips.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -53,6 +53,8 @@ pub struct Scene {
     pub solver: SolverSettings,
     /// What a run records.
     pub outputs: Outputs,
+    /// Several rolls in nips (a machine file), this scene being its first roll's.
+    pub machine: Option<Arc<Machine>>,
 }
 
 /// A support at a named node.
@@ -260,4 +262,78 @@ pub struct Drive {
     pub axial_stiffness: f64,
     /// Axial damping [Ns/m].
     pub axial_damping: f64,
+}
+
+/// Several rolls in nips, read from a machine file (`machine.rs`): the rolls' scenes and the
+/// nips between them, in SI.
+#[derive(Debug, Clone)]
+pub struct Machine {
+    /// The rolls, in file order.
+    pub rolls: Vec<MachineRoll>,
+    /// The nips, in file order.
+    pub nips: Vec<Nip>,
+}
+
+/// One roll of a machine.
+#[derive(Debug, Clone)]
+pub struct MachineRoll {
+    /// Its name.
+    pub name: String,
+    /// Its own scene (its speed tied to another roll's where the file says so).
+    pub scene: Scene,
+    /// The overrides of its scene (`set`).
+    pub set: Vec<String>,
+    /// Axis position (x, y) in the inertial frame [m].
+    pub position: [f64; 2],
+    /// Loading-arm force (x, y) on each of its support nodes, inertial frame [N].
+    pub arm_force: [f64; 2],
+}
+
+/// A nip between two rolls.
+#[derive(Debug, Clone)]
+pub struct Nip {
+    /// Its name.
+    pub name: String,
+    /// Index of roll_a and roll_b among the machine's rolls.
+    pub rolls: (usize, usize),
+    /// Segment centres z [m].
+    pub z: Vec<f64>,
+    /// Segment length [m].
+    pub segment_length: f64,
+    /// Unit vector from roll_a's axis to roll_b's (inertial x, y).
+    pub normal: [f64; 2],
+    /// Gap between the unloaded surfaces [m] (≥ 0).
+    pub gap: f64,
+    /// Outer radii of roll_a and roll_b at the nip, a cover included [m].
+    pub radii: (f64, f64),
+    /// The contact law per segment.
+    pub law: NipLaw,
+    /// Damping per length [Ns/m²] (acts while a segment is in contact).
+    pub damping: f64,
+    /// Line load pressing roll_b toward roll_a [N/m].
+    pub line_load: f64,
+}
+
+/// A nip's contact law per segment (`machine.rs` gives the relations).
+#[derive(Debug, Clone, PartialEq)]
+pub enum NipLaw {
+    /// Force per length k δ, k [N/m²].
+    Linear {
+        /// k [N/m²].
+        stiffness: f64,
+    },
+    /// Steel on steel: the Roark line contact of one segment, fitted to F = k δ^e.
+    Hertz {
+        /// The fit (its geometry: the two diameters, the segment length, the materials).
+        fit: ContactFit,
+    },
+    /// A Winkler cover layer.
+    Cover {
+        /// Foundation modulus E/((1 − ν²) h) [N/m³].
+        foundation: f64,
+        /// R_a R_b/(R_a + R_b) [m].
+        radius: f64,
+        /// Layer thickness [m].
+        thickness: f64,
+    },
 }

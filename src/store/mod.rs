@@ -208,7 +208,32 @@ pub fn write_job(
     for c in &r.channels {
         dataset(&g, &c.name, &c.data, c.units)?;
     }
+    write_fields(&g, r)?;
     scales::attach_axis(&g, "time", &[""], 0)?;
+    Ok(())
+}
+
+/// A job's fields ([rows × time], a nip's segment forces): each with its row axis beside it,
+/// attached as dimension 0, and the job's `time` as dimension 1.
+fn write_fields(g: &Group, r: &JobResult) -> hdf5::Result<()> {
+    for f in &r.fields {
+        let rows = f.axis_values.len();
+        dataset_2d(g, &f.name, (rows, r.time.len()), &f.data, f.units)?;
+        let parent = f.name.rsplit_once('/').map_or("", |(p, _)| p);
+        let pg = if parent.is_empty() {
+            g.clone()
+        } else {
+            g.group(parent)?
+        };
+        if !pg.link_exists(f.axis) {
+            dataset(&pg, f.axis, &f.axis_values, f.axis_units)?;
+        }
+        scales::attach_axis(&pg, f.axis, &[""], 0)?;
+    }
+    if let Some(f) = r.fields.first() {
+        let top = f.name.split_once('/').map_or("", |(t, _)| t);
+        scales::attach_axis(g, "time", &[top], 1)?;
+    }
     Ok(())
 }
 

@@ -41,6 +41,7 @@ mod linear_rigid;
 mod linear_study;
 mod linear_supports;
 mod mutation;
+mod nips;
 mod reduction;
 mod report;
 mod report_html;

@@ -28,7 +28,7 @@ use rotorsweep::dynamics::summary::ModelSummary;
 use rotorsweep::error::InputError;
 use rotorsweep::linear::overview::SupportedHz;
 use rotorsweep::scene::source::Source;
-use rotorsweep::scene::{plausibility, with_overrides, Scene};
+use rotorsweep::scene::{plausibility, with_overrides, Machine, NipLaw, Scene};
 use rotorsweep::study::Study;
 
 use crate::error::CliError;
@@ -108,19 +108,86 @@ fn scene(source: &Source, set: &[String], model: bool) -> Result<(), CliError> {
     }
     println!("\n# The effective scene: the files merged, overrides applied (units in key names).");
     print!("{}", toml::to_string(&table)?);
+    match &sc.machine {
+        Some(m) => machine(m, model),
+        None => roll(source, set, &sc, &table, model),
+    }
+}
+
+/// Every roll of a machine as a scene of its own, then the nips.
+fn machine(m: &Machine, model: bool) -> Result<(), CliError> {
+    for r in &m.rolls {
+        println!(
+            "\n# Roll {}: {} at ({}, {}) mm, arm force ({}, {}) N",
+            r.name,
+            r.scene.source.display(),
+            1e3 * r.position[0],
+            1e3 * r.position[1],
+            r.arm_force[0],
+            r.arm_force[1]
+        );
+        let source = Source::load(&r.scene.source)?;
+        let (table, _) = with_overrides(&source, &r.set)?;
+        roll(&source, &r.set, &r.scene, &table, model)?;
+    }
+    for n in &m.nips {
+        let (a, b) = n.rolls;
+        println!(
+            "\n# Nip {}: {} → {}, z {:.1} … {:.1} mm in {} segments of {:.2} mm, gap {:.4} mm, \
+             outer radii {:.2} / {:.2} mm, line load {:.3} kN/m",
+            n.name,
+            m.rolls[a].name,
+            m.rolls[b].name,
+            1e3 * (n.z[0] - 0.5 * n.segment_length),
+            1e3 * (n.z[n.z.len() - 1] + 0.5 * n.segment_length),
+            n.z.len(),
+            1e3 * n.segment_length,
+            1e3 * n.gap,
+            1e3 * n.radii.0,
+            1e3 * n.radii.1,
+            1e-3 * n.line_load
+        );
+        match &n.law {
+            NipLaw::Linear { stiffness } => println!("  law: linear, {stiffness:e} N/m per m"),
+            NipLaw::Hertz { fit } => println!(
+                "  law: hertz (Roark fit per segment), k = {:.6e} N/m^e, e = {:.4}",
+                fit.k, fit.exponent
+            ),
+            NipLaw::Cover {
+                foundation,
+                radius,
+                thickness,
+            } => println!(
+                "  law: cover {:.2} mm, Winkler modulus {foundation:.4e} N/m³, R = {:.2} mm",
+                1e3 * thickness,
+                1e3 * radius
+            ),
+        }
+    }
+    Ok(())
+}
+
+/// One roll's derived values, warnings and (with `model`) its model.
+fn roll(
+    source: &Source,
+    set: &[String],
+    sc: &Scene,
+    table: &toml::Value,
+    model: bool,
+) -> Result<(), CliError> {
     println!("\n# Derived");
-    let d = Derived::of(&sc, &table);
+    let d = Derived::of(sc, table);
     print_positions(&d.positions);
     print_wall(d.wall.as_ref());
     print_run(&d);
     print_contacts(&d.contacts);
-    for w in plausibility::warnings(source, set, &sc)? {
+    for w in plausibility::warnings(source, set, sc)? {
         println!("warning: {w}");
     }
     if model {
-        let m = Model::build(&sc, None)?;
+        let m = Model::build(sc, None)?;
         print_model(&m.summary());
-        let hz = SupportedHz::of_scene(&sc, &m)?;
+        let hz = SupportedHz::of_scene(sc, &m)?;
         println!("first frequencies on the linearised supports at standstill [Hz]:");
         println!("  vertical:   {}", list(&hz.vertical, 4));
         println!("  horizontal: {}", list(&hz.horizontal, 4));

@@ -57,10 +57,41 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     };
     let (scene, model) = Model::load(&a.scene, &a.set, a.modes.as_deref())?;
     let report = modes_report(&scene, &model, speed_hz, sweep_to_hz)?;
-    if a.json {
+    // A machine: its first roll's report as for a scene, then every roll's (first with the
+    // selection given, the others with their scenes' own) under `rolls` with their names.
+    let mut rolls = Vec::new();
+    if let Some(m) = &scene.machine {
+        for (i, r) in m.rolls.iter().enumerate() {
+            let own = if i == 0 {
+                model.clone()
+            } else {
+                Model::build(&r.scene, None)?
+            };
+            rolls.push((
+                r.name.clone(),
+                modes_report(&r.scene, &own, speed_hz, sweep_to_hz)?,
+            ));
+        }
+    }
+    if a.json && rolls.is_empty() {
         println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
+    } else if a.json {
+        let rolls = (rolls.iter())
+            .map(|(name, report)| NamedReport { name, report })
+            .collect();
+        let all = MachineReport {
+            report: &report,
+            rolls,
+        };
+        println!("{}", serde_json::to_string_pretty(&all)?);
+    } else if rolls.is_empty() {
         print_tables(&report);
+    } else {
+        for (name, r) in &rolls {
+            println!("# roll {name}");
+            print_tables(r);
+            println!();
+        }
     }
     Ok(())
 }
@@ -117,4 +148,20 @@ fn print_tables(r: &ModesReport) {
     for w in &r.warnings {
         println!("warning: {w}");
     }
+}
+
+/// A machine's `modes --json`: the first roll's report with today's keys (in today's order),
+/// then `rolls`.
+#[derive(serde::Serialize)]
+struct MachineReport<'a> {
+    #[serde(flatten)]
+    report: &'a ModesReport,
+    rolls: Vec<NamedReport<'a>>,
+}
+
+/// One roll's report under its name.
+#[derive(serde::Serialize)]
+struct NamedReport<'a> {
+    name: &'a str,
+    report: &'a ModesReport,
 }

@@ -191,6 +191,7 @@ fn run_one(scene: &Scene, model: &Model) -> JobResult {
                 time: Vec::new(),
                 channels: Vec::new(),
                 lift_off_s: None,
+                fields: Vec::new(),
             }
         }
     }
@@ -204,6 +205,7 @@ fn failed_result(cause: String) -> JobResult {
         time: Vec::new(),
         channels: Vec::new(),
         lift_off_s: None,
+        fields: Vec::new(),
     }
 }
 

@@ -1,0 +1,111 @@
+"""A machine's nip forces as a Python user reads them: the shipped two-roll nip
+(studies/scenes/two-roll-nip.toml) simulated by the real binary, read back with
+``rotorsweep.nip_forces`` as xarray.
+
+Checks: the layout ([segments x time] in N, the segment centres ``z_mm`` in mm and ``time`` in s
+as coordinates); the total nip force carries the line load (10 kN/m over 4 m, the upper roll's
+weight on top); each segment's band width is the thin Winkler layer's, 2a with a = sqrt(2 R d)
+and the force per length (4 sqrt(2)/3) k sqrt(R) d^1.5 (the indentation of a cylinder of radius R
+into a Winkler foundation of modulus k: Johnson, *Contact Mechanics*, 1985, §5.9); the profile
+is symmetric (both rolls and the load are symmetric about the shell's centre; only the reference
+roll's measured-like wall map breaks it, slightly).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+import rotorsweep as rp
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENE = ROOT / "studies" / "scenes" / "two-roll-nip.toml"
+
+
+def binary() -> Path:
+    b = Path(os.environ.get("ROTORSWEEP_BIN", ROOT / "target" / "release" / "rotorsweep"))
+    if not b.is_absolute():
+        b = ROOT / b
+    if not b.is_file():
+        pytest.fail(f"no rotorsweep binary at {b}: build it (cargo build --release) or set ROTORSWEEP_BIN")
+    return b
+
+
+@pytest.fixture(scope="module")
+def nip_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("nips") / "nip.h5"
+    p = subprocess.run(
+        [str(binary()), "simulate", str(SCENE), "-o", str(out)], capture_output=True, text=True, timeout=600
+    )
+    assert p.returncode == 0, p.stderr
+    return out
+
+
+def test_layout_units_and_axes(nip_file: Path) -> None:
+    job = rp.job_ids(nip_file)[0]
+    f = rp.nip_forces(nip_file, job, nip="press")
+    assert f.dims == ("z_mm", "time")
+    assert f.shape[0] == 20
+    assert f.attrs["units"] == "N"
+    assert f.z_mm.attrs["units"] == "mm" and f.time.attrs["units"] == "s"
+    # Segment centres: 250 ... 4250 mm in 200 mm segments.
+    assert f.z_mm.values[0] == pytest.approx(350.0) and f.z_mm.values[-1] == pytest.approx(4150.0)
+    with pytest.raises(KeyError, match="no nip 'other'"):
+        rp.nip_forces(nip_file, job, nip="other")
+
+
+def test_total_force_carries_the_line_load(nip_file: Path) -> None:
+    job = rp.job_ids(nip_file)[0]
+    total = rp.nip_forces(nip_file, job, nip="press").sum("z_mm")
+    line_load = 10e3 * 4.0
+    # The upper roll (about 740 kg) and its two 40 kg housings add about 8 kN.
+    assert line_load < float(total.mean()) < line_load + 10e3
+
+
+def test_band_width_is_the_winkler_layers(nip_file: Path) -> None:
+    job = rp.job_ids(nip_file)[0]
+    f = rp.nip_forces(nip_file, job, nip="press").isel(time=-1)
+    w = rp.nip_forces(nip_file, job, nip="press", quantity="width").isel(time=-1)
+    assert w.attrs["units"] == "mm"
+    e, nu, h = 30e6, 0.45, 0.015
+    k = e / ((1 - nu * nu) * h)
+    r = 0.160 * 0.175 / (0.160 + 0.175)
+    closed = 0
+    for force, width in zip(f.values, w.values):
+        q = force / 0.2
+        if q <= 0.0:
+            assert width == 0.0
+            continue
+        d = (q / (4 * math.sqrt(2) / 3 * k * math.sqrt(r))) ** (2 / 3)
+        # The force also holds the cover damping's part (small at steady running).
+        assert width == pytest.approx(2e3 * math.sqrt(2 * r * d), rel=1e-4)
+        closed += 1
+    assert closed >= 4
+    # Symmetric about the centre within 1 % of the largest segment force.
+    v = f.values
+    assert max(abs(v - v[::-1])) < 0.01 * max(v)
+
+
+def test_a_study_sweeps_the_line_load(tmp_path: Path) -> None:
+    study = tmp_path / "study.toml"
+    study.write_text(
+        f'name = "nip-load"\nscene = "{SCENE.as_posix()}"\n'
+        '[[axes]]\nkey = "nips[0].line_load_kn_per_m"\nvalues = [5.0, 10.0]\n'
+    )
+    out = tmp_path / "study.h5"
+    p = subprocess.run(
+        [str(binary()), "run", str(study), "-o", str(out)], capture_output=True, text=True, timeout=600
+    )
+    assert p.returncode == 0, p.stderr
+    df = rp.summary(out)
+    totals = {
+        float(row["nips[0].line_load_kn_per_m"]): float(rp.nip_forces(out, row["job_id"], nip="press").sum("z_mm").mean())
+        for _, row in df.iterrows()
+    }
+    # 5 kN/m more over 4 m: 20 kN more through the nip (the housings' 1e5 N/m vertical springs
+    # take a little of it).
+    assert totals[10.0] - totals[5.0] == pytest.approx(20e3, rel=0.02)

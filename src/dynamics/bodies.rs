@@ -1,0 +1,430 @@
+//! Several reduced rolls in one system, coupled by their nips, and one simulation of it.
+//!
+//! In: a [`Machine`] (every roll's scene, position, arm force; the nips) and the first roll's
+//! [`Model`] (the others are built here from their scenes). Out: a [`JobResult`] as for one
+//! roll: each roll's channels named with the roll's name before the sensor, node or mode
+//! (`runout/<roll>.<sensor>/vertical`, `journal/<roll>.<node>/x`, `speed/<roll>.hz`), and per
+//! nip the fields `nips/<nip>/force` [N] and, for a law with a band, `nips/<nip>/width` [mm],
+//! each [segments × time] along the axis `z_mm` of the segment centres.
+//!
+//! Method: q = (q of roll 1, q of roll 2, …), each roll's [`RollSystem`] as for a one-roll
+//! scene (its own speed, supports, gravity), M block-diagonal; the force adds the loading arms'
+//! and line loads' constant inertial forces Φ_jᵀ R(θ)ᵀ F at the roll's support nodes and the
+//! nips' segment forces ([`super::nip`]); the Newton matrix adds each segment's
+//! Jᵀ[(b k + c c_d) J + b c_d J̃]. The run starts from the static equilibrium of the machine at
+//! standstill (each roll's own equilibrium, then Newton on the coupled force, open segments
+//! given the stiffness of a 1 µm penetration in the matrix only), or from rest at q = 0 when
+//! the first roll's scene says `static_start = false`; the spin then jumps to speed with every
+//! roll's deflected shape at rest in space. Roller lift-off events are each roll's; a nip's
+//! segments open and close inside the steps.
+
+use nalgebra::{DMatrix, DVector, Matrix2};
+
+use super::job::{failed, hermite, start, Field, JobResult, Recorder};
+use super::model::Model;
+use super::nip::{band_width, law_force, NipSys, RollView, SegmentState};
+use super::system::RollSystem;
+use crate::integrators::{integrate, SecondOrder, StepView};
+use crate::scene::{Machine, NipLaw};
+
+/// A roll of the coupled system: its system, where its coordinates start, and the constant
+/// inertial forces on it (arms, line loads) with the lateral rows of their nodes.
+struct Body {
+    sys: RollSystem,
+    offset: usize,
+    loads: Vec<(DMatrix<f64>, [f64; 2])>,
+}
+
+/// The coupled system (module doc).
+pub struct MachineSystem {
+    bodies: Vec<Body>,
+    nips: Vec<NipSys>,
+    n: usize,
+    m: DMatrix<f64>,
+    weights: Vec<f64>,
+}
+
+type States = Vec<(f64, f64, f64)>;
+
+impl MachineSystem {
+    /// The system of `machine` on its rolls' models.
+    pub fn new(machine: &Machine, models: &[Model]) -> Self {
+        let mut bodies: Vec<Body> = Vec::new();
+        let mut offset = 0;
+        for (roll, model) in machine.rolls.iter().zip(models) {
+            let sys = RollSystem::new(&roll.scene, model);
+            let rows = |node: &str| {
+                model
+                    .reduced
+                    .node_rows(model.rotor.named[node])
+                    .rows(0, 2)
+                    .into_owned()
+            };
+            let loads = roll
+                .scene
+                .supports
+                .iter()
+                .map(|s| (rows(&s.node), roll.arm_force))
+                .collect();
+            let n = sys.n;
+            bodies.push(Body { sys, offset, loads });
+            offset += n;
+        }
+        for nip in &machine.nips {
+            let b = &mut bodies[nip.rolls.1];
+            let share = nip.line_load * (nip.z.len() as f64 * nip.segment_length)
+                / b.loads.len().max(1) as f64;
+            for l in &mut b.loads {
+                l.1[0] -= share * nip.normal[0];
+                l.1[1] -= share * nip.normal[1];
+            }
+        }
+        let nips = machine
+            .nips
+            .iter()
+            .map(|n| NipSys::new(n, &models[n.rolls.0], &models[n.rolls.1]))
+            .collect();
+        let mut m = DMatrix::zeros(offset, offset);
+        let mut weights = Vec::with_capacity(offset);
+        for b in &bodies {
+            m.view_mut((b.offset, b.offset), (b.sys.n, b.sys.n))
+                .copy_from(b.sys.mass());
+            weights.extend_from_slice(&b.sys.weights);
+        }
+        Self {
+            bodies,
+            nips,
+            n: offset,
+            m,
+            weights,
+        }
+    }
+
+    fn states(&self, t: f64) -> States {
+        self.bodies.iter().map(|b| b.sys.speed.at(t)).collect()
+    }
+
+    fn part(&self, i: usize, x: &DVector<f64>) -> DVector<f64> {
+        let b = &self.bodies[i];
+        x.rows(b.offset, b.sys.n).into_owned()
+    }
+
+    fn view<'a>(
+        &self,
+        i: usize,
+        st: &States,
+        q: &'a DVector<f64>,
+        v: &'a DVector<f64>,
+    ) -> RollView<'a> {
+        let b = &self.bodies[i];
+        let (s, c) = st[i].0.sin_cos();
+        let r = b.offset..b.offset + b.sys.nm;
+        RollView {
+            rot: Matrix2::new(c, -s, s, c),
+            omega: st[i].1,
+            p: &q.as_slice()[r.clone()],
+            pd: &v.as_slice()[r],
+        }
+    }
+
+    /// Every nip's segment states.
+    fn segments(&self, st: &States, q: &DVector<f64>, v: &DVector<f64>) -> Vec<Vec<SegmentState>> {
+        self.nips
+            .iter()
+            .map(|n| {
+                let (a, b) = n.nip.rolls;
+                n.segments(&self.view(a, st, q, v), &self.view(b, st, q, v))
+            })
+            .collect()
+    }
+
+    fn force_with(&self, st: &States, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
+        for (i, b) in self.bodies.iter().enumerate() {
+            let mut f = DVector::zeros(b.sys.n);
+            b.sys
+                .force_at(st[i], &self.part(i, q), &self.part(i, v), &mut f);
+            let (s, c) = st[i].0.sin_cos();
+            let rt = Matrix2::new(c, s, -s, c);
+            for (rows, force) in &b.loads {
+                let fb = rt * nalgebra::Vector2::new(force[0], force[1]);
+                for j in 0..b.sys.nm {
+                    f[j] += rows[(0, j)] * fb.x + rows[(1, j)] * fb.y;
+                }
+            }
+            out.rows_mut(b.offset, b.sys.n).copy_from(&f);
+        }
+        for (nip, seg) in self.nips.iter().zip(self.segments(st, q, v)) {
+            let (a, b) = nip.nip.rolls;
+            let ra = self.view(a, st, q, v).rot;
+            let rb = self.view(b, st, q, v).rot;
+            let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
+            let mut fa = vec![0.0; ba.sys.nm];
+            let mut fb = vec![0.0; bb.sys.nm];
+            nip.add_forces(&seg, (&ra, &rb), &mut fa, &mut fb);
+            for (k, f) in fa.iter().enumerate() {
+                out[ba.offset + k] += f;
+            }
+            for (k, f) in fb.iter().enumerate() {
+                out[bb.offset + k] += f;
+            }
+        }
+    }
+
+    fn newton_with(
+        &self,
+        st: &States,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        (a, b, c): (f64, f64, f64),
+        floor: bool,
+        out: &mut DMatrix<f64>,
+    ) {
+        out.fill(0.0);
+        for (i, body) in self.bodies.iter().enumerate() {
+            let mut m = DMatrix::zeros(body.sys.n, body.sys.n);
+            body.sys
+                .newton_matrix_at(st[i], &self.part(i, q), &self.part(i, v), (a, b, c), &mut m);
+            out.view_mut((body.offset, body.offset), (body.sys.n, body.sys.n))
+                .copy_from(&m);
+        }
+        for (nip, seg) in self.nips.iter().zip(self.segments(st, q, v)) {
+            let (ia, ib) = nip.nip.rolls;
+            let (va, vb) = (self.view(ia, st, q, v), self.view(ib, st, q, v));
+            let offs = (self.bodies[ia].offset, self.bodies[ib].offset, self.n);
+            let open = law_force(&nip.nip.law, nip.nip.segment_length, 1e-6).1 * 1e-3;
+            for (j, s) in seg.iter().enumerate() {
+                let k = if floor && s.stiffness == 0.0 {
+                    open
+                } else {
+                    s.stiffness
+                };
+                if k == 0.0 && s.damping == 0.0 {
+                    continue;
+                }
+                let (row, rate) = nip.jacobian_rows(j, &va, &vb, offs);
+                let inner = (b * k + c * s.damping) * &row + (b * s.damping) * rate;
+                out.ger(1.0, &row, &inner, 1.0);
+            }
+        }
+    }
+
+    /// Static equilibrium at standstill from `q0` (module doc).
+    fn static_equilibrium(&self, q0: DVector<f64>) -> Result<DVector<f64>, String> {
+        let mut q = q0;
+        let v = DVector::zeros(self.n);
+        let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
+        let mut f = DVector::zeros(self.n);
+        let mut jac = DMatrix::zeros(self.n, self.n);
+        for _ in 0..200 {
+            self.force_with(&st, &q, &v, &mut f);
+            self.newton_with(&st, &q, &v, (0.0, 1.0, 0.0), true, &mut jac);
+            let dq = jac.clone().lu().solve(&f).ok_or(
+                "static equilibrium of the machine: singular stiffness (is every roll supported?)",
+            )?;
+            q += &dq;
+            let step = (dq.iter().zip(&self.weights))
+                .map(|(d, w)| (d * w).abs())
+                .fold(0.0, f64::max);
+            if step < 1e-13 {
+                return Ok(q);
+            }
+        }
+        Err("static equilibrium of the machine: Newton did not converge in 200 iterations".into())
+    }
+}
+
+impl SecondOrder for MachineSystem {
+    fn n(&self) -> usize {
+        self.n
+    }
+
+    fn mass(&self) -> &DMatrix<f64> {
+        &self.m
+    }
+
+    fn force(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
+        self.force_with(&self.states(t), q, v, out);
+    }
+
+    fn newton_matrix(
+        &self,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        coef: (f64, f64, f64),
+        out: &mut DMatrix<f64>,
+    ) {
+        self.newton_with(&self.states(t), q, v, coef, false, out);
+    }
+
+    fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    fn linear_in_state(&self) -> bool {
+        self.bodies.iter().all(|b| b.sys.linear_in_state())
+            && self
+                .nips
+                .iter()
+                .all(|n| matches!(n.nip.law, NipLaw::Linear { .. }))
+    }
+
+    fn n_events(&self) -> usize {
+        self.bodies.iter().map(|b| b.sys.n_events()).sum()
+    }
+
+    fn events(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut [f64]) {
+        let mut at = 0;
+        for (i, b) in self.bodies.iter().enumerate() {
+            let k = b.sys.n_events();
+            b.sys
+                .events(t, &self.part(i, q), &self.part(i, v), &mut out[at..at + k]);
+            at += k;
+        }
+    }
+}
+
+/// `name` with the roll's name before its second part: `runout/centre/vertical` →
+/// `runout/<roll>.centre/vertical`.
+fn rename(name: &str, roll: &str) -> String {
+    match name.split_once('/') {
+        Some((head, rest)) => format!("{head}/{roll}.{rest}"),
+        None => format!("{roll}.{name}"),
+    }
+}
+
+/// Runs a machine (module doc); `first` is the model of its first roll.
+pub fn run(machine: &Machine, first: &Model) -> JobResult {
+    let mut models = vec![first.clone()];
+    for roll in &machine.rolls[1..] {
+        match Model::build(&roll.scene, None) {
+            Ok(m) => models.push(m),
+            Err(e) => return failed(format!("roll `{}`: {e}", roll.name), first, 0),
+        }
+    }
+    let sys = MachineSystem::new(machine, &models);
+    let n = sys.n;
+    let scene0 = &machine.rolls[0].scene;
+    let mut q0 = DVector::zeros(n);
+    let statics = scene0.simulation.static_start;
+    for (roll, (b, model)) in machine.rolls.iter().zip(sys.bodies.iter().zip(&models)) {
+        let q = if statics {
+            match start(&roll.scene, model, &b.sys) {
+                Ok(q) => q,
+                Err(e) => return failed(format!("roll `{}`: {e}", roll.name), first, n),
+            }
+        } else {
+            DVector::zeros(b.sys.n)
+        };
+        q0.rows_mut(b.offset, b.sys.n).copy_from(&q);
+    }
+    if statics {
+        q0 = match sys.static_equilibrium(q0) {
+            Ok(q) => q,
+            Err(e) => return failed(e, first, n),
+        };
+    }
+    let mut v0 = DVector::zeros(n);
+    let st0 = sys.states(0.0);
+    for (i, b) in sys.bodies.iter().enumerate() {
+        let v = b.sys.quiescent_velocity(&sys.part(i, &q0), st0[i].1);
+        v0.rows_mut(b.offset, b.sys.n).copy_from(&v);
+    }
+    let mut recs: Vec<Recorder> = (sys.bodies.iter().zip(&machine.rolls))
+        .map(|(b, r)| Recorder::new(&b.sys, &r.scene))
+        .collect();
+    let (settle, dt, t_end) = (recs[0].next, recs[0].dt, recs[0].t_end);
+    let mut next = settle;
+    let mut samples = 0usize;
+    let mut nip_force: Vec<Vec<Vec<f64>>> = sys
+        .nips
+        .iter()
+        .map(|nip| vec![Vec::new(); nip.nip.z.len()])
+        .collect();
+    let mut nip_width = nip_force.clone();
+    let bound = scene0.simulation.runout_bound;
+    let mut observer = |s: &StepView| -> Result<(), String> {
+        if let Some(x) =
+            s.q1.iter()
+                .zip(&sys.weights)
+                .map(|(q, w)| (q * w).abs())
+                .find(|x| *x > bound)
+        {
+            return Err(format!(
+                "a modal displacement of {:.3} mm beyond the bound of {:.3} mm at t = {:.6} s",
+                x * 1e3,
+                bound * 1e3,
+                s.t1
+            ));
+        }
+        while next <= s.t1 + 1e-12 && next <= t_end + 1e-12 {
+            let t = next;
+            let (q, v) = hermite(s, t);
+            for (i, rec) in recs.iter_mut().enumerate() {
+                rec.sample(t, &sys.part(i, &q), &sys.part(i, &v));
+            }
+            let st = sys.states(t);
+            for (k, seg) in sys.segments(&st, &q, &v).iter().enumerate() {
+                for (j, sg) in seg.iter().enumerate() {
+                    nip_force[k][j].push(sg.force);
+                    let w = band_width(&sys.nips[k].nip.law, sg.delta, sg.force);
+                    nip_width[k][j].push(1e3 * w.unwrap_or(0.0));
+                }
+            }
+            samples += 1;
+            next = settle + samples as f64 * dt;
+        }
+        Ok(())
+    };
+    let (_, _, stats) = integrate(&sys, &scene0.solver, 0.0, t_end, q0, v0, &mut observer);
+    let mut channels = Vec::new();
+    let mut lift_off_s = None;
+    let time = recs[0].time.clone();
+    for (rec, roll) in recs.into_iter().zip(&machine.rolls) {
+        lift_off_s = match (lift_off_s, rec.lift_off) {
+            (Some(a), Some(b)) => Some(f64::min(a, b)),
+            (a, b) => a.or(b),
+        };
+        for mut c in rec.channels {
+            c.name = rename(&c.name, &roll.name);
+            channels.push(c);
+        }
+    }
+    let mut fields = Vec::new();
+    for ((nip, force), width) in sys.nips.iter().zip(nip_force).zip(nip_width) {
+        let z_mm: Vec<f64> = nip.nip.z.iter().map(|z| 1e3 * z).collect();
+        let name = &nip.nip.name;
+        fields.push(Field {
+            name: format!("nips/{name}/force"),
+            units: "N",
+            axis: "z_mm",
+            axis_units: "mm",
+            axis_values: z_mm.clone(),
+            data: force.concat(),
+        });
+        if !matches!(nip.nip.law, NipLaw::Linear { .. }) {
+            fields.push(Field {
+                name: format!("nips/{name}/width"),
+                units: "mm",
+                axis: "z_mm",
+                axis_units: "mm",
+                axis_values: z_mm,
+                data: width.concat(),
+            });
+        }
+    }
+    let modes = models
+        .iter()
+        .map(|m| m.reduced.counts_label())
+        .collect::<Vec<_>>()
+        .join(" | ");
+    JobResult {
+        stats,
+        modes,
+        coordinates: n,
+        time,
+        channels,
+        lift_off_s,
+        fields,
+    }
+}

@@ -1,0 +1,222 @@
+//! A nip's contact segments between two reduced rolls: geometry, forces and their derivatives.
+//!
+//! In: a [`Nip`] of the scene (segment centres z [m], direction n from roll_a's axis to roll_b's,
+//! gap [m], contact law, damping per length) and both rolls' reduced models and FE meshes; at
+//! evaluation both rolls' angles θ [rad], speeds Ω [rad/s] and modal states. Out: per segment
+//! the penetration δ [m], its rate [m/s], the force F [N] (pushing the rolls apart along n),
+//! its tangent dF/dδ [N/m], and the nip band's width [m]; the generalized forces on both rolls'
+//! modal coordinates and their Newton-matrix terms.
+//!
+//! Method: a segment's centre on each roll moves u = R(θ) Φ(z) p in the inertial frame, with
+//! Φ(z) the lateral rows of the mode shapes interpolated linearly between the two nodes around
+//! z; its inertial velocity is R(θ)(Φ ṗ + Ω S Φ p), S = [[0, −1], [1, 0]]. The penetration is
+//! δ = n·(u_a − u_b) − gap, so δ = J q − gap with the row J = [nᵀR_aΦ_a, −nᵀR_bΦ_b] and
+//! δ̇ = J q̇ + J̃ q, J̃ = [Ω_a nᵀR_aSΦ_a, −Ω_b nᵀR_bSΦ_b]. The generalized force is −Jᵀ F.
+//! Laws per segment of length L (scene `machine.rs`): linear k L δ (tension too); Hertz
+//! k δ^e; a Winkler cover L (4√2/3) k_f √R δ^1.5; the damping c L δ̇ while in contact, the
+//! total never adhesive except for the linear law. Width: Hertz 2b of the Roark/Hertz band
+//! under the segment's force, cover 2√(2Rδ), none for the linear law.
+
+use nalgebra::{DMatrix, DVector, Matrix2, RowDVector, Vector2};
+
+use crate::dynamics::model::Model;
+use crate::rotor::fe::NDOF;
+use crate::scene::{Nip, NipLaw};
+
+/// The lateral rows (2 × nm) of the mode shapes at z [m], linear between the nodes around z.
+pub fn rows_at(model: &Model, z: f64) -> DMatrix<f64> {
+    let nz = &model.rotor.node_z;
+    let i = nz.partition_point(|x| *x <= z).clamp(1, nz.len() - 1) - 1;
+    let s = ((z - nz[i]) / (nz[i + 1] - nz[i])).clamp(0.0, 1.0);
+    let phi = &model.reduced.phi;
+    (1.0 - s) * phi.rows(NDOF * i, 2) + s * phi.rows(NDOF * (i + 1), 2)
+}
+
+/// A segment's force F [N] and tangent dF/dδ [N/m] at penetration δ [m] (no damping).
+pub fn law_force(law: &NipLaw, length: f64, delta: f64) -> (f64, f64) {
+    match *law {
+        NipLaw::Linear { stiffness } => (stiffness * length * delta, stiffness * length),
+        _ if delta <= 0.0 => (0.0, 0.0),
+        NipLaw::Hertz { fit } => {
+            let f = fit.k * delta.powf(fit.exponent);
+            (f, fit.exponent * f / delta)
+        }
+        NipLaw::Cover {
+            foundation, radius, ..
+        } => {
+            let c = length * 4.0 * std::f64::consts::SQRT_2 / 3.0 * foundation * radius.sqrt();
+            let r = delta.sqrt();
+            (c * delta * r, 1.5 * c * r)
+        }
+    }
+}
+
+/// The width [m] of a segment's band at penetration δ [m] carrying F [N]; `None` for a law
+/// without one (linear).
+pub fn band_width(law: &NipLaw, delta: f64, force: f64) -> Option<f64> {
+    match *law {
+        NipLaw::Linear { .. } => None,
+        NipLaw::Hertz { fit } => Some(2.0 * fit.geometry.half_width(force.max(0.0))),
+        NipLaw::Cover { radius, .. } => Some(2.0 * (2.0 * radius * delta.max(0.0)).sqrt()),
+    }
+}
+
+/// One segment's state.
+#[derive(Debug, Clone, Copy)]
+pub struct SegmentState {
+    /// Penetration δ [m].
+    pub delta: f64,
+    /// Its rate [m/s].
+    pub rate: f64,
+    /// Force F [N] pushing the rolls apart.
+    pub force: f64,
+    /// ∂F/∂δ [N/m].
+    pub stiffness: f64,
+    /// ∂F/∂δ̇ [Ns/m].
+    pub damping: f64,
+}
+
+/// A nip on the two rolls' reduced models.
+#[derive(Debug, Clone)]
+pub struct NipSys {
+    /// The scene's nip.
+    pub nip: Nip,
+    /// Lateral rows (2 × nm) of roll_a and roll_b at each segment.
+    rows: Vec<(DMatrix<f64>, DMatrix<f64>)>,
+}
+
+/// A roll's kinematic state for the nips: R(θ), Ω, modal p and ṗ.
+pub struct RollView<'a> {
+    /// R(θ) (body → inertial).
+    pub rot: Matrix2<f64>,
+    /// Ω [rad/s].
+    pub omega: f64,
+    /// Modal coordinates.
+    pub p: &'a [f64],
+    /// Their rates.
+    pub pd: &'a [f64],
+}
+
+fn times(rows: &DMatrix<f64>, p: &[f64]) -> Vector2<f64> {
+    let mut out = Vector2::zeros();
+    for (j, x) in p.iter().enumerate().take(rows.ncols()) {
+        out.x += rows[(0, j)] * x;
+        out.y += rows[(1, j)] * x;
+    }
+    out
+}
+
+impl NipSys {
+    /// The nip on roll_a's and roll_b's models.
+    pub fn new(nip: &Nip, a: &Model, b: &Model) -> Self {
+        let rows = nip
+            .z
+            .iter()
+            .map(|z| (rows_at(a, *z), rows_at(b, *z)))
+            .collect();
+        Self {
+            nip: nip.clone(),
+            rows,
+        }
+    }
+
+    /// The rows of segment `j` on each roll: (nᵀ R_a Φ_a, nᵀ R_b Φ_b), 1 × nm.
+    pub fn normal_rows(
+        &self,
+        j: usize,
+        a: &Matrix2<f64>,
+        b: &Matrix2<f64>,
+    ) -> (RowDVector<f64>, RowDVector<f64>) {
+        let n = Vector2::new(self.nip.normal[0], self.nip.normal[1]);
+        let na = (a.transpose() * n).transpose();
+        let nb = (b.transpose() * n).transpose();
+        (na * &self.rows[j].0, nb * &self.rows[j].1)
+    }
+
+    /// The state of every segment.
+    pub fn segments(&self, a: &RollView, b: &RollView) -> Vec<SegmentState> {
+        let n = Vector2::new(self.nip.normal[0], self.nip.normal[1]);
+        let s = Matrix2::new(0.0, -1.0, 1.0, 0.0);
+        let nip = &self.nip;
+        self.rows
+            .iter()
+            .map(|(ra, rb)| {
+                let (ua, ub) = (times(ra, a.p), times(rb, b.p));
+                let va = a.rot * (times(ra, a.pd) + a.omega * s * ua);
+                let vb = b.rot * (times(rb, b.pd) + b.omega * s * ub);
+                let delta = n.dot(&(a.rot * ua - b.rot * ub)) - nip.gap;
+                let rate = n.dot(&(va - vb));
+                let (f, k) = law_force(&nip.law, nip.segment_length, delta);
+                let linear = matches!(nip.law, NipLaw::Linear { .. });
+                let c = if linear || delta > 0.0 {
+                    nip.damping * nip.segment_length
+                } else {
+                    0.0
+                };
+                let total = f + c * rate;
+                let (force, stiffness, damping) = if linear || total > 0.0 {
+                    (total, k, c)
+                } else {
+                    (0.0, 0.0, 0.0)
+                };
+                SegmentState {
+                    delta,
+                    rate,
+                    force,
+                    stiffness,
+                    damping,
+                }
+            })
+            .collect()
+    }
+
+    /// Adds the generalized forces −Jᵀ F of the segments to roll_a's and roll_b's modal parts.
+    pub fn add_forces(
+        &self,
+        seg: &[SegmentState],
+        (a, b): (&Matrix2<f64>, &Matrix2<f64>),
+        out_a: &mut [f64],
+        out_b: &mut [f64],
+    ) {
+        let n = Vector2::new(self.nip.normal[0], self.nip.normal[1]);
+        let mut fa = DVector::zeros(out_a.len());
+        let mut fb = DVector::zeros(out_b.len());
+        for ((ra, rb), s) in self.rows.iter().zip(seg) {
+            // On roll_a −F n, on roll_b +F n (inertial), into the body frame by Rᵀ.
+            let ga = a.transpose() * (-s.force * n);
+            let gb = b.transpose() * (s.force * n);
+            fa.gemv_tr(1.0, ra, &DVector::from_column_slice(ga.as_slice()), 1.0);
+            fb.gemv_tr(1.0, rb, &DVector::from_column_slice(gb.as_slice()), 1.0);
+        }
+        for (o, f) in out_a.iter_mut().zip(fa.iter()) {
+            *o += f;
+        }
+        for (o, f) in out_b.iter_mut().zip(fb.iter()) {
+            *o += f;
+        }
+    }
+
+    /// The segment rows J (1 × n, roll_a's modal block at `oa`, roll_b's at `ob`) and J̃.
+    pub fn jacobian_rows(
+        &self,
+        j: usize,
+        a: &RollView,
+        b: &RollView,
+        (oa, ob, n): (usize, usize, usize),
+    ) -> (DVector<f64>, DVector<f64>) {
+        let s = Matrix2::new(0.0, -1.0, 1.0, 0.0);
+        let (ja, jb) = self.normal_rows(j, &a.rot, &b.rot);
+        let (sa, sb) = self.normal_rows(j, &(a.rot * s), &(b.rot * s));
+        let mut row = DVector::zeros(n);
+        let mut rate = DVector::zeros(n);
+        for k in 0..ja.len() {
+            row[oa + k] = ja[k];
+            rate[oa + k] = a.omega * sa[k];
+        }
+        for k in 0..jb.len() {
+            row[ob + k] = -jb[k];
+            rate[ob + k] = -b.omega * sb[k];
+        }
+        (row, rate)
+    }
+}

@@ -1,0 +1,364 @@
+//! A machine: several rolls, each its own scene, placed in one machine frame and pressed
+//! together in nips.
+//!
+//! In: a machine file (`[[rolls]]` and `[[nips]]`, keys in `docs/scene-keys.md`) read with its
+//! `--set` overrides; each roll's scene file (relative to the machine file) with its own
+//! overrides (`set`). Out: the first roll's [`Scene`] carrying the [`Machine`] (every roll's
+//! scene, axis position [m], loading-arm force [N]; every nip's segments, direction, gap and
+//! contact law in SI), or an [`InputError`] naming the file, key and line.
+//!
+//! Method and assumptions: the rolls' axes are parallel to z and their z frames coincide (z = 0
+//! at the tending end of every roll); a roll's axis is at `position_mm` = (x, y) of the inertial
+//! frame. The first roll's scene sets the run window, sampling, solver and outputs of the whole
+//! machine. A nip's direction is the unit vector from roll_a's axis to roll_b's; its contact runs
+//! over [from_mm, to_mm] in `segments` equal segments, each on one outer diameter of both rolls
+//! (plus the cover's thickness on the covered roll). Rolls may not overlap (axes closer than the
+//! sum of their outer radii); a gap closes under load. A roll with `surface_speed_of` turns the
+//! other way at the speed profile of that roll times R_other/R_own (the radii at their nip).
+//! Contact laws per segment of length L_s:
+//! - `linear`: F = k L_s δ (k [N/m²] per length per penetration, tension too: for closed forms);
+//! - `hertz`: steel on steel, the source's Roark line contact fitted to F = k δ^e as for the
+//!   rollers (`ContactGeometry`), over 0.1–10 times the nip's line load (1–100 kN/m without one);
+//! - `cover`: a Winkler layer on one roll, foundation modulus k = E/((1 − ν²) h) [N/m³]
+//!   (plane strain, thin layer); with R = R_a R_b/(R_a + R_b) the band is 2a, a = √(2Rδ), and
+//!   the force per length ∫k(δ − x²/2R)dx = (4√2/3) k √R δ^1.5.
+//!
+//! The line load q [N/m] presses roll_b toward roll_a: q (to − from) split evenly over roll_b's
+//! supports' nodes, beside the arms' forces of `arm_force_n` on every support node of a roll.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use super::check::Check;
+use super::contact_fit::ContactGeometry;
+use super::locate;
+use super::machine_file::{MachineFile, NipFile};
+use super::overrides::{override_error_key, with_overrides};
+use super::source::Source;
+use super::types::{Machine, MachineRoll, Nip, NipLaw, Scene};
+use crate::error::InputError;
+use crate::rotor::fe::{RotorSpec, SectionSpec};
+
+/// Reads a machine file (`source`, with `--set` overrides) and its rolls' scenes (module doc).
+pub(super) fn load(source: &Source, overrides: &[String]) -> Result<Scene, InputError> {
+    let path = source.path();
+    let (table, keys) = with_overrides(source, overrides)?;
+    let raw: MachineFile = match source.layers.as_slice() {
+        [only] if overrides.is_empty() => {
+            toml::from_str(&only.text).map_err(|e| locate::toml_error(path, &only.text, &e))?
+        }
+        _ => table.clone().try_into().map_err(|e: toml::de::Error| {
+            let err = InputError::new(path, e.message().to_string());
+            match override_error_key(&table) {
+                Some(k) => err.with_key(k),
+                None => err,
+            }
+        })?,
+    };
+    let c = Check {
+        file: path,
+        source,
+        overridden: &keys,
+    };
+    let machine = build(&c, &raw)?;
+    let first = &machine.rolls[0].scene;
+    let mut scene = first.clone();
+    scene.name = raw.name.clone().unwrap_or_else(|| {
+        path.file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    });
+    scene.description = raw.description.clone().unwrap_or_default();
+    scene.source = path.to_path_buf();
+    scene.bases = source.layers[1..].iter().map(|l| l.path.clone()).collect();
+    scene.machine = Some(Arc::new(machine));
+    Ok(scene)
+}
+
+/// The outer diameter [m] and material (E [Pa], ν) of `rotor` over [z0, z1] [m], if one
+/// segment's outer diameter covers it all.
+fn surface(rotor: &RotorSpec, z0: f64, z1: f64) -> Option<(f64, (f64, f64))> {
+    let mut start = rotor.z_start;
+    let mut found: Option<(f64, (f64, f64))> = None;
+    for seg in &rotor.segments {
+        let end = start + seg.length;
+        if end > z0 && start < z1 {
+            let outer = match &seg.section {
+                SectionSpec::Tube { outer, .. } | SectionSpec::Mapped { outer, .. } => *outer,
+            };
+            let mat = (seg.material.youngs_modulus, seg.material.poisson);
+            match found {
+                Some((d, _)) if d != outer => return None,
+                _ => found = Some((outer, mat)),
+            }
+        }
+        start = end;
+    }
+    let covered = rotor.z_start <= z0 + 1e-12 && start >= z1 - 1e-12;
+    found.filter(|_| covered)
+}
+
+fn build(c: &Check, raw: &MachineFile) -> Result<Machine, InputError> {
+    if raw.rolls.is_empty() {
+        return Err(c.err("rolls", "a machine needs at least one roll"));
+    }
+    let dir = c.file.parent().unwrap_or(Path::new("."));
+    let mut rolls: Vec<MachineRoll> = Vec::new();
+    for (i, r) in raw.rolls.iter().enumerate() {
+        let key = |k: &str| format!("rolls[{i}].{k}");
+        if rolls.iter().any(|o| o.name == r.name) {
+            return Err(c.err(&key("name"), format!("a second roll named `{}`", r.name)));
+        }
+        let mut scene = Scene::load(&dir.join(&r.scene), &r.set)?;
+        if scene.machine.is_some() {
+            return Err(c.err(&key("scene"), "a roll's scene is one roll, not a machine"));
+        }
+        if let Some(first) = rolls.first() {
+            scene.simulation = first.scene.simulation.clone();
+            scene.solver = first.scene.solver.clone();
+            scene.outputs = first.scene.outputs;
+        }
+        let pair = |k: &str, v: &[f64]| match v {
+            [x, y] => Ok([c.finite(&key(k), *x)?, c.finite(&key(k), *y)?]),
+            _ => Err(c.err(&key(k), format!("must be [x, y], got {} numbers", v.len()))),
+        };
+        let [x, y] = pair("position_mm", &r.position_mm)?;
+        let position = [1e-3 * x, 1e-3 * y];
+        let arm_force = pair(
+            "arm_force_n",
+            r.arm_force_n.as_deref().unwrap_or(&[0.0, 0.0]),
+        )?;
+        rolls.push(MachineRoll {
+            name: r.name.clone(),
+            scene,
+            set: r.set.clone(),
+            position,
+            arm_force,
+        });
+    }
+    let names: Vec<&str> = raw.rolls.iter().map(|r| r.name.as_str()).collect();
+    let mut nips = Vec::new();
+    for (i, n) in raw.nips.iter().enumerate() {
+        nips.push(nip(c, i, n, &names, &rolls)?);
+    }
+    overlaps(c, &rolls, &nips)?;
+    tie_speeds(c, raw, &mut rolls, &nips)?;
+    Ok(Machine { rolls, nips })
+}
+
+/// The roll named `name` under `key`.
+fn roll_index(c: &Check, key: &str, name: &str, names: &[&str]) -> Result<usize, InputError> {
+    names.iter().position(|n| *n == name).ok_or_else(|| {
+        c.err(
+            key,
+            format!("unknown roll `{name}` (rolls: {})", names.join(", ")),
+        )
+    })
+}
+
+fn nip(
+    c: &Check,
+    i: usize,
+    n: &NipFile,
+    names: &[&str],
+    rolls: &[MachineRoll],
+) -> Result<Nip, InputError> {
+    let key = |k: &str| format!("nips[{i}].{k}");
+    let a = roll_index(c, &key("roll_a"), &n.roll_a, names)?;
+    let b = roll_index(c, &key("roll_b"), &n.roll_b, names)?;
+    if a == b {
+        return Err(c.err(&key("roll_b"), "a nip needs two different rolls"));
+    }
+    if n.segments == 0 || n.segments > 10_000 {
+        return Err(c.err(
+            &key("segments"),
+            format!("must lie in [1, 10000], got {}", n.segments),
+        ));
+    }
+    let z0 = 1e-3 * c.finite(&key("from_mm"), n.from_mm)?;
+    let z1 = 1e-3 * c.finite(&key("to_mm"), n.to_mm)?;
+    if z1 <= z0 {
+        return Err(c.err(&key("to_mm"), "must be beyond from_mm"));
+    }
+    let on = |r: usize| {
+        surface(&rolls[r].scene.rotor, z0, z1).ok_or_else(|| {
+            c.err(
+                &key("from_mm"),
+                format!(
+                    "the range {}–{} mm must lie on one outer diameter of roll `{}`",
+                    n.from_mm, n.to_mm, rolls[r].name
+                ),
+            )
+        })
+    };
+    let ((da, mat_a), (db, mat_b)) = (on(a)?, on(b)?);
+    let (mut ra, mut rb) = (0.5 * da, 0.5 * db);
+    let segment_length = (z1 - z0) / n.segments as f64;
+    let line_load = 1e3
+        * c.non_negative(
+            &key("line_load_kn_per_m"),
+            n.line_load_kn_per_m.unwrap_or(0.0),
+        )?;
+    let law = match n.law.as_str() {
+        "linear" => NipLaw::Linear {
+            stiffness: c.positive(
+                &key("stiffness_n_per_m2"),
+                n.stiffness_n_per_m2.unwrap_or(f64::NAN),
+            )?,
+        },
+        "hertz" => {
+            let q = if line_load > 0.0 { line_load } else { 1e4 };
+            let geometry = ContactGeometry {
+                journal_diameter: da,
+                roller_diameter: db,
+                length: segment_length,
+                journal: mat_a,
+                roller: mat_b,
+                loads: (0.1 * q * segment_length, 10.0 * q * segment_length),
+                points: 200,
+            };
+            NipLaw::Hertz {
+                fit: geometry.fit(),
+            }
+        }
+        "cover" => {
+            let covered = n.cover_on.as_deref().unwrap_or("");
+            let r = roll_index(c, &key("cover_on"), covered, names)?;
+            if r != a && r != b {
+                return Err(c.err(&key("cover_on"), "the cover must be on roll_a or roll_b"));
+            }
+            let h = 1e-3
+                * c.positive(
+                    &key("cover_thickness_mm"),
+                    n.cover_thickness_mm.unwrap_or(f64::NAN),
+                )?;
+            let steel = if r == a { ra } else { rb };
+            if h >= steel {
+                return Err(c.err(
+                    &key("cover_thickness_mm"),
+                    format!(
+                        "the cover ({} mm) must be thinner than the radius of roll `{covered}` ({} mm)",
+                        1e3 * h,
+                        1e3 * steel
+                    ),
+                ));
+            }
+            let e = 1e6
+                * c.positive(
+                    &key("cover_modulus_mpa"),
+                    n.cover_modulus_mpa.unwrap_or(f64::NAN),
+                )?;
+            let nu = c.range(
+                &key("cover_poisson"),
+                n.cover_poisson.unwrap_or(f64::NAN),
+                0.0,
+                0.499,
+            )?;
+            if r == a {
+                ra += h;
+            } else {
+                rb += h;
+            }
+            NipLaw::Cover {
+                foundation: e / ((1.0 - nu * nu) * h),
+                radius: ra * rb / (ra + rb),
+                thickness: h,
+            }
+        }
+        other => {
+            return Err(c.err(
+                &key("law"),
+                format!("unknown law `{other}` (linear, hertz, cover)"),
+            ))
+        }
+    };
+    let (pa, pb) = (rolls[a].position, rolls[b].position);
+    let d = ((pb[0] - pa[0]).powi(2) + (pb[1] - pa[1]).powi(2)).sqrt();
+    if d == 0.0 {
+        return Err(c.err(&format!("rolls[{b}].position_mm"), "on the axis of roll_a"));
+    }
+    Ok(Nip {
+        name: n.name.clone(),
+        rolls: (a, b),
+        z: (0..n.segments)
+            .map(|j| z0 + (j as f64 + 0.5) * segment_length)
+            .collect(),
+        segment_length,
+        normal: [(pb[0] - pa[0]) / d, (pb[1] - pa[1]) / d],
+        gap: d - ra - rb,
+        radii: (ra, rb),
+        law,
+        damping: c.non_negative(
+            &key("damping_ns_per_m2"),
+            n.damping_ns_per_m2.unwrap_or(0.0),
+        )?,
+        line_load,
+    })
+}
+
+/// Rolls overlap when their axes are closer than their outer radii (at a nip: the nip's radii,
+/// a cover included; elsewhere the largest outer diameter of each roll) by more than 1 µm.
+fn overlaps(c: &Check, rolls: &[MachineRoll], nips: &[Nip]) -> Result<(), InputError> {
+    let largest = |r: &MachineRoll| {
+        (r.scene.rotor.segments.iter())
+            .map(|s| match &s.section {
+                SectionSpec::Tube { outer, .. } | SectionSpec::Mapped { outer, .. } => 0.5 * outer,
+            })
+            .fold(0.0, f64::max)
+    };
+    for j in 0..rolls.len() {
+        for i in 0..j {
+            let radii = nips
+                .iter()
+                .find(|n| n.rolls == (i, j) || n.rolls == (j, i))
+                .map(|n| n.radii.0 + n.radii.1)
+                .unwrap_or_else(|| largest(&rolls[i]) + largest(&rolls[j]));
+            let (p, q) = (rolls[i].position, rolls[j].position);
+            let d = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
+            if d < radii - 1e-6 {
+                return Err(c.err(
+                    &format!("rolls[{j}].position_mm"),
+                    format!(
+                        "roll `{}` overlaps roll `{}`: axes {:.3} mm apart, outer radii {:.3} mm together",
+                        rolls[j].name,
+                        rolls[i].name,
+                        1e3 * d,
+                        1e3 * radii
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Ties the speed of each roll with `surface_speed_of` to that roll through their nip.
+fn tie_speeds(
+    c: &Check,
+    raw: &MachineFile,
+    rolls: &mut [MachineRoll],
+    nips: &[Nip],
+) -> Result<(), InputError> {
+    let names: Vec<&str> = raw.rolls.iter().map(|r| r.name.as_str()).collect();
+    for (i, r) in raw.rolls.iter().enumerate() {
+        let Some(other) = &r.surface_speed_of else {
+            continue;
+        };
+        let key = format!("rolls[{i}].surface_speed_of");
+        let o = roll_index(c, &key, other, &names)?;
+        if raw.rolls[o].surface_speed_of.is_some() || o == i {
+            return Err(c.err(&key, format!("roll `{other}` must have a speed of its own")));
+        }
+        let nip = nips
+            .iter()
+            .find(|n| n.rolls == (i, o) || n.rolls == (o, i))
+            .ok_or_else(|| c.err(&key, format!("no nip joins this roll and `{other}`")))?;
+        let (own, theirs) = if nip.rolls.0 == i {
+            (nip.radii.0, nip.radii.1)
+        } else {
+            (nip.radii.1, nip.radii.0)
+        };
+        rolls[i].scene.speed = rolls[o].scene.speed.scaled(-theirs / own);
+    }
+    Ok(())
+}

@@ -1,0 +1,45 @@
+//! The raw schema of a machine file (several rolls in nips), exactly as written (units in key
+//! names); `machine.rs` validates it.
+
+use serde::Deserialize;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct MachineFile {
+    pub name: Option<String>,
+    pub description: Option<String>,
+    pub rolls: Vec<MachineRollFile>,
+    #[serde(default)]
+    pub nips: Vec<NipFile>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct MachineRollFile {
+    pub name: String,
+    pub scene: String,
+    #[serde(default)]
+    pub set: Vec<String>,
+    pub position_mm: Vec<f64>,
+    pub surface_speed_of: Option<String>,
+    pub arm_force_n: Option<Vec<f64>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct NipFile {
+    pub name: String,
+    pub roll_a: String,
+    pub roll_b: String,
+    pub from_mm: f64,
+    pub to_mm: f64,
+    pub segments: usize,
+    pub law: String,
+    pub stiffness_n_per_m2: Option<f64>,
+    pub cover_on: Option<String>,
+    pub cover_thickness_mm: Option<f64>,
+    pub cover_modulus_mpa: Option<f64>,
+    pub cover_poisson: Option<f64>,
+    pub damping_ns_per_m2: Option<f64>,
+    pub line_load_kn_per_m: Option<f64>,
+}
