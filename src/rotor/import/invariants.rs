@@ -18,6 +18,8 @@
 //! DOFs it leaves out the second-order rotary-inertia terms a beam or shell element has (the
 //! `fe` module's ½ φ×(φ×d)), so an exported beam rotor carries its own matrices instead.
 
+use std::collections::BTreeMap;
+
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::tables::Dof;
@@ -74,34 +76,38 @@ pub fn invariants(m: &DMatrix<f64>, rigid: &DMatrix<f64>) -> Invariants {
     }
 }
 
-/// S̄: ẑ× on every translation and rotation triple of `dofs` (a triple must be complete for
-/// this to be the rotation of its vector; a lone DOF's partner is missing and left out).
-fn spin_operator(dofs: &[Dof]) -> DMatrix<f64> {
-    let n = dofs.len();
-    let mut s = DMatrix::zeros(n, n);
-    let find = |node: i64, dof: usize| dofs.iter().position(|d| d.node == node && d.dof == dof);
-    for (i, d) in dofs.iter().enumerate() {
-        let base = d.dof - d.dof % 3;
-        // (ẑ × v)_x = −v_y, (ẑ × v)_y = v_x.
-        match d.dof % 3 {
-            0 => {
-                if let Some(j) = find(d.node, base + 1) {
-                    s[(i, j)] = -1.0;
-                }
+/// S̄ = ẑ× on every translation and rotation triple of `dofs`, as one entry per row: row i of
+/// S̄ is ±1 in column j (x rows take −y, y rows take +x; z rows and a triple's missing partner
+/// none). A triple must be complete for this to be the rotation of its vector.
+fn spin_operator(dofs: &[Dof]) -> Vec<Option<(usize, f64)>> {
+    let index: BTreeMap<(i64, usize), usize> = dofs
+        .iter()
+        .enumerate()
+        .map(|(i, d)| ((d.node, d.dof), i))
+        .collect();
+    dofs.iter()
+        .map(|d| {
+            let base = d.dof - d.dof % 3;
+            // (ẑ × v)_x = −v_y, (ẑ × v)_y = v_x.
+            match d.dof % 3 {
+                0 => index.get(&(d.node, base + 1)).map(|&j| (j, -1.0)),
+                1 => index.get(&(d.node, base)).map(|&j| (j, 1.0)),
+                _ => None,
             }
-            1 => {
-                if let Some(j) = find(d.node, base) {
-                    s[(i, j)] = 1.0;
-                }
-            }
-            _ => {}
-        }
-    }
-    s
+        })
+        .collect()
+}
+
+/// S̄ A for S̄ given by rows ([`spin_operator`]).
+fn spin_left(s: &[Option<(usize, f64)>], a: &DMatrix<f64>) -> DMatrix<f64> {
+    DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| {
+        s[i].map_or(0.0, |(k, v)| v * a[(k, j)])
+    })
 }
 
 /// The body-frame matrices and loads of `fe`'s module doc for a body of mass matrix `m` and
-/// stiffness `k` (module doc: exact for translation DOFs).
+/// stiffness `k` (module doc: exact for translation DOFs). S̄ has one entry per row, so its
+/// products are index maps: A S̄ = (S̄ᵀ Aᵀ)ᵀ, S̄ᵀ = −S̄.
 pub fn rotating_terms(
     m: &DMatrix<f64>,
     k: &DMatrix<f64>,
@@ -110,16 +116,22 @@ pub fn rotating_terms(
 ) -> FeMatrices {
     let s = spin_operator(dofs);
     let r = rigid_modes(dofs, pos);
-    let ms = m * &s;
-    let sm = &s * m;
+    // M S̄ = (S̄ᵀ M)ᵀ = −(S̄ M)ᵀ for symmetric M.
+    let sm = spin_left(&s, m);
+    let ms = -sm.transpose();
+    // E = S̄ᵀ M S̄ = −S̄ (M S̄).
+    let e = -spin_left(&s, &ms);
     let col = |c: usize| -> DVector<f64> { m * r.column(c) };
     let ft = col(5);
+    let fc = -spin_left(&s, &DMatrix::from_column_slice(ft.len(), 1, ft.as_slice()))
+        .column(0)
+        .into_owned();
     FeMatrices {
         gc: 0.5 * (&ms + &sm),
-        e: s.transpose() * &ms,
+        e,
         c: ms.clone(),
         gs: &sm - &ms,
-        fc: s.transpose() * &ft,
+        fc,
         ft,
         gx: col(0),
         gy: col(1),
