@@ -381,3 +381,114 @@ fn timing_case_on_the_exported_body_has_the_same_runout() {
     }
     assert_eq!(runout, 6, "three sensors, two directions");
 }
+
+/// The same body as Abaqus coordinate files in millimetres and tonnes (`format = "abaqus"`,
+/// `units = "mm-t-s"`): the scene has the same free-rotor frequencies as the Matrix Market body
+/// in SI (≤ 1e-8), so the reader, the unit scaling by DOF kind and the node order agree.
+#[test]
+fn the_body_as_abaqus_files_in_millimetres_gives_the_same_model() {
+    let dir = scratch("abaqus-scene");
+    let path = repo().join("studies/scenes/ideal-roll.toml");
+    let (scene, model) = Model::load(&path, &[], None).unwrap();
+    let (table, _) = with_overrides(&Source::load(&path).unwrap(), &[]).unwrap();
+    write_model(&scene, &model, &table, Which::Full, &dir).unwrap();
+    let f = model.rotor.assemble();
+    // Abaqus node ids 10, 20, …; DOFs 1–6; SI → mm-t-s: mass × 1e-3 per kg, length × 1e3 per m.
+    let abaqus = |a: &DMatrix<f64>| {
+        let mut s = String::from("** written by the test\n");
+        for j in 0..a.ncols() {
+            for i in j..a.nrows() {
+                if a[(i, j)] != 0.0 {
+                    let rot = |k: usize| i32::from(k % 6 >= 3);
+                    let v = a[(i, j)] * 1e-3 * 1e3f64.powi(rot(i) + rot(j));
+                    s += &format!(
+                        "{}, {}, {}, {}, {v:e}\n",
+                        10 * (i / 6 + 1),
+                        i % 6 + 1,
+                        10 * (j / 6 + 1),
+                        j % 6 + 1
+                    );
+                }
+            }
+        }
+        s
+    };
+    write_file(&dir, "m.abq", &abaqus(&f.m));
+    write_file(&dir, "k.abq", &abaqus(&f.k));
+    let mut nodes = String::from("id,x,y,z\n");
+    for (i, z) in model.rotor.node_z.iter().enumerate() {
+        nodes += &format!("{},0,0,{:e}\n", 10 * (i + 1), z * 1e3);
+    }
+    write_file(&dir, "abq-nodes.csv", &nodes);
+    let text = std::fs::read_to_string(dir.join("scene.toml")).unwrap();
+    let start = text.find("[fe]").unwrap();
+    let end = start + text[start..].find("\n\n").unwrap();
+    let named_start = text.find("[fe.named]").unwrap();
+    let named_end = named_start + text[named_start..].find("\n\n").unwrap();
+    let named: String = text[named_start..named_end]
+        .lines()
+        .map(|l| match l.split_once(" = ") {
+            Some((k, v)) => format!("{k} = {}\n", 10 * v.parse::<i64>().unwrap()),
+            None => format!("{l}\n"),
+        })
+        .collect();
+    let sensors = text[start..end]
+        .lines()
+        .find(|l| l.starts_with("sensors"))
+        .unwrap();
+    let fe = format!(
+        "[fe]\nformat = \"abaqus\"\nmass = \"m.abq\"\nstiffness = \"k.abq\"\nnodes = \"abq-nodes.csv\"\nunits = \"mm-t-s\"\n{sensors}\n\n{named}"
+    );
+    let rotating = text.find("[fe.rotating]").unwrap();
+    let rotating_end = rotating + text[rotating..].find("\n\n").unwrap();
+    let mut rest = text.clone();
+    for (a, b) in [
+        (rotating, rotating_end),
+        (named_start, named_end),
+        (start, end),
+    ] {
+        rest.replace_range(a..b, "");
+    }
+    let scene_path = write_file(&dir, "abaqus.toml", &format!("{rest}\n{fe}"));
+    let (_, back) = Model::load(&scene_path, &[], None).unwrap_or_else(|e| panic!("{e}"));
+    assert!(close(back.rotor.mass(), model.rotor.mass(), 1e-12));
+    for (a, b) in back.reduced.freq_hz.iter().zip(&model.reduced.freq_hz) {
+        assert!(
+            (a - b).abs() <= 1e-8 * b.max(1.0),
+            "free mode {a} Hz vs {b} Hz"
+        );
+    }
+}
+
+/// A scene in another folder that `extends` the exported one finds the body's files (their
+/// paths are relative to the file that writes them) and changes the drive like any scene; a
+/// base's `[roll]` gives way to an extending file's `[fe]`.
+#[test]
+fn a_scene_extending_the_exported_body_finds_its_files() {
+    let dir = scratch("extends");
+    std::fs::create_dir(dir.join("body")).unwrap();
+    exported(&dir.join("body"), &[]);
+    let variant = write_file(
+        &dir,
+        "variant.toml",
+        "extends = \"body/scene.toml\"\nname = \"softer\"\n[drive]\naxial_stiffness_n_per_m = 2.0e7\n",
+    );
+    let (scene, model) = Model::load(&variant, &[], None).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.name, "softer");
+    assert!(scene.body.is_some() && model.rotor.imported.is_some());
+    let roll = repo().join("studies/scenes/reference-roll.toml");
+    let over = write_file(
+        &dir.join("body"),
+        "over-roll.toml",
+        &format!("extends = {:?}\n{}", roll.display().to_string(), {
+            let t = std::fs::read_to_string(dir.join("body/scene.toml")).unwrap();
+            let s = t.find("[fe]").unwrap();
+            let e = t.find("[materials").unwrap();
+            t[s..e].to_string()
+        }),
+    );
+    // The base's [roll] is gone (no "exactly one of [roll], [rotor] or [fe]"), so its roller
+    // supports miss the journal diameter they took from it, and say so.
+    let e = Scene::load(&over, &[]).expect_err("the roll's supports need their journal");
+    assert!(e.to_string().contains("journal_diameter_mm"), "{e}");
+}
