@@ -26,7 +26,7 @@ pub const DOCS: &[KeyDoc] = &[
         units: "",
         default: "none",
         range: "a scene file",
-        meaning: "Base scene this file builds on, relative to this file: tables merge key by key, this file's values win, any other value (arrays and [[...]] lists too) replaces the base's whole; a wall choice (wall_thickness_mm, thickness_map, synthetic_map) or [roll]/[rotor] replaces the base's other choice. At most 16 files in a chain, no cycles.",
+        meaning: "Base scene this file builds on, relative to this file: tables merge key by key, this file's values win, any other value (arrays and [[...]] lists too) replaces the base's whole; a wall choice (wall_thickness_mm, thickness_map, synthetic_map) or [roll]/[rotor]/[fe] replaces the base's other choice. At most 16 files in a chain, no cycles.",
     },
     KeyDoc {
         key: "name",
