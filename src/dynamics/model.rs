@@ -1,4 +1,5 @@
-//! The reduced model of a scene: scene → mesh → FE matrices → orthogonalised Craig–Bampton set.
+//! The reduced model of a scene: scene → mesh → FE matrices → orthogonalised Craig–Bampton set
+//! (an imported FE body, `[fe]`, brings its matrices instead of a mesh).
 //!
 //! In: a validated [`Scene`] (and optionally another mode selection), or with [`Model::load`] a
 //! scene file, its `--set` overrides and a `--modes` selection as text (the start of the `modes`
@@ -90,7 +91,10 @@ impl Model {
         let t0 = Instant::now();
         let sel = modes.unwrap_or(&scene.modes);
         let fail = |cause: ModelCause| ModelError::of(scene, cause);
-        let rotor = Rotor::mesh(&scene.rotor).map_err(|e| fail(e.into()))?;
+        let rotor = match &scene.body {
+            Some(body) => Rotor::from_body(body.clone()),
+            None => Rotor::mesh(&scene.rotor).map_err(|e| fail(e.into()))?,
+        };
         let fe = rotor.assemble();
         let boundary: Vec<usize> = scene.boundary.iter().map(|b| rotor.named[b]).collect();
         let n_normal = match sel.normal_needed() {

@@ -434,7 +434,11 @@ pub fn time_invariant(sys: &LinearSystem, rotor: &Rotor, omega: f64) -> bool {
 /// on the mesh, not on the reduced model: a mode selection that cuts a degenerate pair leaves a
 /// reduced basis that is not closed under rotation although the rotor is axisymmetric.
 /// A point unbalance mass or a wall-thickness map makes the rotor asymmetric (Floquet runs).
+/// An imported body is tested on its matrices when it is read (`ImportedBody::axisymmetric`).
 pub fn axisymmetric(rotor: &Rotor) -> bool {
+    if let Some(b) = &rotor.imported {
+        return b.axisymmetric;
+    }
     let tol = INVARIANT_TOLERANCE;
     let sections = rotor.elements.iter().all(|e| {
         let s = &e.section;

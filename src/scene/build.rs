@@ -9,7 +9,7 @@
 
 use super::check::Check;
 use super::file::{DriveFile, ReductionFile, SceneFile};
-use super::geometry::{build_roll, build_rotor, Geometry, Materials};
+use super::geometry::{build_fe, build_roll, build_rotor, Geometry, Materials};
 use super::limits::record_size;
 use super::settings;
 use super::speed;
@@ -26,12 +26,15 @@ pub(super) fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         thickness_map: map,
         sensors,
         boundary: default_boundary,
-    } = match (&raw.roll, &raw.rotor) {
-        (Some(roll), None) => build_roll(c, roll, &materials)?,
-        (None, Some(rotor)) => build_rotor(c, rotor, &materials)?,
+        body,
+    } = match (&raw.roll, &raw.rotor, &raw.fe) {
+        (Some(roll), None, None) => build_roll(c, roll, &materials)?,
+        (None, Some(rotor), None) => build_rotor(c, rotor, &materials)?,
+        (None, None, Some(fe)) => build_fe(c, fe)?,
         _ => return Err(c.err(
             "roll",
-            "a scene needs exactly one of [roll] (the roll builder) or [rotor] (a general rotor)",
+            "a scene needs exactly one of [roll] (the roll builder), [rotor] (a general rotor) \
+             or [fe] (an FE body from files)",
         )),
     };
     let named: Vec<&str> = rotor.named_points.iter().map(|(n, _)| n.as_str()).collect();
@@ -54,6 +57,7 @@ pub(super) fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         bases: Vec::new(),
         rotor,
         thickness_map: map,
+        body,
         boundary,
         modes,
         sensors,

@@ -14,6 +14,7 @@ pub(crate) struct SceneFile {
     pub materials: BTreeMap<String, MaterialFile>,
     pub roll: Option<RollFile>,
     pub rotor: Option<RotorFile>,
+    pub fe: Option<super::geometry::FeFile>,
     #[serde(default)]
     pub supports: Vec<SupportFile>,
     pub drive: Option<DriveFile>,

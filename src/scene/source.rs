@@ -26,11 +26,22 @@ use super::locate::{self, Step};
 pub const MAX_EXTENDS_DEPTH: usize = 16;
 
 /// Keys whose values are paths relative to the file that writes them.
-const PATH_KEYS: &[&[&str]] = &[&["roll", "shell", "thickness_map"]];
+const PATH_KEYS: &[&[&str]] = &[
+    &["roll", "shell", "thickness_map"],
+    &["fe", "mass"],
+    &["fe", "stiffness"],
+    &["fe", "nodes"],
+    &["fe", "dofs"],
+    &["fe", "rotating", "coriolis"],
+    &["fe", "rotating", "spin_softening"],
+    &["fe", "rotating", "angular_acceleration"],
+    &["fe", "rotating", "gyroscopic"],
+    &["fe", "rotating", "loads"],
+];
 
 /// Keys that exclude each other, by the table that holds them: giving one drops the others.
 const EXCLUSIVE: &[(&str, &[&str])] = &[
-    ("", &["roll", "rotor"]),
+    ("", &["roll", "rotor", "fe"]),
     (
         "roll.shell",
         &["wall_thickness_mm", "thickness_map", "synthetic_map"],

@@ -15,6 +15,7 @@ use super::settings::{DampingBands, Outputs, SimulationSettings};
 use super::speed::SpeedProfile;
 use crate::integrators::SolverSettings;
 use crate::rotor::fe::RotorSpec;
+use crate::rotor::import::body::ImportedBody;
 use crate::rotor::reduction::ModeSelection;
 use crate::rotor::wall::ThicknessMap;
 
@@ -33,6 +34,9 @@ pub struct Scene {
     pub rotor: RotorSpec,
     /// Thickness map of the shell, if the rotor is a roll with a map.
     pub thickness_map: Option<Arc<ThicknessMap>>,
+    /// The FE body of `[fe]`, when the rotor is one: it replaces `rotor`'s mesh, whose named
+    /// points are the body's nodes.
+    pub body: Option<Arc<ImportedBody>>,
     /// Names of the Craig–Bampton boundary (journal) nodes.
     pub boundary: Vec<String>,
     /// Modes to keep.

@@ -24,6 +24,7 @@ const STAGES: &[&str] = &[
     "dynamics",
     "linear",
     "store",
+    "export",
     "results",
     "study",
     "report",

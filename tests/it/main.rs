@@ -27,6 +27,8 @@ mod contact_runs;
 mod cvode;
 mod dynamics_checks;
 mod error_trust;
+mod export;
+mod fe_import;
 mod import;
 mod input_checks;
 mod integrator_order;

@@ -15,6 +15,7 @@ mod balance;
 mod campaign;
 mod check;
 mod error;
+mod export;
 mod import;
 mod keys;
 mod linear;
@@ -43,6 +44,8 @@ use error::CliError;
   rotorsweep check studies/scenes/timing-case.toml --set roll.shell.elements=60   effective scene
                                                               (after extends, --set), derived values
   rotorsweep keys > scene-keys.md                             every scene key (docs/scene-keys.md)
+  rotorsweep export S.toml --model full -o body/; rotorsweep modes body/scene.toml   round trip
+  rotorsweep export S.toml --state-space --speed-hz 10 -o plant.npz   A, B, C, D for control
 
 Exit codes: 0 done, every job ok; 1 input error (the message names the file, line and key);
 2 done, some job or reference run not ok; 64 usage error (options, or an output that may not
@@ -81,6 +84,10 @@ enum Command {
     Balance(balance::Args),
     /// A measured record (CSV) into a results file, analysed like a simulated job.
     Import(import::Args),
+    /// A scene's model to Matrix Market, CSV and HDF5 with a scene on the exported body
+    /// (--model full|reduced), or its linear plant at a speed as a state-space model
+    /// (--state-space --speed-hz F, .h5 or .npz).
+    Export(export::Args),
 }
 
 fn main() -> ExitCode {
@@ -117,6 +124,7 @@ fn main() -> ExitCode {
         Command::Keys(a) => keys::run(&a).map(|()| true),
         Command::Balance(a) => balance::run(&a).map(|()| true),
         Command::Import(a) => import::run(&a).map(|()| true),
+        Command::Export(a) => export::run(&a).map(|()| true),
     };
     if let Err(e) = &result {
         eprintln!("error: {e}");

@@ -3,7 +3,8 @@
 //! In: a [`Rotor`] mesh. Out: its [`FeMatrices`] in physical DOFs ([`NDOF`] per node): M, K,
 //! G_c, E, C, G_s and the loads f_c, f_t, g_x, g_y, SI units (kg, N/m, N per unit of Ω², Ω̇ and
 //! acceleration). Method: each element's 12×12 [`ElementTerms`] and each packet's 6×6
-//! [`PacketTerms`] added into the global matrices at its nodes' DOFs.
+//! [`PacketTerms`] added into the global matrices at its nodes' DOFs; an imported body's own
+//! matrices as they are.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -40,6 +41,9 @@ pub struct FeMatrices {
 impl Rotor {
     /// Assembles the body-frame matrices (the `fe` module doc).
     pub fn assemble(&self) -> FeMatrices {
+        if let Some(b) = &self.imported {
+            return b.matrices.clone();
+        }
         let n = self.ndof();
         let mut f = FeMatrices {
             m: DMatrix::zeros(n, n),

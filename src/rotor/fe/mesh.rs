@@ -9,12 +9,14 @@
 //! half-sine) unbalance conditions and added as point packets.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use nalgebra::{DMatrix, Vector3};
 
 use super::beam::Element;
 use super::packet::Packet;
 use super::spec::{BalancingSpec, PointMassSpec, RotorSpec, SectionSpec};
+use crate::rotor::import::body::ImportedBody;
 use crate::rotor::section::Section;
 
 /// Degrees of freedom per node.
@@ -33,6 +35,9 @@ pub struct Rotor {
     pub named: BTreeMap<String, usize>,
     /// The balancing masses computed for this mesh (also among `packets`).
     pub balancing_masses: Vec<PointMassSpec>,
+    /// An FE body imported from files ([`crate::rotor::import`]): its matrices replace the
+    /// elements' and packets' (both empty then).
+    pub imported: Option<Arc<ImportedBody>>,
 }
 
 fn nearest_node(node_z: &[f64], z: f64) -> usize {
@@ -162,6 +167,7 @@ impl Rotor {
             packets,
             named,
             balancing_masses: Vec::new(),
+            imported: None,
         };
         if let Some(b) = &spec.balancing {
             for (i, &z) in b.planes.iter().enumerate() {
@@ -236,6 +242,18 @@ impl Rotor {
         }
     }
 
+    /// The rotor of an imported body, with its named nodes.
+    pub fn from_body(body: Arc<ImportedBody>) -> Self {
+        Self {
+            node_z: body.node_z.clone(),
+            elements: Vec::new(),
+            packets: Vec::new(),
+            named: body.named.clone(),
+            balancing_masses: Vec::new(),
+            imported: Some(body),
+        }
+    }
+
     /// Number of physical DOFs.
     pub fn ndof(&self) -> usize {
         NDOF * self.node_z.len()
@@ -243,6 +261,9 @@ impl Rotor {
 
     /// Total mass [kg].
     pub fn mass(&self) -> f64 {
+        if let Some(b) = &self.imported {
+            return b.invariants.mass;
+        }
         let beams: f64 = self
             .elements
             .iter()
@@ -253,6 +274,9 @@ impl Rotor {
 
     /// Axial position of the mass centre [m].
     pub fn mass_center_z(&self) -> f64 {
+        if let Some(b) = &self.imported {
+            return b.invariants.centre.z;
+        }
         let beams: f64 = self
             .elements
             .iter()

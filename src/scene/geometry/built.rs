@@ -6,9 +6,10 @@
 use std::sync::Arc;
 
 use crate::rotor::fe::RotorSpec;
+use crate::rotor::import::body::ImportedBody;
 use crate::rotor::wall::ThicknessMap;
 
-/// The rotor built from `[roll]` or `[rotor]`.
+/// The rotor built from `[roll]`, `[rotor]` or `[fe]`.
 pub(crate) struct Geometry {
     /// The rotor to mesh, with its named points.
     pub rotor: RotorSpec,
@@ -19,4 +20,6 @@ pub(crate) struct Geometry {
     /// The Craig–Bampton boundary when `reduction.boundary` names none (the roll's journals);
     /// empty: the supports' nodes.
     pub boundary: Vec<String>,
+    /// The FE body of `[fe]`, whose nodes the named points are.
+    pub body: Option<Arc<ImportedBody>>,
 }

@@ -1,5 +1,6 @@
 //! The rotor's geometry from a scene: `[materials]`, then either the roll builder (`[roll]`: a
-//! tube roll, journal to journal) or a general rotor (`[rotor]`: tube segments with disks).
+//! tube roll, journal to journal), a general rotor (`[rotor]`: tube segments with disks) or an
+//! FE body from files (`[fe]`, `fe`).
 //!
 //! In: the raw tables (lengths and diameters in mm, masses in g or kg, inertias in kg m²,
 //! moduli in GPa) and the validation context. Out: a [`Geometry`]: the
@@ -11,12 +12,14 @@
 
 mod body;
 mod built;
+mod fe;
 mod materials;
 mod roll;
 mod rotor;
 mod shell;
 
 pub(super) use built::Geometry;
+pub(crate) use fe::{build_fe, FeFile};
 pub(super) use materials::Materials;
 pub(super) use roll::build_roll;
 pub(super) use rotor::build_rotor;

@@ -92,6 +92,7 @@ pub(crate) fn build_roll(
         thickness_map: map,
         sensors,
         boundary,
+        body: None,
     })
 }
 

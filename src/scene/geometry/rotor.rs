@@ -110,6 +110,7 @@ pub(crate) fn build_rotor(
         thickness_map: None,
         sensors,
         boundary: Vec::new(),
+        body: None,
     })
 }
 

@@ -1,0 +1,110 @@
+//! `rotorsweep export SCENE --model full|reduced -o DIR`: a scene's model to files, and
+//! `rotorsweep export SCENE --state-space --speed-hz F -o PLANT.h5|.npz`: its linear plant.
+//!
+//! In: a scene (and `--set`, `--modes`). Out: the files of [`rotorsweep::export::model`] in a
+//! new folder DIR (with `--model full` also `DIR/scene.toml`, a scene on the exported body), or
+//! the state-space model of [`rotorsweep::export::plant`] in one new file, the format by its
+//! extension; a line saying what was written and how long it took. An existing output is
+//! refused (exit 64).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::export::model::{write_model, Which};
+use rotorsweep::export::plant::plant;
+use rotorsweep::linear::scene_system::{in_scene, scene_system};
+use rotorsweep::scene::source::Source;
+use rotorsweep::scene::with_overrides;
+
+use crate::error::CliError;
+use crate::speeds;
+
+/// Arguments of `rotorsweep export`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Scene file (TOML).
+    scene: PathBuf,
+    /// The model to export: `full` (the FE body, and a scene on it) or `reduced` (the selected
+    /// modes).
+    #[arg(long, value_parser = ["full", "reduced"], required_unless_present = "state_space", conflicts_with = "state_space")]
+    model: Option<String>,
+    /// Export the linear plant at `--speed-hz` as a state-space model instead.
+    #[arg(long, requires = "speed_hz")]
+    state_space: bool,
+    /// Spin speed of the plant [Hz].
+    #[arg(long)]
+    speed_hz: Option<f64>,
+    /// Output: a folder for `--model`, a `.h5` or `.npz` file for `--state-space`.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Modes to keep, "30n+12st" or a list "0-4,7" (default: the scene's).
+    #[arg(long)]
+    modes: Option<String>,
+    /// Override a scene value, `--set roll.shell.elements=60` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+}
+
+/// Runs `export`.
+pub fn run(a: &Args) -> Result<(), CliError> {
+    if a.output.exists() {
+        return Err(CliError::usage(format!(
+            "{}: exists; export writes a new output (remove it first)",
+            a.output.display()
+        )));
+    }
+    let npz = match a.output.extension().and_then(|e| e.to_str()) {
+        _ if !a.state_space => false,
+        Some("h5") => false,
+        Some("npz") => true,
+        _ => {
+            return Err(CliError::usage(format!(
+                "{}: the plant's file must end in .h5 or .npz",
+                a.output.display()
+            )))
+        }
+    };
+    let t0 = Instant::now();
+    let (scene, model) = Model::load(&a.scene, &a.set, a.modes.as_deref())?;
+    if a.state_space {
+        let hz = speeds::hz("speed-hz", a.speed_hz.unwrap_or(0.0)).map_err(CliError::input)?;
+        let sys = scene_system(&scene, &model)?;
+        let p = plant(&sys, hz * std::f64::consts::TAU).map_err(in_scene(&scene))?;
+        if npz {
+            p.write_npz(&a.output)
+                .map_err(|e| CliError::Io(format!("{}: {e}", a.output.display()).into()))?;
+        } else {
+            p.write_h5(&a.output)
+                .map_err(|e| CliError::Io(format!("{}: {e}", a.output.display()).into()))?;
+        }
+        println!(
+            "{}: plant at {hz} Hz, {} states, {} inputs, {} outputs -> {} in {:.3} s",
+            scene.name,
+            p.a.nrows(),
+            p.b.ncols(),
+            p.c.nrows(),
+            a.output.display(),
+            t0.elapsed().as_secs_f64()
+        );
+        return Ok(());
+    }
+    let source = Source::load(&a.scene)?;
+    let (table, _) = with_overrides(&source, &a.set)?;
+    let which = match a.model.as_deref() {
+        Some("reduced") => Which::Reduced,
+        _ => Which::Full,
+    };
+    let w = write_model(&scene, &model, &table, which, &a.output)
+        .map_err(|e| CliError::Io(e.to_string().into()))?;
+    println!(
+        "{}: {} model, {} DOFs -> {}/ ({}) in {:.3} s",
+        scene.name,
+        a.model.as_deref().unwrap_or("full"),
+        w.dofs,
+        a.output.display(),
+        w.files.join(", "),
+        t0.elapsed().as_secs_f64()
+    );
+    Ok(())
+}

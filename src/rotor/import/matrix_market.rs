@@ -1,0 +1,289 @@
+//! Matrix Market coordinate files (`.mtx`): the reader and the writer.
+//!
+//! In: a file `%%MatrixMarket matrix coordinate real|integer general|symmetric|skew-symmetric`,
+//! comment lines (`%`), a size line `rows cols entries` and one `i j value` line per entry,
+//! 1-based, as ANSYS, Abaqus (via scripts), scipy.io.mmwrite and the NIST collection write them.
+//! Out: a dense square matrix (units as in the file) and the `% units:` comment if the file has
+//! one; or an [`InputError`] naming the file and line (a bad header, an entry outside the size,
+//! a repeated entry, an entry above the diagonal of a symmetric file, fewer entries than the
+//! size line announces — a truncated file — or a value that is not a finite number).
+//! Method: read line by line; a symmetric file stores one triangle (either one is taken, never
+//! both), a skew-symmetric one the strict lower triangle; the other triangle is mirrored.
+//! Hand-written rather than a crate's: the errors must name the file and line of the entry, and
+//! the crates that read the format (sprs, nalgebra-sparse) return no line and pull a parser.
+//! The writer prints each value in Rust's shortest round-trip form, so a matrix written and
+//! read again is bit-identical.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use nalgebra::DMatrix;
+
+use crate::error::{read_text, InputError};
+
+/// The symmetry a Matrix Market file declares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Symmetry {
+    /// Every entry stored.
+    General,
+    /// a_ji = a_ij; one triangle stored.
+    Symmetric,
+    /// a_ji = −a_ij, zero diagonal; the strict lower triangle stored.
+    SkewSymmetric,
+}
+
+impl Symmetry {
+    fn word(self) -> &'static str {
+        match self {
+            Symmetry::General => "general",
+            Symmetry::Symmetric => "symmetric",
+            Symmetry::SkewSymmetric => "skew-symmetric",
+        }
+    }
+}
+
+/// A matrix read from a Matrix Market file.
+#[derive(Debug, Clone)]
+pub struct MarketMatrix {
+    /// The dense matrix.
+    pub matrix: DMatrix<f64>,
+    /// The symmetry the header declares.
+    pub symmetry: Symmetry,
+    /// The `% units: …` comment, with the line it is on, if the file has one.
+    pub units: Option<(String, usize)>,
+}
+
+/// The largest dimension read into a dense matrix (the dense eigen-solvers' range).
+pub const MAX_DIM: usize = 20_000;
+
+/// Reads a square Matrix Market coordinate file (module doc).
+pub fn read(path: &Path) -> Result<MarketMatrix, InputError> {
+    let text = read_text(path)
+        .map_err(|e| InputError::new(path, format!("cannot read the matrix file: {e}")))?;
+    parse(path, &text)
+}
+
+/// Parses Matrix Market text; `path` names it in errors.
+pub fn parse(path: &Path, text: &str) -> Result<MarketMatrix, InputError> {
+    let err = |line: usize, reason: String| InputError::new(path, reason).at_line(line);
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
+    let (_, header) = lines
+        .next()
+        .ok_or_else(|| InputError::new(path, "empty file: expected a %%MatrixMarket header"))?;
+    let words: Vec<String> = header
+        .split_whitespace()
+        .map(|w| w.to_ascii_lowercase())
+        .collect();
+    if words.len() != 5 || words[0] != "%%matrixmarket" || words[1] != "matrix" {
+        return Err(err(
+            1,
+            format!("expected `%%MatrixMarket matrix coordinate real symmetric`, got `{header}`"),
+        ));
+    }
+    if words[2] != "coordinate" {
+        return Err(err(
+            1,
+            format!("format `{}`: only `coordinate` is read", words[2]),
+        ));
+    }
+    if words[3] != "real" && words[3] != "integer" {
+        return Err(err(
+            1,
+            format!("field `{}`: only `real` or `integer` is read", words[3]),
+        ));
+    }
+    let symmetry = match words[4].as_str() {
+        "general" => Symmetry::General,
+        "symmetric" => Symmetry::Symmetric,
+        "skew-symmetric" => Symmetry::SkewSymmetric,
+        w => {
+            return Err(err(
+                1,
+                format!("symmetry `{w}`: expected general, symmetric or skew-symmetric"),
+            ))
+        }
+    };
+    let mut units = None;
+    let mut size = None;
+    let mut last_line = 1;
+    for (no, l) in lines.by_ref() {
+        last_line = no;
+        if let Some(c) = l.strip_prefix('%') {
+            if let Some(u) = c.trim().strip_prefix("units:") {
+                units = Some((u.trim().to_string(), no));
+            }
+            continue;
+        }
+        if l.is_empty() {
+            continue;
+        }
+        let v: Vec<&str> = l.split_whitespace().collect();
+        let nums: Option<Vec<usize>> = v.iter().map(|x| x.parse().ok()).collect();
+        match nums.as_deref() {
+            Some(&[r, c, nnz]) => {
+                if r != c {
+                    return Err(err(
+                        no,
+                        format!("a {r} × {c} matrix: only square ones are read"),
+                    ));
+                }
+                if r == 0 || r > MAX_DIM {
+                    return Err(err(
+                        no,
+                        format!("dimension {r}: must lie in [1, {MAX_DIM}]"),
+                    ));
+                }
+                size = Some((r, nnz, no));
+                break;
+            }
+            _ => {
+                return Err(err(
+                    no,
+                    format!("expected the size line `rows cols entries`, got `{l}`"),
+                ))
+            }
+        }
+    }
+    let (n, nnz, size_line) = size.ok_or_else(|| {
+        err(
+            last_line,
+            "no size line `rows cols entries`: truncated file".into(),
+        )
+    })?;
+    let mut a = DMatrix::zeros(n, n);
+    let mut seen = DMatrix::<u8>::zeros(n, n);
+    let mut count = 0usize;
+    let mut triangle: Option<(bool, usize)> = None;
+    for (no, l) in lines {
+        last_line = no;
+        if l.is_empty() || l.starts_with('%') {
+            continue;
+        }
+        if count == nnz {
+            return Err(err(
+                no,
+                format!("more entries than the {nnz} the size line (line {size_line}) announces"),
+            ));
+        }
+        let v: Vec<&str> = l.split_whitespace().collect();
+        if v.len() != 3 {
+            return Err(err(
+                no,
+                format!("expected an entry `row col value`, got `{l}`"),
+            ));
+        }
+        let index = |s: &str| s.parse::<usize>().ok().filter(|&i| (1..=n).contains(&i));
+        let (Some(i), Some(j)) = (index(v[0]), index(v[1])) else {
+            return Err(err(
+                no,
+                format!(
+                    "entry ({}, {}) lies outside the {n} × {n} matrix (indices are 1-based)",
+                    v[0], v[1]
+                ),
+            ));
+        };
+        let x: f64 = v[2]
+            .parse()
+            .ok()
+            .filter(|x: &f64| x.is_finite())
+            .ok_or_else(|| {
+                err(
+                    no,
+                    format!(
+                        "value `{}` of entry ({i}, {j}) is not a finite number",
+                        v[2]
+                    ),
+                )
+            })?;
+        let (i, j) = (i - 1, j - 1);
+        match symmetry {
+            Symmetry::General => {}
+            Symmetry::Symmetric => {
+                let lower = i >= j;
+                if i != j {
+                    match triangle {
+                        None => triangle = Some((lower, no)),
+                        Some((t, first)) if t != lower => {
+                            return Err(err(
+                                no,
+                                format!(
+                                    "entry ({}, {}) lies in the other triangle than line {first}'s: a symmetric file stores one triangle",
+                                    i + 1,
+                                    j + 1
+                                ),
+                            ))
+                        }
+                        Some(_) => {}
+                    }
+                }
+            }
+            Symmetry::SkewSymmetric => {
+                if i <= j {
+                    return Err(err(
+                        no,
+                        format!("entry ({}, {}): a skew-symmetric file stores the strict lower triangle", i + 1, j + 1),
+                    ));
+                }
+            }
+        }
+        if seen[(i, j)] != 0 {
+            return Err(err(
+                no,
+                format!("entry ({}, {}) is given twice", i + 1, j + 1),
+            ));
+        }
+        seen[(i, j)] = 1;
+        a[(i, j)] = x;
+        match symmetry {
+            Symmetry::General => {}
+            Symmetry::Symmetric => a[(j, i)] = x,
+            Symmetry::SkewSymmetric => a[(j, i)] = -x,
+        }
+        count += 1;
+    }
+    if count < nnz {
+        return Err(err(
+            last_line,
+            format!(
+                "the size line (line {size_line}) announces {nnz} entries, the file ends after {count}: truncated file"
+            ),
+        ));
+    }
+    Ok(MarketMatrix {
+        matrix: a,
+        symmetry,
+        units,
+    })
+}
+
+/// The Matrix Market text of `a` with the given `symmetry` (a symmetric matrix as its lower
+/// triangle, a skew one as its strict lower triangle, zeros left out), `units` as a
+/// `% units:` comment and `comment` as further comment lines.
+pub fn format(a: &DMatrix<f64>, symmetry: Symmetry, units: &str, comment: &str) -> String {
+    let n = a.nrows();
+    let mut entries = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let keep = match symmetry {
+                Symmetry::General => true,
+                Symmetry::Symmetric => i >= j,
+                Symmetry::SkewSymmetric => i > j,
+            };
+            if keep && a[(i, j)] != 0.0 {
+                entries.push((i, j, a[(i, j)]));
+            }
+        }
+    }
+    let mut s = format!(
+        "%%MatrixMarket matrix coordinate real {}\n% units: {units}\n",
+        symmetry.word()
+    );
+    for c in comment.lines() {
+        let _ = writeln!(s, "% {c}");
+    }
+    let _ = writeln!(s, "{n} {n} {}", entries.len());
+    for (i, j, x) in entries {
+        let _ = writeln!(s, "{} {} {x:e}", i + 1, j + 1);
+    }
+    s
+}

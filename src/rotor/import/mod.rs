@@ -1,0 +1,17 @@
+//! Import of FE bodies from other codes: the matrices of a full or reduced model with its node
+//! and DOF tables, read, checked and turned into the rotor's body-frame matrices.
+//!
+//! In: Matrix Market coordinate files ([`matrix_market`], also written for export) with a node
+//! and a DOF table ([`tables`]), or Abaqus `*MATRIX OUTPUT, FORMAT=COORDINATE` files
+//! ([`abaqus`]), in SI or mm-t-s units. Out: an [`ImportedBody`](body::ImportedBody) in SI and
+//! the rotor's DOF order, with its inertia invariants ([`invariants`]); or an
+//! [`InputError`](crate::error::InputError) naming the file and the line or entry.
+//! Method: dense matrices (the reduction's dense eigen-solvers bound a body to
+//! [`MAX_FE_NODES`](crate::scene::MAX_FE_NODES) nodes), checked for symmetry, size, nodes,
+//! positive-definite mass and units ([`body`]).
+
+pub mod abaqus;
+pub mod body;
+pub mod invariants;
+pub mod matrix_market;
+pub mod tables;

@@ -1,0 +1,128 @@
+//! The FE body builder: `[fe]` → a rotor that is an FE body imported from files, with its
+//! named nodes and sensors given by node id.
+//!
+//! In: the `[fe]` table: the matrices' `format` (`matrix-market` or `abaqus`), the files
+//! `mass`, `stiffness`, `nodes`, `dofs` (Matrix Market) and optionally the `[fe.rotating]`
+//! terms, paths relative to the scene file; `units` (`SI` or `mm-t-s`); `named` nodes (name →
+//! node id) and `sensors` (names among them). Out: a [`Geometry`] whose rotor spec has no
+//! segments, only the named points at their nodes' z [m], and the [`ImportedBody`]; no
+//! default boundary (the supports' nodes are); or an [`InputError`] at the key, or naming the
+//! body's file and line ([`crate::rotor::import::body`]).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use serde::Deserialize;
+
+use super::built::Geometry;
+use crate::error::InputError;
+use crate::rotor::fe::RotorSpec;
+use crate::rotor::import::body::{self, BodyFiles, Format, ImportedBody, RotatingFiles};
+use crate::rotor::import::tables::Units;
+use crate::scene::check::Check;
+
+/// `[fe]` as written.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct FeFile {
+    #[serde(default = "matrix_market")]
+    pub format: String,
+    pub mass: String,
+    pub stiffness: String,
+    pub nodes: String,
+    pub dofs: Option<String>,
+    pub units: String,
+    pub rotating: Option<FeRotatingFile>,
+    pub named: BTreeMap<String, i64>,
+    #[serde(default)]
+    pub sensors: Vec<String>,
+}
+
+/// `[fe.rotating]` as written.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct FeRotatingFile {
+    pub coriolis: String,
+    pub spin_softening: String,
+    pub angular_acceleration: String,
+    pub gyroscopic: String,
+    pub loads: String,
+}
+
+fn matrix_market() -> String {
+    "matrix-market".to_string()
+}
+
+/// The body of `[fe]` (module doc).
+pub(crate) fn build_fe(c: &Check, fe: &FeFile) -> Result<Geometry, InputError> {
+    let dir = c.file.parent().unwrap_or(Path::new("."));
+    let path = |p: &str| -> PathBuf { dir.join(p) };
+    let format = match fe.format.as_str() {
+        "matrix-market" => Format::MatrixMarket,
+        "abaqus" => Format::Abaqus,
+        f => {
+            return Err(c.err(
+                "fe.format",
+                format!("`{f}`: expected `matrix-market` or `abaqus`"),
+            ))
+        }
+    };
+    if format == Format::MatrixMarket && fe.dofs.is_none() {
+        return Err(c.err("fe.dofs", "a Matrix Market body needs its DOF table"));
+    }
+    let units = Units::parse(&fe.units).map_err(|r| c.err("fe.units", r))?;
+    let files = BodyFiles {
+        format,
+        mass: path(&fe.mass),
+        stiffness: path(&fe.stiffness),
+        nodes: path(&fe.nodes),
+        dofs: fe.dofs.as_deref().map(path),
+        units,
+        rotating: fe.rotating.as_ref().map(|r| RotatingFiles {
+            coriolis: path(&r.coriolis),
+            spin_softening: path(&r.spin_softening),
+            angular_acceleration: path(&r.angular_acceleration),
+            gyroscopic: path(&r.gyroscopic),
+            loads: path(&r.loads),
+        }),
+    };
+    let mut body: ImportedBody = body::load(&files)?;
+    let mut named_points = Vec::new();
+    for (name, id) in &fe.named {
+        let key = format!("fe.named.{name}");
+        crate::error::safe_name(name).map_err(|r| c.err(&key, r))?;
+        let at = body.node_ids.iter().position(|n| n == id).ok_or_else(|| {
+            c.err(
+                &key,
+                format!("node {id} does not exist in {}", files.nodes.display()),
+            )
+        })?;
+        named_points.push((name.clone(), body.node_z[at]));
+        body.named.insert(name.clone(), at);
+    }
+    let mut sensors = Vec::new();
+    for (i, s) in fe.sensors.iter().enumerate() {
+        if !fe.named.contains_key(s) {
+            return Err(c.err(
+                &format!("fe.sensors[{i}]"),
+                format!("`{s}` is not a node named in fe.named"),
+            ));
+        }
+        sensors.push(s.clone());
+    }
+    Ok(Geometry {
+        rotor: RotorSpec {
+            z_start: body.node_z[0],
+            segments: Vec::new(),
+            disks: Vec::new(),
+            point_masses: Vec::new(),
+            named_points,
+            balancing: None,
+        },
+        thickness_map: None,
+        sensors,
+        boundary: Vec::new(),
+        body: Some(Arc::new(body)),
+    })
+}

@@ -1,0 +1,124 @@
+//! `export --state-space`: the linear plant's frequency response at the spin speed equals the
+//! unbalance response of `linear` (`linear::response`) at that speed, ≤ 1e-6 relative; and the
+//! command line writes the model folder and the plant files.
+
+use nalgebra::{Complex, DMatrix};
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::export::plant::plant;
+use rotorsweep::linear::response::sensor_response;
+use rotorsweep::linear::scene_system::scene_system;
+
+use crate::support::{repo, rotorsweep_ok, scratch};
+
+type C64 = Complex<f64>;
+
+/// H(s) = C (sI − A)⁻¹ B + D at s = iω.
+fn frequency_response(p: &rotorsweep::export::plant::Plant, w: f64) -> DMatrix<C64> {
+    let n = p.a.nrows();
+    let z = DMatrix::from_fn(n, n, |i, j| {
+        C64::new(-p.a[(i, j)], if i == j { w } else { 0.0 })
+    });
+    let b = p.b.map(|x| C64::new(x, 0.0));
+    let x = z.lu().solve(&b).expect("iω is no eigenvalue of A");
+    p.c.map(|x| C64::new(x, 0.0)) * x + p.d.map(|x| C64::new(x, 0.0))
+}
+
+#[test]
+fn plant_frequency_response_is_the_unbalance_response() {
+    let path = repo().join("studies/scenes/reference-roll.toml");
+    let (scene, model) = Model::load(&path, &[], None).unwrap();
+    let sys = scene_system(&scene, &model).unwrap();
+    for hz in [8.0, 20.0] {
+        let w = hz * std::f64::consts::TAU;
+        let p = plant(&sys, w).unwrap();
+        let h = frequency_response(&p, w);
+        let col = |name: &str| p.inputs.iter().position(|i| i == name).unwrap();
+        let (c, s) = (col("unbalance/cos"), col("unbalance/sin"));
+        let expect = sensor_response(&sys, w, &sys.unbalance).unwrap();
+        for ((name, _), r) in sys.sensors.iter().zip(&expect) {
+            for (dir, want) in [("x", r.horizontal), ("y", r.vertical)] {
+                let row = p
+                    .outputs
+                    .iter()
+                    .position(|o| *o == format!("{name}/displacement_{dir}"))
+                    .unwrap();
+                let got = (h[(row, c)] - C64::new(0.0, 1.0) * h[(row, s)]) * (w * w);
+                assert!(
+                    (got - want).norm() <= 1e-6 * want.norm(),
+                    "{name} {dir} at {hz} Hz: {got} vs {want}"
+                );
+                // Velocity and acceleration are iω and −ω² times it.
+                let v = p
+                    .outputs
+                    .iter()
+                    .position(|o| *o == format!("{name}/velocity_{dir}"))
+                    .unwrap();
+                let gv = (h[(v, c)] - C64::new(0.0, 1.0) * h[(v, s)]) * (w * w);
+                assert!((gv - C64::new(0.0, w) * want).norm() <= 1e-6 * w * want.norm());
+                let a = p
+                    .outputs
+                    .iter()
+                    .position(|o| *o == format!("{name}/acceleration_{dir}"))
+                    .unwrap();
+                let ga = (h[(a, c)] - C64::new(0.0, 1.0) * h[(a, s)]) * (w * w);
+                assert!((ga + w * w * want).norm() <= 1e-6 * w * w * want.norm());
+            }
+        }
+    }
+}
+
+#[test]
+fn export_command_writes_the_model_folder_and_the_plant_files() {
+    let dir = scratch("export-cli");
+    let scene = repo().join("studies/scenes/jeffcott.toml");
+    let s = scene.to_str().unwrap();
+    let out = dir.join("body");
+    rotorsweep_ok(&["export", s, "--model", "full", "-o", out.to_str().unwrap()]);
+    for f in [
+        "mass.mtx",
+        "stiffness.mtx",
+        "nodes.csv",
+        "dofs.csv",
+        "loads.csv",
+        "model.h5",
+        "scene.toml",
+    ] {
+        assert!(out.join(f).is_file(), "{f} written");
+    }
+    let red = dir.join("reduced");
+    rotorsweep_ok(&[
+        "export",
+        s,
+        "--model",
+        "reduced",
+        "-o",
+        red.to_str().unwrap(),
+    ]);
+    assert!(red.join("model.h5").is_file() && red.join("stiffness.mtx").is_file());
+    let back = rotorsweep_ok(&["modes", out.join("scene.toml").to_str().unwrap(), "--json"]);
+    let orig = rotorsweep_ok(&["modes", s, "--json"]);
+    let v = |b: &[u8]| {
+        serde_json::from_slice::<serde_json::Value>(b).unwrap()["supported_hz"]["vertical"][0]
+            .as_f64()
+            .unwrap()
+    };
+    assert!((v(&back) - v(&orig)).abs() <= 1e-8 * v(&orig));
+    for f in ["plant.h5", "plant.npz"] {
+        let p = dir.join(f);
+        rotorsweep_ok(&[
+            "export",
+            s,
+            "--state-space",
+            "--speed-hz",
+            "10",
+            "-o",
+            p.to_str().unwrap(),
+        ]);
+        assert!(p.is_file());
+    }
+    let file = hdf5::File::open(dir.join("plant.h5")).unwrap();
+    let a = file.dataset("A").unwrap();
+    let b = file.dataset("B").unwrap();
+    assert_eq!(a.shape()[0], a.shape()[1]);
+    assert_eq!(b.shape()[0], a.shape()[0]);
+}
