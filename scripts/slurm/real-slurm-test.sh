@@ -197,12 +197,14 @@ wait_for 30 node_idle || fail "the node is not idle: $(sinfo 2>&1) (logs: $base/
 say "cluster up in $(elapsed "$t_start") s: $(sinfo -h -o '%P %D %T %c CPUs %m MB' 2>&1)"
 
 # 3. The study, unsharded.
+# 15 s simulated per job: a shard (9 jobs) runs for a few seconds, so it saves several batches
+# (a batch holds at most a second of finished runs) and a requeue finds part of them saved.
 study="$base/study.toml"
 sed -e "s|^scene = .*|scene = \"$root/studies/scenes/reference-roll.toml\"|" \
-  -e 's|^"simulation.t_end_s" = .*|"simulation.t_end_s" = 3.0|' \
+  -e 's|^"simulation.t_end_s" = .*|"simulation.t_end_s" = 15.0|' \
   -e 's|^values = \[12.0, 14.0, 16.0, 16.4\]|values = [10.0, 12.0, 14.0, 16.0, 16.4, 18.0]|' \
   "$root/studies/smoke.toml" >"$study"
-{ grep -q '^"simulation.t_end_s" = 3.0' "$study" && grep -q '18.0]' "$study"; } ||
+{ grep -q '^"simulation.t_end_s" = 15.0' "$study" && grep -q '18.0]' "$study"; } ||
   fail "studies/smoke.toml changed: the test's edits of it no longer apply"
 jobs=$("$real_bin" plan "$study" | sed -n -E '1s/^study .*: ([0-9]+) jobs$/\1/p')
 [ "$jobs" = 18 ] || fail "the test study has $jobs jobs, not 18"
