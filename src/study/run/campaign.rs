@@ -95,7 +95,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     let resumed = jobs.iter().filter(|j| done.contains_key(&j.id)).count();
     work.retain(|w| !done.contains_key(&w.id));
     let total = work.len();
-    let progress = Progress::new(
+    let mut progress = Progress::new(
         total as u64,
         log,
         &format!(
@@ -107,9 +107,15 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     );
     let in_shared = shared_linear_ids(shared.as_ref())?;
     let systems_to_compute = linear::distinct(&linear_jobs, &in_shared);
-    let ran = run_all(&pool, &work, &models, &dir, &identity, &progress, || {
-        linear::compute_all(&study.linear, &systems_to_compute, &models)
-    });
+    let ran = run_all(
+        &pool,
+        &work,
+        &models,
+        &dir,
+        &identity,
+        &mut progress,
+        || linear::compute_all(&study.linear, &systems_to_compute, &models),
+    );
     progress.finish();
     if let Some(e) = ran.error {
         progress.assembled(

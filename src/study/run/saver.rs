@@ -1,15 +1,20 @@
-//! The saving thread's batches: finished runs gathered and written to one part file at a time.
+//! The saving side of a run: finished runs gathered into batches, and batches written to one
+//! part file at a time on a writer thread, so the runs go on while a batch is written.
 //!
 //! In: finished runs as the workers hand them over (their index in the work list and result).
 //! Out: the part files (`parts::save_batch`), where each run is saved, one progress line per
 //! run when its batch is written (ok, or NOT SAVED with the cause: nothing unsaved is reported
-//! ok), and the first failed save. A batch is written when it holds `parts::BATCH_RUNS` runs or
-//! `parts::BATCH_SAMPLES` samples, when `parts::BATCH_SECONDS` have passed since its first
-//! run arrived ([`Saver::due_in`] says how long the thread may wait for the next run), and at
-//! the end. Memory: at most one batch of results.
+//! ok), and the first failed save, which raises the run's stop flag. [`Saver`] gathers a batch
+//! and hands it to [`write_batches`] when it holds `parts::BATCH_RUNS` runs or
+//! `parts::BATCH_SAMPLES` samples, when `parts::BATCH_SECONDS` have passed since its first run
+//! arrived ([`Saver::due_in`] says how long the thread may wait for the next run), and at the
+//! end. Memory: the batch being written and the one being gathered (the hand-over waits while
+//! the writer is busy).
 
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, SyncSender};
 use std::time::{Duration, Instant};
 
 use super::error::CampaignError;
@@ -19,38 +24,27 @@ use crate::dynamics::simulation::JobResult;
 use crate::study::identity::Identity;
 use crate::study::progress::Progress;
 
-/// The batch being gathered and what the saves so far left (module doc).
+/// A batch: the runs' indices in the work list and what each left.
+pub(super) type Batch<'a> = Vec<(usize, Finished<'a>)>;
+
+/// The batch being gathered (module doc).
 pub(super) struct Saver<'a> {
-    dir: &'a Path,
-    identity: &'a Identity,
-    progress: &'a Progress,
     work: &'a [Work<'a>],
-    batch: Vec<(usize, Finished<'a>)>,
+    batch: Batch<'a>,
     samples: usize,
     since: Option<Instant>,
-    /// Where each run of this run is saved.
-    pub(super) saved: BTreeMap<String, Saved>,
-    /// The first failed save.
-    pub(super) error: Option<CampaignError>,
+    writer: SyncSender<Batch<'a>>,
 }
 
 impl<'a> Saver<'a> {
-    pub(super) fn new(
-        dir: &'a Path,
-        identity: &'a Identity,
-        progress: &'a Progress,
-        work: &'a [Work<'a>],
-    ) -> Self {
+    /// Gathers runs of `work` and hands each batch to `writer` ([`write_batches`]).
+    pub(super) fn new(work: &'a [Work<'a>], writer: SyncSender<Batch<'a>>) -> Self {
         Saver {
-            dir,
-            identity,
-            progress,
             work,
             batch: Vec::new(),
             samples: 0,
             since: None,
-            saved: BTreeMap::new(),
-            error: None,
+            writer,
         }
     }
 
@@ -60,7 +54,7 @@ impl<'a> Saver<'a> {
             .map(|t| Duration::from_secs_f64(BATCH_SECONDS).saturating_sub(t.elapsed()))
     }
 
-    /// Adds the finished run `i` of the work list; writes the batch when it is full.
+    /// Adds the finished run `i` of the work list; hands the batch over when it is full.
     pub(super) fn add(&mut self, i: usize, result: JobResult) {
         let w = &self.work[i];
         self.samples += result.time.len() * (result.channels.len() + 1);
@@ -79,20 +73,46 @@ impl<'a> Saver<'a> {
         }
     }
 
-    /// Writes the batch (if any) and reports each of its runs.
+    /// Hands the batch (if any) to the writer, waiting while it writes the one before.
     pub(super) fn flush(&mut self) {
         if self.batch.is_empty() {
             return;
         }
-        let batch = std::mem::take(&mut self.batch);
         self.samples = 0;
         self.since = None;
+        // The writer lives until this sender is dropped (it ends only by a panic, which the
+        // run's scope passes on).
+        let _ = self.writer.send(std::mem::take(&mut self.batch));
+    }
+}
+
+/// What the writer leaves: where each run is saved, and the first failed save.
+pub(super) struct Written {
+    pub(super) saved: BTreeMap<String, Saved>,
+    pub(super) error: Option<CampaignError>,
+}
+
+/// Writes each batch from `batches` to its part file in `dir` and reports each of its runs
+/// (module doc); the first failed save raises `stop`. Ends when the [`Saver`] is dropped.
+pub(super) fn write_batches(
+    batches: Receiver<Batch>,
+    dir: &Path,
+    identity: &Identity,
+    progress: &mut Progress,
+    work: &[Work],
+    stop: &AtomicBool,
+) -> Written {
+    let mut out = Written {
+        saved: BTreeMap::new(),
+        error: None,
+    };
+    for batch in batches {
         let (index, runs): (Vec<usize>, Vec<Finished>) = batch.into_iter().unzip();
-        let written = save_batch(self.dir, &runs, self.identity);
+        let written = save_batch(dir, &runs, identity);
         for (i, r) in index.iter().zip(&runs) {
-            self.progress.job_done(
+            progress.job_done(
                 r.id,
-                &self.work[*i].name,
+                &work[*i].name,
                 &r.result.stats,
                 written.as_ref().err().map(|e| e as &dyn std::fmt::Display),
             );
@@ -100,12 +120,14 @@ impl<'a> Saver<'a> {
         match written {
             Ok(places) => {
                 for (r, place) in runs.iter().zip(places) {
-                    self.saved.insert(r.id.to_string(), place);
+                    out.saved.insert(r.id.to_string(), place);
                 }
             }
             Err(e) => {
-                self.error.get_or_insert(e);
+                stop.store(true, Ordering::SeqCst);
+                out.error.get_or_insert(e);
             }
         }
     }
+    out
 }

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use super::error::CampaignError;
 use super::models::Models;
 use super::parts::{saved_parts, Saved};
-use super::saver::Saver;
+use super::saver::{write_batches, Batch, Saver};
 use super::work::Work;
 use crate::dynamics::simulation::JobResult;
 use crate::study::identity::Identity;
@@ -41,17 +41,17 @@ pub(super) fn run_all<T: Send>(
     models: &Models,
     dir: &Path,
     identity: &Identity,
-    progress: &Progress,
+    progress: &mut Progress,
     beside: impl FnOnce() -> T + Send,
 ) -> Ran<T> {
     // A rendezvous channel: a worker hands its result over only when this thread takes it, so
-    // finished runs never pile up in memory beyond one batch while saves are slower than the
+    // finished runs never pile up in memory beyond the batches while saves are slower than the
     // runs, and after a failed save each worker has started at most the run it is handing over.
     let (tx, rx) = mpsc::sync_channel::<(usize, JobResult)>(0);
-    let mut saver = Saver::new(dir, identity, progress, work);
+    let (to_writer, batches) = mpsc::sync_channel::<Batch>(0);
     // Set at the first failed save: no new job starts; running ones finish.
     let stop = AtomicBool::new(false);
-    let beside = std::thread::scope(|scope| {
+    let (beside, written) = std::thread::scope(|scope| {
         let stop_ref = &stop;
         // Its tasks share the pool's threads with the jobs' (work stealing).
         let beside = scope.spawn(|| pool.install(beside));
@@ -67,6 +67,9 @@ pub(super) fn run_all<T: Send>(
                 });
             });
         });
+        let writer =
+            scope.spawn(move || write_batches(batches, dir, identity, progress, work, stop_ref));
+        let mut saver = Saver::new(work, to_writer);
         loop {
             let next = match saver.due_in() {
                 None => rx.recv().map_err(|_| RecvTimeoutError::Disconnected),
@@ -80,19 +83,23 @@ pub(super) fn run_all<T: Send>(
                     break;
                 }
             }
-            if saver.error.is_some() {
-                stop.store(true, Ordering::SeqCst);
-            }
         }
-        match beside.join() {
-            Ok(t) => t,
-            Err(panic) => std::panic::resume_unwind(panic),
-        }
+        // The writer ends when the saver's sender is gone.
+        drop(saver);
+        (joined(beside), joined(writer))
     });
     Ran {
-        saved: saver.saved,
-        error: saver.error,
+        saved: written.saved,
+        error: written.error,
         beside,
+    }
+}
+
+/// A scoped thread's value, its panic passed on.
+fn joined<T>(h: std::thread::ScopedJoinHandle<'_, T>) -> T {
+    match h.join() {
+        Ok(t) => t,
+        Err(panic) => std::panic::resume_unwind(panic),
     }
 }
 
