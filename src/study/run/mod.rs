@@ -1,5 +1,5 @@
-//! Running a study: shared models, pruning pilots, reference runs and jobs on a thread pool, each
-//! finished job saved at once, then one HDF5 file assembled.
+//! Running a study: shared models, pruning pilots, reference runs and jobs on a thread pool,
+//! finished jobs saved in batches within a second, then one HDF5 file assembled.
 //!
 //! In: a [`Study`](crate::study::Study) and [`RunOptions`] (output path, threads, resume, shard, overwrite).
 //! Out: `OUT.h5` in the layout of `store` plus `/models/<id>`, `/references/<id>` and the
@@ -10,9 +10,10 @@
 //!   existing output is replaced only with `overwrite`, and only if it is a rotorsweep results
 //!   file; the new file is renamed over it when complete.
 //! - Finished jobs are first written, in batches, to part files `OUT.h5.parts/batch-….h5` (under
-//!   a temporary name, then renamed; at least once a second), so a `kill -9` at any moment
-//!   loses only the jobs that were running or finished in the last second. Each part file carries the study's digest ([`Identity`](crate::study::identity::Identity)); `resume` reuses a saved
-//!   job only when its id and digest match the current study and runs every other job.
+//!   a temporary name, then renamed; at least once a second, on a writer thread), so a `kill -9`
+//!   at any moment loses only the jobs that were running or finished in the last second. Each
+//!   part file carries the study's digest ([`Identity`](crate::study::identity::Identity));
+//!   `resume` reuses a saved job only when its id and digest match the current study and runs every other job.
 //! - An assembled output is resumed only when its digest and shard match (then there is
 //!   nothing to do); one made from other inputs is refused, naming what changed.
 //! - The first failed save (disk full, read-only folder, I/O error) stops scheduling new jobs;
@@ -36,8 +37,8 @@
 //! `error` (why a run stops), `campaign` ([`run`], step by step), `parts` (the saved runs),
 //! `references` (the shared references file, errors against reference runs), `models`
 //! (models, pruning pilots, one run on its model), `linear` (the study's linearised systems,
-//! beside the jobs), `schedule` (the work list on the pool), `saver` (the batches of finished runs),
-//! `assemble` (the results file). Merging shard files is `study::merge`.
+//! beside the jobs), `work` (the work list), `schedule` (the work list on the pool), `saver`
+//! (the batches of finished runs and their writer), `assemble` (the results file). Merging shard files is `study::merge`.
 
 mod assemble;
 mod campaign;
