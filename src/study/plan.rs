@@ -5,7 +5,12 @@
 //! - CPU [s]: per run (every job, and every reference run when the study has a `[reference]`
 //!   section) steps × (1.5 µs + 1.5 ns × n²), n the coordinates (modal coordinates plus two
 //!   per support), from the timing case (45 coordinates, 100 000 steps, 0.46 s); the steps are
-//!   t_end / hmax, for explicit rk45 at least its stability limit 3/ω_max with f_max 6 kHz;
+//!   t_end / hmax, for explicit rk45 at least its stability limit 3/ω_max with f_max 6 kHz. A
+//!   machine of several rolls costs the sum of its rolls' steps plus 0.16 µs per step and nip
+//!   segment (measured: two rolls of 30n+12st, 10 s simulated in 100 100 steps, 0.62 / 0.83 /
+//!   1.12 / 1.78 s at 10 / 20 / 40 / 80 segments, 16 ms per segment; the rolls are coupled only
+//!   through the nip forces, so their steps add up rather than growing with the square of all
+//!   the coordinates);
 //! - disk [B]: every run's record, samples × (channels + time) × 8 B, before compression;
 //! - memory [B]: per thread the largest record or model build (about 90 B per DOF², dense FE
 //!   matrices and eigen-solutions: 0.74 GB measured at 2958 DOFs), times the threads, plus
@@ -110,16 +115,31 @@ impl Plan {
     }
 }
 
+/// CPU per step and nip segment of a machine [s] (module doc).
+const SEGMENT_STEP_S: f64 = 0.16e-6;
+
 /// Rough CPU seconds of one run (module doc).
 fn run_cpu_s(scene: &Scene) -> f64 {
-    let coords = scene.modal_coordinates() + 2 * scene.supports.len();
     let s = &scene.solver;
     let t = scene.simulation.t_end;
     let steps = match s.integrator {
         IntegratorKind::Rk45 => (t / s.hmax).max(t * 2.0 * std::f64::consts::PI * F_MAX_HZ / 3.0),
         _ => t / s.hmax,
     };
-    steps * (1.5e-6 + 1.5e-9 * (coords * coords) as f64)
+    let per_step = match &scene.machine {
+        Some(m) => {
+            let segments: usize = m.nips.iter().map(|n| n.z.len()).sum();
+            m.rolls.iter().map(|r| step_s(&r.scene)).sum::<f64>() + SEGMENT_STEP_S * segments as f64
+        }
+        None => step_s(scene),
+    };
+    steps * per_step
+}
+
+/// CPU of one step of one body [s] (module doc).
+fn step_s(scene: &Scene) -> f64 {
+    let coords = scene.modal_coordinates() + 2 * scene.supports.len();
+    1.5e-6 + 1.5e-9 * (coords * coords) as f64
 }
 
 /// A run's record: samples × (channels + time) × 8 B.
