@@ -32,14 +32,14 @@ pub(crate) struct OrderRow {
 /// A row of `/analysis/order_resonances`.
 #[derive(hdf5::H5Type, Clone)]
 #[repr(C)]
-struct PeakRow {
-    job_id: VarLenUnicode,
-    sensor: VarLenUnicode,
-    direction: VarLenUnicode,
-    order: f64,
-    rank: u64,
-    speed_hz: f64,
-    amplitude_um: f64,
+pub(crate) struct PeakRow {
+    pub(crate) job_id: VarLenUnicode,
+    pub(crate) sensor: VarLenUnicode,
+    pub(crate) direction: VarLenUnicode,
+    pub(crate) order: f64,
+    pub(crate) rank: u64,
+    pub(crate) speed_hz: f64,
+    pub(crate) amplitude_um: f64,
 }
 
 fn text(s: &VarLenUnicode) -> Cell {

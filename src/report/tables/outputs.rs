@@ -16,7 +16,7 @@ use std::collections::BTreeMap;
 use hdf5::types::VarLenUnicode;
 use hdf5::File;
 
-use super::orders::records;
+use super::orders::{records, PeakRow};
 use crate::store;
 use crate::text::number_text;
 
@@ -31,19 +31,6 @@ struct LineRow {
     freq_hz: f64,
     amplitude_um: f64,
     phase_deg: f64,
-}
-
-/// A row of `/analysis/order_resonances`.
-#[derive(hdf5::H5Type, Clone)]
-#[repr(C)]
-struct PeakRow {
-    job_id: VarLenUnicode,
-    sensor: VarLenUnicode,
-    direction: VarLenUnicode,
-    order: f64,
-    rank: u64,
-    speed_hz: f64,
-    amplitude_um: f64,
 }
 
 /// Every output by name (module doc): one value per job of `job_ids`, NaN where none.
