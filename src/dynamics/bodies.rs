@@ -25,6 +25,7 @@ use super::model::Model;
 use super::nip::{band_width, law_force, NipSys, RollView, SegmentState};
 use super::system::RollSystem;
 use crate::integrators::{integrate, SecondOrder, StepView};
+use crate::numerics::newton;
 use crate::scene::{Machine, NipLaw};
 
 /// A roll of the coupled system: its system, where its coordinates start, and the constant
@@ -210,26 +211,19 @@ impl MachineSystem {
 
     /// Static equilibrium at standstill from `q0` (module doc).
     fn static_equilibrium(&self, q0: DVector<f64>) -> Result<DVector<f64>, String> {
-        let mut q = q0;
         let v = DVector::zeros(self.n);
         let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
-        let mut f = DVector::zeros(self.n);
-        let mut jac = DMatrix::zeros(self.n, self.n);
-        for _ in 0..200 {
-            self.force_with(&st, &q, &v, &mut f);
-            self.newton_with(&st, &q, &v, (0.0, 1.0, 0.0), true, &mut jac);
-            let dq = jac.clone().lu().solve(&f).ok_or(
-                "static equilibrium of the machine: singular stiffness (is every roll supported?)",
-            )?;
-            q += &dq;
-            let step = (dq.iter().zip(&self.weights))
-                .map(|(d, w)| (d * w).abs())
-                .fold(0.0, f64::max);
-            if step < 1e-13 {
-                return Ok(q);
-            }
-        }
-        Err("static equilibrium of the machine: Newton did not converge in 200 iterations".into())
+        let eval = |q: &DVector<f64>, f: &mut DVector<f64>, jac: &mut DMatrix<f64>| {
+            self.force_with(&st, q, &v, f);
+            self.newton_with(&st, q, &v, (0.0, 1.0, 0.0), true, jac);
+        };
+        newton::solve(
+            q0,
+            &self.weights,
+            eval,
+            "static equilibrium of the machine",
+            "is every roll supported?",
+        )
     }
 }
 

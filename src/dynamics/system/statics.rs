@@ -11,6 +11,7 @@ use nalgebra::{DMatrix, DVector, Matrix2};
 
 use super::roll_system::RollSystem;
 use super::supports::Law;
+use crate::numerics::newton;
 
 impl RollSystem {
     /// The body-frame velocity that keeps a deflected shape q at rest in the inertial frame when
@@ -34,37 +35,26 @@ impl RollSystem {
     /// Open contacts get the stiffness of a 1 µm penetration in the Newton matrix (not in F) so
     /// the iteration can close them.
     pub fn static_equilibrium(&self, q0: &DVector<f64>) -> Result<DVector<f64>, String> {
-        let mut q = q0.clone();
         let v = DVector::zeros(self.n);
-        let mut f = DVector::zeros(self.n);
-        let mut jac = DMatrix::zeros(self.n, self.n);
         let state = (0.0, 0.0, 0.0);
         let floor = self.contact_floor();
-        for _ in 0..200 {
-            self.force_at(state, &q, &v, &mut f);
-            self.newton_matrix_at(state, &q, &v, (0.0, 1.0, 0.0), &mut jac);
+        let eval = |q: &DVector<f64>, f: &mut DVector<f64>, jac: &mut DMatrix<f64>| {
+            self.force_at(state, q, &v, f);
+            self.newton_matrix_at(state, q, &v, (0.0, 1.0, 0.0), jac);
             for (sup, kf) in self.supports.iter().zip(&floor) {
                 if let (Law::Contact(_), Some(kf)) = (&sup.law, kf) {
                     let tq = sup.connection(self.n, self.nm, &sup.rows);
                     jac.gemm(1.0, &tq.transpose(), &(kf * &tq), 1.0);
                 }
             }
-            let dq =
-                jac.clone().lu().solve(&f).ok_or(
-                    "static equilibrium: singular stiffness (is every rigid mode supported?)",
-                )?;
-            q += &dq;
-            let step = dq
-                .iter()
-                .zip(&self.weights)
-                .map(|(d, w)| (d * w).abs())
-                .fold(0.0, f64::max);
-            if step < 1e-13 {
-                self.force_at(state, &q, &v, &mut f);
-                return Ok(q);
-            }
-        }
-        Err("static equilibrium: Newton did not converge in 200 iterations".into())
+        };
+        newton::solve(
+            q0.clone(),
+            &self.weights,
+            eval,
+            "static equilibrium",
+            "is every rigid mode supported?",
+        )
     }
 
     /// A small regularising contact stiffness per contact support (1 µm penetration, all rollers).
