@@ -1,7 +1,7 @@
 //! A results file written whole, the same way by `run` (its assembly), `merge` and
 //! `simulate -o`: its contents, then the analysis of its jobs, then `/summary`.
 //!
-//! In: the working path (`OUT.h5.tmp`), what a failed analysis costs ([`Analysis`]), and a
+//! In: the working path (`OUT.h5.tmp`) or the file open there ([`complete`]), what a failed analysis costs ([`Analysis`]), and a
 //! `body` that writes the root attributes (the provenance among them) and the groups, and
 //! returns the varying keys. Out: the file at the working path, analysed ([`analyse`]), with
 //! `/summary` over those keys ([`store::write_summary`]), flushed and closed, or the first
@@ -32,7 +32,16 @@ pub fn write_whole(
     analysis: Analysis,
     body: impl FnOnce(&hdf5::File) -> hdf5::Result<Vec<String>>,
 ) -> hdf5::Result<()> {
-    let f = hdf5::File::create(tmp)?;
+    complete(hdf5::File::create(tmp)?, analysis, body)
+}
+
+/// Writes the rest of a results file already open at its working path (`run`'s file, filled
+/// with its runs while they ran), as [`write_whole`] does.
+pub fn complete(
+    f: hdf5::File,
+    analysis: Analysis,
+    body: impl FnOnce(&hdf5::File) -> hdf5::Result<Vec<String>>,
+) -> hdf5::Result<()> {
     let varying = body(&f)?;
     match analysis {
         Analysis::Required => analyse(&f)?,

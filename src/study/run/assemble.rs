@@ -1,6 +1,7 @@
 //! Assembly: the finished runs of a run joined into its results file.
 //!
-//! In: the saved part files (where each run is), the models the run built and the pruning pilots' shares, the jobs
+//! In: the results file the run filled with its runs as they were saved (`stream`), if it has
+//! one, the saved part files (where each run is), the models the run built and the pruning pilots' shares, the jobs
 //! whose linearised systems it stores, and the shared references file (if any). Out: `OUT.h5`,
 //! written under `OUT.h5.tmp` and renamed over the output when complete and read back: the
 //! study's attributes (digest, inputs, name, path, text, varying keys, shard, threads),
@@ -11,17 +12,18 @@
 //! models and linearised systems are copied from the references file.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::error::{describe_hdf5, free_bytes, CampaignError};
 use super::linear::Systems;
 use super::models::Models;
 use super::options::RunOptions;
-use super::parts::Saved;
+use super::parts::{OpenParts, Saved};
 use super::references::write_errors;
+use super::stream::Stream;
 use crate::dynamics::model::Model;
 use crate::linear::request::Results;
-use crate::results::write::{write_whole, Analysis};
+use crate::results::write::{complete, write_whole, Analysis};
 use crate::store::{self, output};
 use crate::study::identity::Identity;
 use crate::study::{Job, Reference, Study};
@@ -39,7 +41,8 @@ pub(super) struct Sources<'a> {
     pub(super) saved: &'a BTreeMap<String, Saved>,
 }
 
-/// Builds the final file from the part files (module doc), written under a temporary name.
+/// Builds the final file (module doc) under a temporary name: the `stream` this run filled
+/// with its runs, completed, or (when it has none) a new file.
 pub(super) fn assemble(
     study: &Study,
     opts: &RunOptions,
@@ -47,12 +50,17 @@ pub(super) fn assemble(
     jobs: &[&Job],
     refs: &[&Reference],
     src: &Sources,
+    stream: Stream,
 ) -> Result<(), CampaignError> {
     let tmp = store::with_suffix(&opts.output, ".tmp");
     let analysis = Analysis::Noted {
         output: &opts.output,
     };
-    let written = write_whole(&tmp, analysis, |f| {
+    let (open, copied) = match stream.take() {
+        Some((f, copied)) => (Some(f), copied),
+        None => (None, BTreeSet::new()),
+    };
+    let body = |f: &hdf5::File| {
         store::provenance(f, &opts.command)?;
         store::attr_str(f, "study_digest", &identity.digest)?;
         store::attr_str(f, "study_inputs", &identity.inputs_text())?;
@@ -64,9 +72,13 @@ pub(super) fn assemble(
         store::attr_str(f, "shard", &opts.shard_text())?;
         write_models(f, refs, src)?;
         write_linear_systems(f, src)?;
-        write_runs(f, study, jobs, refs, src)?;
+        write_runs(f, study, jobs, refs, src, &copied)?;
         Ok(study.varying.clone())
-    });
+    };
+    let written = match open {
+        Some(f) => complete(f, analysis, body),
+        None => write_whole(&tmp, analysis, body),
+    };
     finish_output(&tmp, &opts.output, written)
 }
 
@@ -109,18 +121,20 @@ fn write_linear_systems(f: &hdf5::File, src: &Sources) -> hdf5::Result<()> {
 }
 
 /// `/references` (from the parts, or copied from the shared references file) and `/jobs`
-/// (from the parts, with their errors against their reference runs), in plan order: a group's
-/// members are listed in the order they were made, and the analysis reads them in that order.
+/// (from the parts, with their errors against their reference runs), in plan order, except
+/// the runs the stream already `copied` into the file.
 fn write_runs(
     f: &hdf5::File,
     study: &Study,
     jobs: &[&Job],
     refs: &[&Reference],
     src: &Sources,
+    copied: &BTreeSet<String>,
 ) -> hdf5::Result<()> {
     let mut parts = OpenParts::default();
-    let rg = f.create_group("references")?;
-    for r in refs {
+    let group = |name: &str| f.group(name).or_else(|_| f.create_group(name));
+    let rg = group("references")?;
+    for r in refs.iter().filter(|r| !copied.contains(&r.id)) {
         match src.shared {
             Some(shared) => {
                 let g = shared.group("references")?;
@@ -129,9 +143,11 @@ fn write_runs(
             None => parts.copy(src.saved, &r.id, &rg)?,
         }
     }
-    let jg = f.create_group("jobs")?;
+    let jg = group("jobs")?;
     for j in jobs {
-        parts.copy(src.saved, &j.id, &jg)?;
+        if !copied.contains(&j.id) {
+            parts.copy(src.saved, &j.id, &jg)?;
+        }
         let g = jg.group(&j.id)?;
         let reference = rg
             .group(&j.reference_id)
@@ -140,48 +156,6 @@ fn write_runs(
         write_errors(&g, &j.reference_id, reference.as_ref())?;
     }
     Ok(())
-}
-
-/// The part files last read from, most recent last. Runs are batched in the order they finish,
-/// which is close to plan order, so copying in plan order mostly stays in one batch and a few
-/// open files spare reopening one per run.
-#[derive(Default)]
-struct OpenParts {
-    open: Vec<(PathBuf, hdf5::File)>,
-}
-
-impl OpenParts {
-    /// How many part files stay open at once.
-    const KEEP: usize = 8;
-
-    /// Copies the saved run `id` into `dst` under its id.
-    fn copy(
-        &mut self,
-        saved: &BTreeMap<String, Saved>,
-        id: &str,
-        dst: &hdf5::Group,
-    ) -> hdf5::Result<()> {
-        let s = saved.get(id).ok_or_else(|| {
-            hdf5::Error::from(format!("run {id} is not saved in the parts").as_str())
-        })?;
-        let at = match self.open.iter().position(|(p, _)| *p == s.file) {
-            Some(i) => i,
-            None => {
-                let part = hdf5::File::open(&s.file).map_err(|e| {
-                    hdf5::Error::from(format!("cannot open {}: {e}", s.file.display()).as_str())
-                })?;
-                if self.open.len() == Self::KEEP {
-                    self.open.remove(0);
-                }
-                self.open.push((s.file.clone(), part));
-                self.open.len() - 1
-            }
-        };
-        let entry = self.open.remove(at);
-        store::copy_object(&entry.1, &s.group, dst, id)?;
-        self.open.push(entry);
-        Ok(())
-    }
 }
 
 /// A job's model on its linearised supports (`/linear/<linear_id>`): the analyses the study's

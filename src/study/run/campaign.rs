@@ -5,8 +5,8 @@
 //! steps, in order: lock the output and check the options; either find the output already
 //! assembled from these inputs (resume: nothing to do) or clear the way for a new run; choose
 //! the reference runs and open a shared references file; reuse the saved parts; build the
-//! models and run the pruning pilots; run and save the rest (`schedule`); assemble; count;
-//! remove the parts folder.
+//! models and run the pruning pilots; run and save the rest (`schedule`), filling the results
+//! file meanwhile (`stream`); assemble; count; remove the parts folder.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -19,6 +19,7 @@ use super::options::{Outcome, ReferenceSource, RunOptions};
 use super::parts::{parts_dir, remove_parts, saved_parts};
 use super::references::{open_references, same_file, stored_identity};
 use super::schedule::{run_all, stopped};
+use super::stream::Stream;
 use super::work::work_list;
 use crate::store;
 use crate::store::output::{self, OutputLock};
@@ -62,7 +63,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         }
         _ => None,
     };
-    output::check_working_file(&store::with_suffix(&opts.output, ".tmp"))?;
+    let tmp = store::with_suffix(&opts.output, ".tmp");
+    output::check_working_file(&tmp)?;
     let log = RunLog::open(&opts.output)?;
     std::fs::create_dir_all(&dir).map_err(|e| CampaignError::io(&dir, e))?;
     let wanted: BTreeSet<&str> = jobs
@@ -92,6 +94,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     let own_refs: &[&Reference] = if shared.is_none() { &refs } else { &[] };
     let models = Models::prepare(&pool, study, &linear_jobs, &jobs, own_refs, &dir);
     let mut work = work_list(study, &jobs, own_refs);
+    // The plan order, the saved runs among them: the order the results file lists them in.
+    let order: Vec<_> = work.iter().map(|w| (w.id.clone(), w.kind)).collect();
     let resumed = jobs.iter().filter(|j| done.contains_key(&j.id)).count();
     work.retain(|w| !done.contains_key(&w.id));
     let total = work.len();
@@ -107,6 +111,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     );
     let in_shared = shared_linear_ids(shared.as_ref())?;
     let systems_to_compute = linear::distinct(&linear_jobs, &in_shared);
+    let mut stream = Stream::create(&tmp, order, &done);
     let ran = run_all(
         &pool,
         &work,
@@ -114,10 +119,12 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         &dir,
         &identity,
         &mut progress,
+        &mut stream,
         || linear::compute_all(&study.linear, &systems_to_compute, &models),
     );
     progress.finish();
     if let Some(e) = ran.error {
+        stream.drop_file();
         progress.assembled(
             &opts.output,
             Some(&format!("a run could not be saved: {e}")),
@@ -133,7 +140,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         systems: &ran.beside,
         saved: &saved,
     };
-    let assembled = assemble(study, opts, &identity, &jobs, &refs, &sources);
+    let assembled = assemble(study, opts, &identity, &jobs, &refs, &sources, stream);
     progress.assembled(&opts.output, assembled.as_ref().err().map(|e| e as _));
     assembled?;
     drop(shared);

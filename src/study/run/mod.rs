@@ -38,7 +38,8 @@
 //! `references` (the shared references file, errors against reference runs), `models`
 //! (models, pruning pilots, one run on its model), `linear` (the study's linearised systems,
 //! beside the jobs), `work` (the work list), `schedule` (the work list on the pool), `saver`
-//! (the batches of finished runs and their writer), `assemble` (the results file). Merging shard files is `study::merge`.
+//! (the batches of finished runs and their writer), `stream` (the results file filled as they
+//! are saved), `assemble` (the results file completed). Merging shard files is `study::merge`.
 
 mod assemble;
 mod campaign;
@@ -50,6 +51,7 @@ mod parts;
 mod references;
 mod saver;
 mod schedule;
+mod stream;
 mod work;
 
 pub(crate) use assemble::finish_output;

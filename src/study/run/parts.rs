@@ -238,3 +238,55 @@ pub fn remove_parts(dir: &Path, known: &BTreeSet<&str>) -> Result<(), CampaignEr
     }
     std::fs::remove_dir(dir).map_err(|e| CampaignError::io(dir, e))
 }
+
+/// The part files last read from, most recent last. Runs are batched in the order they finish,
+/// which is close to plan order, so copying in plan order mostly stays in one batch and a few
+/// open files spare reopening one per run.
+#[derive(Default)]
+pub(super) struct OpenParts {
+    open: Vec<(PathBuf, hdf5::File)>,
+}
+
+impl OpenParts {
+    /// How many part files stay open at once.
+    const KEEP: usize = 8;
+
+    /// Copies the saved run `id` into `dst` under its id.
+    pub(super) fn copy(
+        &mut self,
+        saved: &BTreeMap<String, Saved>,
+        id: &str,
+        dst: &hdf5::Group,
+    ) -> hdf5::Result<()> {
+        let s = saved.get(id).ok_or_else(|| {
+            hdf5::Error::from(format!("run {id} is not saved in the parts").as_str())
+        })?;
+        self.copy_saved(s, id, dst)
+    }
+
+    /// Copies the run saved at `s` into `dst` under `id`.
+    pub(super) fn copy_saved(
+        &mut self,
+        s: &Saved,
+        id: &str,
+        dst: &hdf5::Group,
+    ) -> hdf5::Result<()> {
+        let at = match self.open.iter().position(|(p, _)| *p == s.file) {
+            Some(i) => i,
+            None => {
+                let part = hdf5::File::open(&s.file).map_err(|e| {
+                    hdf5::Error::from(format!("cannot open {}: {e}", s.file.display()).as_str())
+                })?;
+                if self.open.len() == Self::KEEP {
+                    self.open.remove(0);
+                }
+                self.open.push((s.file.clone(), part));
+                self.open.len() - 1
+            }
+        };
+        let entry = self.open.remove(at);
+        store::copy_object(&entry.1, &s.group, dst, id)?;
+        self.open.push(entry);
+        Ok(())
+    }
+}

@@ -2,7 +2,8 @@
 //! part file at a time on a writer thread, so the runs go on while a batch is written.
 //!
 //! In: finished runs as the workers hand them over (their index in the work list and result).
-//! Out: the part files (`parts::save_batch`), where each run is saved, one progress line per
+//! Out: the part files (`parts::save_batch`), each batch's runs copied into the results file
+//! being filled (`stream`), where each run is saved, one progress line per
 //! run when its batch is written (ok, or NOT SAVED with the cause: nothing unsaved is reported
 //! ok), and the first failed save, which raises the run's stop flag. [`Saver`] gathers a batch
 //! and hands it to [`write_batches`] when it holds `parts::BATCH_RUNS` runs or
@@ -19,6 +20,7 @@ use std::time::{Duration, Instant};
 
 use super::error::CampaignError;
 use super::parts::{save_batch, Finished, Saved, BATCH_RUNS, BATCH_SAMPLES, BATCH_SECONDS};
+use super::stream::Stream;
 use super::work::Work;
 use crate::dynamics::simulation::JobResult;
 use crate::study::identity::Identity;
@@ -92,8 +94,9 @@ pub(super) struct Written {
     pub(super) error: Option<CampaignError>,
 }
 
-/// Writes each batch from `batches` to its part file in `dir` and reports each of its runs
-/// (module doc); the first failed save raises `stop`. Ends when the [`Saver`] is dropped.
+/// Writes each batch from `batches` to its part file in `dir`, copies its runs into the
+/// results file being filled (`stream`) and reports each of its runs (module doc); the first
+/// failed save raises `stop`. Ends when the [`Saver`] is dropped.
 pub(super) fn write_batches(
     batches: Receiver<Batch>,
     dir: &Path,
@@ -101,6 +104,7 @@ pub(super) fn write_batches(
     progress: &mut Progress,
     work: &[Work],
     stop: &AtomicBool,
+    stream: &mut Stream,
 ) -> Written {
     let mut out = Written {
         saved: BTreeMap::new(),
@@ -119,6 +123,11 @@ pub(super) fn write_batches(
         }
         match written {
             Ok(places) => {
+                stream.add(
+                    runs.iter()
+                        .zip(&places)
+                        .map(|(r, place)| (r.id.to_string(), place.clone())),
+                );
                 for (r, place) in runs.iter().zip(places) {
                     out.saved.insert(r.id.to_string(), place);
                 }

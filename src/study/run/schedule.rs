@@ -20,6 +20,7 @@ use super::error::CampaignError;
 use super::models::Models;
 use super::parts::{saved_parts, Saved};
 use super::saver::{write_batches, Batch, Saver};
+use super::stream::Stream;
 use super::work::Work;
 use crate::dynamics::simulation::JobResult;
 use crate::study::identity::Identity;
@@ -33,8 +34,8 @@ pub(super) struct Ran<T> {
     pub(super) beside: T,
 }
 
-/// Runs `work` on `pool` and saves the results in `dir` in batches as they arrive (module doc,
-/// `saver`), with `beside` (the study's linear systems) on the same pool at the same time.
+/// Runs `work` on `pool` and saves the results in `dir` in batches as they arrive, copying
+/// them into the results file being filled (`stream`) (module doc, `saver`), with `beside` (the study's linear systems) on the same pool at the same time.
 pub(super) fn run_all<T: Send>(
     pool: &rayon::ThreadPool,
     work: &[Work],
@@ -42,6 +43,7 @@ pub(super) fn run_all<T: Send>(
     dir: &Path,
     identity: &Identity,
     progress: &mut Progress,
+    stream: &mut Stream,
     beside: impl FnOnce() -> T + Send,
 ) -> Ran<T> {
     // A rendezvous channel: a worker hands its result over only when this thread takes it, so
@@ -67,8 +69,8 @@ pub(super) fn run_all<T: Send>(
                 });
             });
         });
-        let writer =
-            scope.spawn(move || write_batches(batches, dir, identity, progress, work, stop_ref));
+        let writer = scope
+            .spawn(move || write_batches(batches, dir, identity, progress, work, stop_ref, stream));
         let mut saver = Saver::new(work, to_writer);
         loop {
             let next = match saver.due_in() {

@@ -1,0 +1,127 @@
+//! The results file filled while the runs go on: saved runs are copied from their part files
+//! into the working file `OUT.h5.tmp` in plan order by the writer thread, right after their
+//! batch is saved, so the assembly after the last run has only the study's own groups, the
+//! analysis and the summary left to write.
+//!
+//! In: the working path; the run's plan order (reference runs it computes, then its jobs; their
+//! ids and kinds); where each run is saved (`parts::Saved`), those saved before this run at
+//! once, the others as each batch is saved. Out: `OUT.h5.tmp` holding `/references/<id>` and
+//! `/jobs/<id>` of the plan order's first runs, every one whose predecessors are all saved
+//! (`store::copy_object`: the part's datasets copied as stored, no second compression), and the
+//! set of runs copied. Plan order, not the order of finishing: small groups list their members
+//! in the order they were made, and the analysis reads them in that order, so the file is the
+//! same whatever the threads. Memory: where each saved-but-not-yet-copied run is (a path per
+//! run), nothing of its data.
+//!
+//! The part files stay the record of what is saved: a `kill -9` leaves this file unfinished
+//! under its working name, and `--resume` starts it again from the parts. The first failed copy
+//! (disk full, I/O error) drops the file: the assembly then writes the output whole from the
+//! parts, as without a stream, and reports a full disk as it does.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use super::parts::{OpenParts, Saved};
+use super::work::Kind;
+
+/// The working file being filled (module doc).
+pub(super) struct Stream {
+    path: PathBuf,
+    file: Option<hdf5::File>,
+    /// The plan order: each run's id and kind.
+    order: Vec<(String, Kind)>,
+    /// The first run of `order` not copied yet.
+    next: usize,
+    /// Saved runs waiting for a predecessor.
+    ready: BTreeMap<String, Saved>,
+    parts: OpenParts,
+}
+
+impl Stream {
+    /// Creates the working file at `tmp` (checked by the caller: absent or a leftover of ours)
+    /// with its `jobs` and `references` groups, for the runs of `order`, and copies the runs
+    /// saved `before` this run that lead the order. A file that cannot be created is no stream
+    /// (the assembly writes the output whole and reports why).
+    pub(super) fn create(
+        tmp: &Path,
+        order: Vec<(String, Kind)>,
+        before: &BTreeMap<String, Saved>,
+    ) -> Stream {
+        let mut s = Stream {
+            path: tmp.to_path_buf(),
+            file: None,
+            order,
+            next: 0,
+            ready: BTreeMap::new(),
+            parts: OpenParts::default(),
+        };
+        if let Ok(f) = hdf5::File::create(tmp) {
+            if f.create_group("jobs").is_ok() && f.create_group("references").is_ok() {
+                s.file = Some(f);
+            } else {
+                s.drop_file();
+            }
+        }
+        let wanted: Vec<(String, Saved)> = s
+            .order
+            .iter()
+            .filter_map(|(id, _)| Some((id.clone(), before.get(id)?.clone())))
+            .collect();
+        s.add(wanted);
+        s
+    }
+
+    /// Takes the saved runs (id, where saved) and copies every run the plan order now allows;
+    /// the first failure drops the file (module doc).
+    pub(super) fn add(&mut self, saved: impl IntoIterator<Item = (String, Saved)>) {
+        if self.file.is_none() {
+            return;
+        }
+        self.ready.extend(saved);
+        if let Err(()) = self.copy_ready() {
+            self.drop_file();
+        }
+    }
+
+    /// Copies the leading runs of the plan order that are saved.
+    fn copy_ready(&mut self) -> Result<(), ()> {
+        let Some(f) = &self.file else {
+            return Ok(());
+        };
+        let (jobs, refs) = (
+            f.group("jobs").map_err(drop)?,
+            f.group("references").map_err(drop)?,
+        );
+        while let Some((id, kind)) = self.order.get(self.next) {
+            let Some(saved) = self.ready.remove(id) else {
+                break;
+            };
+            let dst = match kind {
+                Kind::Job(_) => &jobs,
+                Kind::Reference => &refs,
+            };
+            self.parts.copy_saved(&saved, id, dst).map_err(drop)?;
+            self.next += 1;
+        }
+        Ok(())
+    }
+
+    /// Closes and removes the file it created (a failed copy, a stopped run): nothing
+    /// half-filled is left where the assembly writes.
+    pub(super) fn drop_file(&mut self) {
+        self.file = None;
+        self.parts = OpenParts::default();
+        let _ = std::fs::remove_file(&self.path);
+    }
+
+    /// The file and the runs copied into it, taken for the assembly to finish (`None` after a
+    /// failed copy).
+    pub(super) fn take(mut self) -> Option<(hdf5::File, BTreeSet<String>)> {
+        let f = self.file.take()?;
+        let copied = self.order[..self.next]
+            .iter()
+            .map(|(id, _)| id.clone())
+            .collect();
+        Some((f, copied))
+    }
+}
