@@ -11,7 +11,7 @@
 //!   offset), removed before the spectrum;
 //! - `/jobs/<id>/spectrum/freq_hz` [Hz], `/jobs/<id>/spectrum/<sensor>/<dir>` [µm]: the
 //!   amplitude-correct Hanning spectrum of the record minus its mean, up to `max_freq_hz`
-//!   (default [`ORDER_MARGIN`] × the highest order × the speed);
+//!   (default [`ORDER_MARGIN`](super::request::ORDER_MARGIN) × the highest order × the speed);
 //! - `/analysis/lines`: table job_id, channel, order, speed_hz, freq_hz, amplitude_um, phase_deg
 //!   (the line at order × speed, all orders fitted together, `signal::lines`; phase relative
 //!   to roll angle 0). A job is analysed when it ended ok and its speed was constant while it
@@ -21,7 +21,7 @@
 //!   `job_ids`, `orders`, `lines/<sensor>/<dir>` [speeds × orders, µm], `mean/<sensor>/<dir>`
 //!   [speeds, µm] (the static part over speed) and, when the records match, `freq_hz` and
 //!   `map/<sensor>/<dir>` [speeds × frequencies, µm] (spectra of the fluctuating part, up to the
-//!   study's cap: `max_freq_hz`, default [`ORDER_MARGIN`] × the highest order × the top speed);
+//!   study's cap: `max_freq_hz`, default [`ORDER_MARGIN`](super::request::ORDER_MARGIN) × the highest order × the top speed);
 //!   attribute `fixed` (the other keys' values); `skipped_speed_hz` and `skipped_job_ids` when
 //!   some of its jobs could not be analysed (failed, or no runout); the axes `freq_hz`,
 //!   `speed_hz` and `orders` are dimension scales (`store::scales`);
@@ -36,14 +36,13 @@
 
 use std::collections::BTreeMap;
 
-use rustfft::num_complex::Complex64;
-
-use super::request::{analysis_of_text, AnalysisSpec, LabelledAxis, StudyAnalysis, ORDER_MARGIN};
-use crate::integrators::Status;
+use super::job_analysis::{
+    analysable_speed, analyse_job, default_cap, Entry, JobData, Prepared, Skipped,
+};
+use super::request::{analysis_of_text, AnalysisSpec, LabelledAxis, StudyAnalysis};
 use crate::scene::{RollerPhase, Scene, SupportModel};
 use crate::signal;
 use crate::store::{self, Column, Param};
-use crate::text::number_text;
 
 /// The key a spectral map sweeps.
 pub const SWEEP_KEY: &str = "speed.hz";
@@ -54,6 +53,18 @@ const RANKS: usize = 3;
 /// Prefix of the job attributes that give each roller's line ratio (`roller_ratio:<node>/<roller>`).
 pub const ROLLER_RATIO: &str = "roller_ratio:";
 
+/// The spin speed [Hz] over a scene's record and the roll angle's offset δ [rad] in
+/// θ = Ω t + δ, both NaN when the speed changes while recording.
+pub fn record_speed(scene: &Scene) -> (f64, f64) {
+    let sim = &scene.simulation;
+    scene
+        .speed
+        .constant_over(sim.settle, sim.t_end)
+        .map_or((f64::NAN, f64::NAN), |(omega, d)| {
+            (omega / std::f64::consts::TAU, d)
+        })
+}
+
 /// The attributes of a job that its scene decides and the analysis reads, for `run` and
 /// `simulate -o` alike:
 /// - `speed_hz` and `roll_angle_offset_rad`: the spin speed [Hz] over the record and δ in
@@ -62,13 +73,7 @@ pub const ROLLER_RATIO: &str = "roller_ratio:";
 ///   the spin frequency: the journal/roller diameter ratio when the roundness follows the
 ///   roller's own angle (`roller_phase = "roller-angle"`), 1 when it follows the roll angle.
 pub fn job_attrs(scene: &Scene) -> Vec<(String, Param)> {
-    let sim = &scene.simulation;
-    let (speed, offset) = scene
-        .speed
-        .constant_over(sim.settle, sim.t_end)
-        .map_or((f64::NAN, f64::NAN), |(omega, d)| {
-            (omega / std::f64::consts::TAU, d)
-        });
+    let (speed, offset) = record_speed(scene);
     let mut out = vec![
         ("speed_hz".to_string(), Param::Number(speed)),
         ("roll_angle_offset_rad".to_string(), Param::Number(offset)),
@@ -90,53 +95,6 @@ pub fn job_attrs(scene: &Scene) -> Vec<(String, Param)> {
     out
 }
 
-/// The default highest frequency [Hz] of a spectrum at `speed_hz` (module doc).
-fn default_cap(orders: &[f64], speed_hz: f64) -> f64 {
-    let top = orders.iter().copied().fold(1.0, f64::max);
-    ORDER_MARGIN * top * speed_hz
-}
-
-/// One job as the analysis sees it: its lines and its spectra up to the study's frequency cap
-/// (not its samples: memory stays small however long the records and large the study).
-struct JobData {
-    id: String,
-    speed_hz: f64,
-    /// Samples per channel and sample rate [Hz] of the record.
-    samples: usize,
-    rate_hz: f64,
-    /// Runout channel names ("sensor/dir").
-    names: Vec<String>,
-    /// Spectrum bins [Hz] up to the study's cap, and each channel's amplitudes there [µm].
-    freq_hz: Vec<f64>,
-    spectra: Vec<Vec<f64>>,
-    /// Each channel's mean [µm] (removed before the spectrum).
-    means: Vec<f64>,
-    /// Varying key → value as text.
-    values: BTreeMap<String, String>,
-    /// Label per labelled axis key.
-    labels: BTreeMap<String, String>,
-    /// Complex line amplitude per channel and order (orders of the spec).
-    lines: Vec<Vec<Complex64>>,
-    /// The 1× line per channel.
-    one_x: Vec<Complex64>,
-}
-
-/// The constant speed [Hz] of a job that ended ok, if it has one.
-fn analysable_speed(g: &hdf5::Group) -> Option<f64> {
-    let speed_hz = store::read_num(g, "speed_hz").ok()?;
-    let ok = Status::name_completed(&store::read_str(g, "status").ok()?);
-    (ok && speed_hz > 0.0 && speed_hz.is_finite()).then_some(speed_hz)
-}
-
-/// A job the analysis leaves out (it did not end ok, its speed changed while recording, or it
-/// recorded no runout), so that a sweep can say which of its speeds are missing.
-struct Skipped {
-    id: String,
-    values: BTreeMap<String, String>,
-    labels: BTreeMap<String, String>,
-    speed_hz: f64,
-}
-
 /// The values of the varying keys other than the sweep key and its `partners` (the other keys
 /// of its zipped axis), labels where the axis has them: what the jobs of one speed sweep share.
 fn fixed_text(
@@ -155,161 +113,46 @@ fn fixed_text(
     fixed.join("; ")
 }
 
-/// Reads every job, one at a time; of each analysable one (ok, constant speed, runout
-/// recorded) fits its lines, writes its means and spectra into its group (unless a merged shard
-/// already did) and keeps them up to the study's cap (module doc); the others are returned as
-/// skipped.
+/// Every job's [`Entry`], in the file's order: those `prepared` as the run saved them (when
+/// they were prepared for this study and its cap) taken as they are, the others analysed now
+/// (`job_analysis`); the analysable ones' spectra kept up to the study's cap (module doc).
 fn read_jobs(
     f: &hdf5::File,
-    varying: &[String],
-    axes: &[LabelledAxis],
-    spec: &AnalysisSpec,
+    (varying, axes, spec): (&[String], &[LabelledAxis], &AnalysisSpec),
+    (keep_cap, prepared): (f64, BTreeMap<String, (Option<f64>, Entry)>),
 ) -> hdf5::Result<(Vec<JobData>, Vec<Skipped>)> {
-    let orders = &spec.orders;
+    let mut prepared = prepared;
     let jobs = f.group("jobs")?;
     let ids = jobs.member_names()?;
     let top_speed = ids
         .iter()
-        .filter_map(|id| analysable_speed(&jobs.group(id).ok()?))
+        .filter_map(|id| match prepared.get(id) {
+            Some((speed, _)) => *speed,
+            None => analysable_speed(&jobs.group(id).ok()?),
+        })
         .fold(0.0, f64::max);
     let study_cap = spec
         .max_freq_hz
-        .unwrap_or_else(|| default_cap(orders, top_speed));
+        .unwrap_or_else(|| default_cap(&spec.orders, top_speed));
+    if keep_cap < study_cap {
+        prepared.clear();
+    }
     let mut out = Vec::new();
     let mut skipped = Vec::new();
     for id in ids {
-        let g = jobs.group(&id)?;
-        let values: BTreeMap<String, String> = varying
-            .iter()
-            .filter_map(|k| Some((k.clone(), param_text(&store::read_param(&g, k).ok()?))))
-            .collect();
-        let labels: BTreeMap<String, String> = axes
-            .iter()
-            .filter_map(|a| {
-                let k = &a.keys[0];
-                Some((k.clone(), store::read_str(&g, &format!("label:{k}")).ok()?))
-            })
-            .collect();
-        // The samples of a job that ended ok at a constant speed (of no other: not read).
-        let speed = analysable_speed(&g);
-        let (time, channels) = match speed {
-            Some(_) => (
-                g.dataset("time")
-                    .and_then(|d| d.read_raw::<f64>())
-                    .unwrap_or_default(),
-                store::runout_channels(&g),
-            ),
-            None => (Vec::new(), Vec::new()),
+        let entry = match prepared.remove(&id) {
+            Some((_, e)) => e,
+            None => analyse_job(&jobs.group(&id)?, &id, (varying, axes, spec), study_cap)?,
         };
-        let speed_hz = match speed {
-            Some(s)
-                if time.len() >= 2 && time[time.len() - 1] > time[0] && !channels.is_empty() =>
-            {
-                s
+        match entry {
+            Entry::Data(mut d) => {
+                d.keep_below(study_cap);
+                out.push(d);
             }
-            _ => {
-                skipped.push(Skipped {
-                    values,
-                    labels,
-                    speed_hz: store::read_num(&g, "speed_hz").unwrap_or(f64::NAN),
-                    id,
-                });
-                continue;
-            }
-        };
-        // The study's orders, and 1× for the trial-mass response, fitted together.
-        let mut freqs: Vec<f64> = orders.iter().map(|o| o * speed_hz).collect();
-        let one = orders.iter().position(|o| *o == 1.0).unwrap_or_else(|| {
-            freqs.push(speed_hz);
-            orders.len()
-        });
-        let n = time.len();
-        let rate_hz = (n - 1) as f64 / (time[n - 1] - time[0]);
-        // Phases against the roll angle θ = Ω t + δ: a line at order o turns back by o·δ.
-        let delta = store::read_num(&g, "roll_angle_offset_rad").unwrap_or(0.0);
-        let (lines, one_x) = channels
-            .iter()
-            .map(|(_, x)| {
-                let mut z = signal::lines(x, &time, &freqs);
-                for (zk, fk) in z.iter_mut().zip(&freqs) {
-                    *zk = if *fk < 0.5 * rate_hz {
-                        *zk * Complex64::from_polar(1.0, -fk / speed_hz * delta)
-                    } else {
-                        // Above the Nyquist frequency the record cannot tell the line.
-                        Complex64::new(f64::NAN, f64::NAN)
-                    };
-                }
-                let one_x = z[one];
-                z.truncate(orders.len());
-                (z, one_x)
-            })
-            .unzip();
-        let (means, full): (Vec<f64>, Vec<signal::Spectrum>) = channels
-            .iter()
-            .map(|(_, x)| signal::mean_and_spectrum(x, rate_hz))
-            .unzip();
-        let names: Vec<String> = channels.into_iter().map(|(name, _)| name).collect();
-        if !g.link_exists("spectrum") {
-            let cap = spec
-                .max_freq_hz
-                .unwrap_or_else(|| default_cap(orders, speed_hz));
-            let own = bins_below(&full[0], cap);
-            store::dataset(&g, "spectrum/freq_hz", &full[0].freq_hz[..own], "Hz")?;
-            for (name, s) in names.iter().zip(&full) {
-                store::dataset(&g, &format!("spectrum/{name}"), &s.amplitude[..own], "um")?;
-            }
-            store::scales::attach_axis(&g.group("spectrum")?, "freq_hz", &[""], 0)?;
+            Entry::Skipped(s) => skipped.push(s),
         }
-        if !g.link_exists("runout_mean") {
-            for (name, m) in names.iter().zip(&means) {
-                scalar_dataset(&g, &format!("runout_mean/{name}"), *m, "um")?;
-            }
-        }
-        let keep = bins_below(&full[0], study_cap);
-        out.push(JobData {
-            id,
-            speed_hz,
-            samples: n,
-            rate_hz,
-            freq_hz: full[0].freq_hz[..keep].to_vec(),
-            spectra: full.iter().map(|s| s.amplitude[..keep].to_vec()).collect(),
-            means,
-            names,
-            values,
-            labels,
-            lines,
-            one_x,
-        });
     }
     Ok((out, skipped))
-}
-
-/// A parameter as the analysis's texts show it (numbers as the report writes them).
-fn param_text(p: &Param) -> String {
-    match p {
-        Param::Number(x) => number_text(*x),
-        other => other.to_string(),
-    }
-}
-
-/// Writes a scalar float dataset with a `units` attribute, creating the intermediate groups of
-/// a path-like name.
-fn scalar_dataset(group: &hdf5::Group, name: &str, value: f64, units: &str) -> hdf5::Result<()> {
-    let (parent, leaf) = match name.rsplit_once('/') {
-        Some((p, l)) => (store::subgroup(group, p)?, l),
-        None => (group.clone(), name),
-    };
-    let ds = parent.new_dataset::<f64>().shape(()).create(leaf)?;
-    ds.write_scalar(&value)?;
-    store::attr_str(&ds, "units", units)
-}
-
-/// The number of spectrum bins at or below `max_hz`.
-fn bins_below(s: &signal::Spectrum, max_hz: f64) -> usize {
-    s.freq_hz
-        .iter()
-        .take_while(|f| **f <= max_hz + 1e-9)
-        .count()
 }
 
 /// Rows of the lines table.
@@ -557,6 +400,12 @@ fn trial_mass_table(
 
 /// Analyses an assembled file in place (module doc); replaces an earlier `/analysis`.
 pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
+    analyse_prepared(f, None)
+}
+
+/// [`analyse`], given the jobs a run analysed as it saved them (used when they were prepared
+/// for this file's study text and varying keys with a cap no lower than the study's).
+pub fn analyse_prepared(f: &hdf5::File, prepared: Option<Prepared>) -> hdf5::Result<()> {
     let text = store::read_str(f, "study_text").unwrap_or_default();
     let StudyAnalysis {
         spec,
@@ -571,7 +420,11 @@ pub fn analyse(f: &hdf5::File) -> hdf5::Result<()> {
         .find(|keys| keys.len() > 1 && keys.iter().any(|k| k == SWEEP_KEY))
         .map(|keys| keys.into_iter().filter(|k| k != SWEEP_KEY).collect())
         .unwrap_or_default();
-    let (jobs, skipped) = read_jobs(f, &varying, &axes, &spec)?;
+    let prepared = prepared
+        .filter(|p| p.text == text && p.varying == varying)
+        .map(|p| (p.keep_cap, p.entries))
+        .unwrap_or_default();
+    let (jobs, skipped) = read_jobs(f, (&varying, &axes, &spec), prepared)?;
     let repeats = {
         let mut seen = std::collections::BTreeSet::new();
         jobs.iter().any(|j| {

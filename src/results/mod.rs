@@ -11,6 +11,7 @@
 //! (µm, Hz). Methods in each module's doc.
 
 pub mod analyse;
+pub mod job_analysis;
 pub mod linear_file;
 pub mod measured;
 pub mod noise;

@@ -57,7 +57,7 @@ pub(super) fn assemble(
         output: &opts.output,
     };
     let (open, copied) = match stream.take() {
-        Some((f, copied)) => (Some(f), copied),
+        Some((f, copied, prepared)) => (Some((f, prepared)), copied),
         None => (None, BTreeSet::new()),
     };
     let body = |f: &hdf5::File| {
@@ -76,7 +76,7 @@ pub(super) fn assemble(
         Ok(study.varying.clone())
     };
     let written = match open {
-        Some(f) => complete(f, analysis, body),
+        Some((f, prepared)) => complete(f, analysis, Some(prepared), body),
         None => write_whole(&tmp, analysis, body),
     };
     finish_output(&tmp, &opts.output, written)

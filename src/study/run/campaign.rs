@@ -21,6 +21,8 @@ use super::references::{open_references, same_file, stored_identity};
 use super::schedule::{run_all, stopped};
 use super::stream::Stream;
 use super::work::work_list;
+use crate::results::analyse::record_speed;
+use crate::results::job_analysis::Prepared;
 use crate::store;
 use crate::store::output::{self, OutputLock};
 use crate::study::identity::{describe_mismatch, Identity};
@@ -111,7 +113,13 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     );
     let in_shared = shared_linear_ids(shared.as_ref())?;
     let systems_to_compute = linear::distinct(&linear_jobs, &in_shared);
-    let mut stream = Stream::create(&tmp, order, &done);
+    let top_speed_hz = jobs
+        .iter()
+        .map(|j| record_speed(&j.scene).0)
+        .filter(|s| s.is_finite())
+        .fold(0.0, f64::max);
+    let prepared = Prepared::new(&study.text, &study.varying, top_speed_hz);
+    let mut stream = Stream::create(&tmp, order, &done, prepared);
     let ran = run_all(
         &pool,
         &work,

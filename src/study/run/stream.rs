@@ -7,8 +7,10 @@
 //! ids and kinds); where each run is saved (`parts::Saved`), those saved before this run at
 //! once, the others as each batch is saved. Out: `OUT.h5.tmp` holding `/references/<id>` and
 //! `/jobs/<id>` of the plan order's first runs, every one whose predecessors are all saved
-//! (`store::copy_object`: the part's datasets copied as stored, no second compression), and the
-//! set of runs copied. Plan order, not the order of finishing: small groups list their members
+//! (`store::copy_object`: the part's datasets copied as stored, no second compression), each
+//! job analysed as it is copied (`results::job_analysis::Prepared`: its means and spectra
+//! written into its group, its lines and spectra kept for the study's analysis), and the set of
+//! runs copied. Plan order, not the order of finishing: small groups list their members
 //! in the order they were made, and the analysis reads them in that order, so the file is the
 //! same whatever the threads. Memory: where each saved-but-not-yet-copied run is (a path per
 //! run), nothing of its data.
@@ -23,6 +25,7 @@ use std::path::{Path, PathBuf};
 
 use super::parts::{OpenParts, Saved};
 use super::work::Kind;
+use crate::results::job_analysis::Prepared;
 
 /// The working file being filled (module doc).
 pub(super) struct Stream {
@@ -35,6 +38,8 @@ pub(super) struct Stream {
     /// Saved runs waiting for a predecessor.
     ready: BTreeMap<String, Saved>,
     parts: OpenParts,
+    /// The copied jobs, analysed.
+    prepared: Prepared,
 }
 
 impl Stream {
@@ -46,6 +51,7 @@ impl Stream {
         tmp: &Path,
         order: Vec<(String, Kind)>,
         before: &BTreeMap<String, Saved>,
+        prepared: Prepared,
     ) -> Stream {
         let mut s = Stream {
             path: tmp.to_path_buf(),
@@ -54,6 +60,7 @@ impl Stream {
             next: 0,
             ready: BTreeMap::new(),
             parts: OpenParts::default(),
+            prepared,
         };
         if let Ok(f) = hdf5::File::create(tmp) {
             if f.create_group("jobs").is_ok() && f.create_group("references").is_ok() {
@@ -101,6 +108,10 @@ impl Stream {
                 Kind::Reference => &refs,
             };
             self.parts.copy_saved(&saved, id, dst).map_err(drop)?;
+            if let Kind::Job(_) = kind {
+                let g = dst.group(id).map_err(drop)?;
+                self.prepared.add(&g, id).map_err(drop)?;
+            }
             self.next += 1;
         }
         Ok(())
@@ -114,14 +125,14 @@ impl Stream {
         let _ = std::fs::remove_file(&self.path);
     }
 
-    /// The file and the runs copied into it, taken for the assembly to finish (`None` after a
-    /// failed copy).
-    pub(super) fn take(mut self) -> Option<(hdf5::File, BTreeSet<String>)> {
+    /// The file, the runs copied into it and the jobs analysed, taken for the assembly to
+    /// finish (`None` after a failed copy).
+    pub(super) fn take(mut self) -> Option<(hdf5::File, BTreeSet<String>, Prepared)> {
         let f = self.file.take()?;
         let copied = self.order[..self.next]
             .iter()
             .map(|(id, _)| id.clone())
             .collect();
-        Some((f, copied))
+        Some((f, copied, self.prepared))
     }
 }
