@@ -337,7 +337,12 @@ impl MachineSystem {
     pub fn at_rest(
         &self,
         q: &DVector<f64>,
-    ) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>, Vec<Vec<SegmentState>>) {
+    ) -> (
+        DMatrix<f64>,
+        DMatrix<f64>,
+        DMatrix<f64>,
+        Vec<Vec<SegmentState>>,
+    ) {
         let v = DVector::zeros(self.n);
         let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
         let mut k = DMatrix::zeros(self.n, self.n);

@@ -264,10 +264,11 @@ impl MachineLinear {
             })
             .collect();
         let total: f64 = shares.iter().sum();
-        let (top, _) = shares
-            .iter()
-            .enumerate()
-            .fold((0, f64::MIN), |b, (i, e)| if *e > b.1 { (i, *e) } else { b });
+        let (top, _) =
+            shares.iter().enumerate().fold(
+                (0, f64::MIN),
+                |b, (i, e)| if *e > b.1 { (i, *e) } else { b },
+            );
         let part = &self.parts[top];
         let p = v.rows(part.offset, part.nm).into_owned();
         let fam: Vec<f64> = (part.family_mass.iter())
@@ -298,7 +299,11 @@ impl MachineLinear {
             whirl_index,
             kind,
             roll: part.name.clone(),
-            share: if total > 0.0 { shares[top] / total } else { 1.0 },
+            share: if total > 0.0 {
+                shares[top] / total
+            } else {
+                1.0
+            },
         }
     }
 

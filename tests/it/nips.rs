@@ -180,7 +180,10 @@ fn linear_of_coupled_rigid_rotors_has_the_two_closed_form_frequencies() {
     // The static nip force of the two-mass statics (as the free-decay test): P k_c/(2k + 2k_c).
     let total = json["static"]["nips"][0]["total_force_n"].as_f64().unwrap();
     let expected = 1e3 * 0.4 * kc / (2.0 * k + 2.0 * kc);
-    assert!((total / expected - 1.0).abs() < 1e-4, "{total} vs {expected}");
+    assert!(
+        (total / expected - 1.0).abs() < 1e-4,
+        "{total} vs {expected}"
+    );
     assert!(json["critical_speeds_hz"].is_array() && json["stability_threshold_hz"].is_null());
 }
 
@@ -398,7 +401,8 @@ fn run_window_and_speed_set_on_a_machine_reach_its_first_roll() {
         "roll.toml",
         &cylinder("kx_n_per_m = 1.0e5, ky_n_per_m = 1.0e5", ""),
     );
-    let nips = "[[nips]]\nname = \"n\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
+    let nips =
+        "[[nips]]\nname = \"n\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
                 segments = 4\nlaw = \"hertz\"\n";
     let path = machine(
         &dir,

@@ -33,14 +33,14 @@
 use std::path::PathBuf;
 
 use rotorsweep::dynamics::model::Model;
+use rotorsweep::error::InputError;
+use rotorsweep::linear::machine::{MachineLinear, MACHINE_FRAME_NOTE};
 use rotorsweep::linear::modes::Kind;
 use rotorsweep::linear::request::{self, PointUnbalance, Request, Results, PHASE_NOTE};
 use rotorsweep::linear::scene_system::{in_scene, scene_system};
-use rotorsweep::error::InputError;
-use rotorsweep::linear::machine::{MachineLinear, MACHINE_FRAME_NOTE};
 use rotorsweep::linear::FRAME_NOTE;
-use rotorsweep::scene::{Machine, Scene};
 use rotorsweep::results::linear_file;
+use rotorsweep::scene::{Machine, Scene};
 use rotorsweep::store;
 
 use crate::error::CliError;
@@ -181,7 +181,10 @@ fn machine(
         println!("{}", serde_json::to_string_pretty(&json)?);
         return Ok(());
     }
-    println!("machine {}: linear analysis of the coupled rolls", scene.name);
+    println!(
+        "machine {}: linear analysis of the coupled rolls",
+        scene.name
+    );
     println!("({MACHINE_FRAME_NOTE})");
     for (name, f) in lin.rolls() {
         println!("  roll {name}: speed {f:+.4} × the first roll's");
