@@ -287,37 +287,85 @@ fn rename(name: &str, roll: &str) -> String {
     }
 }
 
-/// Runs a machine (module doc); `first` is the model of its first roll.
-pub fn run(machine: &Machine, first: &Model) -> JobResult {
+/// Every roll's model: `first` for the first roll, the others built from their scenes (their
+/// own mode selections); an error names the roll.
+pub fn models(machine: &Machine, first: &Model) -> Result<Vec<Model>, String> {
     let mut models = vec![first.clone()];
     for roll in &machine.rolls[1..] {
-        match Model::build(&roll.scene, None) {
-            Ok(m) => models.push(m),
-            Err(e) => return failed(format!("roll `{}`: {e}", roll.name), first, 0),
-        }
+        models.push(
+            Model::build(&roll.scene, None).map_err(|e| format!("roll `{}`: {e}", roll.name))?,
+        );
     }
+    Ok(models)
+}
+
+impl MachineSystem {
+    /// The state a run starts from (module doc): with `statics`, each roll's own static start
+    /// and then the machine's static equilibrium at standstill; without, rest at q = 0.
+    pub fn initial(
+        &self,
+        machine: &Machine,
+        models: &[Model],
+        statics: bool,
+    ) -> Result<DVector<f64>, String> {
+        let mut q0 = DVector::zeros(self.n);
+        if !statics {
+            return Ok(q0);
+        }
+        for (roll, (b, model)) in machine.rolls.iter().zip(self.bodies.iter().zip(models)) {
+            let q = start(&roll.scene, model, &b.sys)
+                .map_err(|e| format!("roll `{}`: {e}", roll.name))?;
+            q0.rows_mut(b.offset, b.sys.n).copy_from(&q);
+        }
+        self.static_equilibrium(q0)
+    }
+
+    /// Number of coordinates.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Per roll, where its coordinates start and its number of modal coordinates (the first of
+    /// its block).
+    pub fn blocks(&self) -> Vec<(usize, usize)> {
+        self.bodies.iter().map(|b| (b.offset, b.sys.nm)).collect()
+    }
+
+    /// The system linearised at rest (standstill, roll angles 0) about `q`: M, the tangent
+    /// stiffness K = −∂f/∂q and damping C = −∂f/∂q̇ (supports, modal damping, nips: a closed
+    /// segment with its dF/dδ and damping, an open one nothing), and every nip's segment states.
+    pub fn at_rest(
+        &self,
+        q: &DVector<f64>,
+    ) -> (
+        DMatrix<f64>,
+        DMatrix<f64>,
+        DMatrix<f64>,
+        Vec<Vec<SegmentState>>,
+    ) {
+        let v = DVector::zeros(self.n);
+        let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
+        let mut k = DMatrix::zeros(self.n, self.n);
+        let mut c = DMatrix::zeros(self.n, self.n);
+        self.newton_with(&st, q, &v, (0.0, 1.0, 0.0), false, &mut k);
+        self.newton_with(&st, q, &v, (0.0, 0.0, 1.0), false, &mut c);
+        (self.m.clone(), k, c, self.segments(&st, q, &v))
+    }
+}
+
+/// Runs a machine (module doc); `first` is the model of its first roll.
+pub fn run(machine: &Machine, first: &Model) -> JobResult {
+    let models = match models(machine, first) {
+        Ok(m) => m,
+        Err(e) => return failed(e, first, 0),
+    };
     let sys = MachineSystem::new(machine, &models);
     let n = sys.n;
     let scene0 = &machine.rolls[0].scene;
-    let mut q0 = DVector::zeros(n);
-    let statics = scene0.simulation.static_start;
-    for (roll, (b, model)) in machine.rolls.iter().zip(sys.bodies.iter().zip(&models)) {
-        let q = if statics {
-            match start(&roll.scene, model, &b.sys) {
-                Ok(q) => q,
-                Err(e) => return failed(format!("roll `{}`: {e}", roll.name), first, n),
-            }
-        } else {
-            DVector::zeros(b.sys.n)
-        };
-        q0.rows_mut(b.offset, b.sys.n).copy_from(&q);
-    }
-    if statics {
-        q0 = match sys.static_equilibrium(q0) {
-            Ok(q) => q,
-            Err(e) => return failed(e, first, n),
-        };
-    }
+    let q0 = match sys.initial(machine, &models, scene0.simulation.static_start) {
+        Ok(q) => q,
+        Err(e) => return failed(e, first, n),
+    };
     let mut v0 = DVector::zeros(n);
     let st0 = sys.states(0.0);
     for (i, b) in sys.bodies.iter().enumerate() {

@@ -272,16 +272,10 @@ impl LinearSystem {
         m.view_mut((0, 0), (nm, nm)).copy_from(&model.m);
         base_k.view_mut((0, 0), (nm, nm)).copy_from(&model.k);
         gs.view_mut((0, 0), (nm, nm)).copy_from(&model.gs);
-        let mut d_modal = DMatrix::zeros(nm, nm);
-        if let Some(bands) = damping {
-            for i in 0..nm {
-                let f = model.freq_hz[i];
-                if f > 0.0 {
-                    d_modal[(i, i)] =
-                        2.0 * bands.ratio(f) * 2.0 * std::f64::consts::PI * f * model.m[(i, i)];
-                }
-            }
-        }
+        let d_modal = match damping {
+            Some(bands) => modal_damping(model, bands),
+            None => DMatrix::zeros(nm, nm),
+        };
         base_c.view_mut((0, 0), (nm, nm)).copy_from(&d_modal);
         let mut next = nm;
         let mut sys_stages = Vec::new();
@@ -511,10 +505,25 @@ impl LinearSystem {
     }
 }
 
+/// The rotating modal damping D [Ns/m per modal coordinate]: d_ii = 2 ζ(f_i) ω_i m_ii with ζ of
+/// the scene's bands at the mode's free frequency f_i (rigid modes none).
+pub fn modal_damping(model: &ReducedModel, bands: &DampingBands) -> DMatrix<f64> {
+    let nm = model.len();
+    let mut d_modal = DMatrix::zeros(nm, nm);
+    for i in 0..nm {
+        let f = model.freq_hz[i];
+        if f > 0.0 {
+            d_modal[(i, i)] =
+                2.0 * bands.ratio(f) * 2.0 * std::f64::consts::PI * f * model.m[(i, i)];
+        }
+    }
+    d_modal
+}
+
 /// Ŝ: the least-squares projection on the basis Φ of the rotation generator ẑ× acting on every
 /// node's translations and tilts, Ŝ = (ΦᵀΦ)⁻¹ Φᵀ S̃ Φ (exact when the basis is closed under
 /// rotation, as an axisymmetric rotor's is).
-fn rotation_generator(phi: &DMatrix<f64>) -> DMatrix<f64> {
+pub fn rotation_generator(phi: &DMatrix<f64>) -> DMatrix<f64> {
     let nm = phi.ncols();
     let mut sphi = DMatrix::zeros(phi.nrows(), nm);
     for node in 0..phi.nrows() / NDOF {

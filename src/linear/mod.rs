@@ -24,6 +24,9 @@
 //!   command and a study's `/linear/<id>`);
 //! - [`overview`]: the model, supported frequencies, whirl at one speed and critical speeds
 //!   together (the `modes` command; its supported frequencies also `check`'s);
+//! - [`machine`]: a machine's rolls coupled by their nips, linearised at the machine's static
+//!   equilibrium with the nips loaded: static nip profile, damped modes over speed (the `linear`
+//!   command on a machine file);
 //! - [`scene_system`]: a scene's system for the commands, failures as input errors naming the
 //!   scene.
 //!
@@ -40,6 +43,7 @@ pub mod basis;
 pub mod campbell;
 pub mod critical_map;
 pub mod floquet;
+pub mod machine;
 pub mod modes;
 pub mod overview;
 pub mod peaks;

@@ -300,6 +300,12 @@ const PLANAR: f64 = 0.01;
 pub fn whirl_of(sys: &LinearSystem, v: &DVector<C64>) -> (Whirl, f64) {
     let vm = DMatrix::from_column_slice(v.len(), 1, v.as_slice());
     let (x, y) = rotor_xy(sys, &vm);
+    whirl_of_orbits(&x, &y)
+}
+
+/// Whirl label and index of node orbits: x and y (one column each) the complex horizontal and
+/// vertical translations of every node (module doc).
+pub fn whirl_of_orbits(x: &DMatrix<C64>, y: &DMatrix<C64>) -> (Whirl, f64) {
     let (mut fw, mut bw, mut total, mut index) = (0.0, 0.0, 0.0, 0.0);
     let i = C64::new(0.0, 1.0);
     for r in 0..x.nrows() {

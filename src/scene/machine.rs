@@ -23,6 +23,10 @@
 //!   (plane strain, thin layer); with R = R_a R_b/(R_a + R_b) the band is 2a, a = √(2Rδ), and
 //!   the force per length ∫k(δ − x²/2R)dx = (4√2/3) k √R δ^1.5.
 //!
+//! `--set` on a machine: its own keys (`rolls[i].…`, `nips[i].…`); `simulation.*`, `solver.*`,
+//! `outputs.*` and `speed.*` go to the first roll's scene (after its `set`); any other key is an
+//! error saying so.
+//!
 //! The line load q [N/m] presses roll_b toward roll_a: q (to − from) split evenly over roll_b's
 //! supports' nodes, beside the arms' forces of `arm_force_n` on every support node of a roll.
 
@@ -33,7 +37,7 @@ use super::check::Check;
 use super::contact_fit::ContactGeometry;
 use super::locate;
 use super::machine_file::{MachineFile, NipFile};
-use super::overrides::{override_error_key, with_overrides};
+use super::overrides::{override_error_key, parse_override, with_overrides};
 use super::source::Source;
 use super::types::{Machine, MachineRoll, Nip, NipLaw, Scene};
 use crate::error::InputError;
@@ -42,7 +46,8 @@ use crate::rotor::fe::{RotorSpec, SectionSpec};
 /// Reads a machine file (`source`, with `--set` overrides) and its rolls' scenes (module doc).
 pub(super) fn load(source: &Source, overrides: &[String]) -> Result<Scene, InputError> {
     let path = source.path();
-    let (table, keys) = with_overrides(source, overrides)?;
+    let (overrides, first_roll) = split_overrides(overrides)?;
+    let (table, keys) = with_overrides(source, &overrides)?;
     let raw: MachineFile = match source.layers.as_slice() {
         [only] if overrides.is_empty() => {
             toml::from_str(&only.text).map_err(|e| locate::toml_error(path, &only.text, &e))?
@@ -60,7 +65,7 @@ pub(super) fn load(source: &Source, overrides: &[String]) -> Result<Scene, Input
         source,
         overridden: &keys,
     };
-    let machine = build(&c, &raw)?;
+    let machine = build(&c, &raw, &first_roll)?;
     let first = &machine.rolls[0].scene;
     let mut scene = first.clone();
     scene.name = raw.name.clone().unwrap_or_else(|| {
@@ -73,6 +78,48 @@ pub(super) fn load(source: &Source, overrides: &[String]) -> Result<Scene, Input
     scene.bases = source.layers[1..].iter().map(|l| l.path.clone()).collect();
     scene.machine = Some(Arc::new(machine));
     Ok(scene)
+}
+
+/// The top-level keys of a machine file.
+const MACHINE_KEYS: [&str; 4] = ["name", "description", "rolls", "nips"];
+
+/// The scene tables whose `--set` overrides a machine passes to its first roll's scene: the run
+/// window, solver and outputs (the machine's, module doc) and the first roll's speed (rolls with
+/// `surface_speed_of` it follow).
+const FIRST_ROLL_TABLES: [&str; 4] = ["simulation", "solver", "outputs", "speed"];
+
+/// Splits a machine's overrides into its own and those for its first roll's scene
+/// ([`FIRST_ROLL_TABLES`]); any other key is an error naming it and saying where it belongs.
+fn split_overrides(overrides: &[String]) -> Result<(Vec<String>, Vec<String>), InputError> {
+    let (mut own, mut first) = (Vec::new(), Vec::new());
+    for o in overrides {
+        let Ok((k, _)) = parse_override(o) else {
+            own.push(o.clone());
+            continue;
+        };
+        let head = match locate::parse_path(&k).first() {
+            Some(locate::Step::Key(h)) => h.clone(),
+            _ => String::new(),
+        };
+        if FIRST_ROLL_TABLES.contains(&head.as_str()) {
+            first.push(o.clone());
+        } else if MACHINE_KEYS.contains(&head.as_str()) {
+            own.push(o.clone());
+        } else {
+            return Err(InputError::new(
+                Path::new("<command line --set>"),
+                format!(
+                    "`{k}` is not a key of a machine file ({}): a roll's scene keys go in its \
+                     `rolls[i].set`; `simulation.*`, `solver.*`, `outputs.*` (the machine's run \
+                     window, solver and outputs, read from the first roll's scene) and `speed.*` \
+                     (the first roll's speed) may be set on the machine",
+                    MACHINE_KEYS.join(", ")
+                ),
+            )
+            .with_key(k));
+        }
+    }
+    Ok((own, first))
 }
 
 /// The outer diameter [m] and material (E [Pa], ν) of `rotor` over [z0, z1] [m], if one
@@ -98,7 +145,7 @@ fn surface(rotor: &RotorSpec, z0: f64, z1: f64) -> Option<(f64, (f64, f64))> {
     found.filter(|_| covered)
 }
 
-fn build(c: &Check, raw: &MachineFile) -> Result<Machine, InputError> {
+fn build(c: &Check, raw: &MachineFile, first_roll: &[String]) -> Result<Machine, InputError> {
     if raw.rolls.is_empty() {
         return Err(c.err("rolls", "a machine needs at least one roll"));
     }
@@ -109,7 +156,11 @@ fn build(c: &Check, raw: &MachineFile) -> Result<Machine, InputError> {
         if rolls.iter().any(|o| o.name == r.name) {
             return Err(c.err(&key("name"), format!("a second roll named `{}`", r.name)));
         }
-        let mut scene = Scene::load(&dir.join(&r.scene), &r.set)?;
+        let mut set = r.set.clone();
+        if i == 0 {
+            set.extend_from_slice(first_roll);
+        }
+        let mut scene = Scene::load(&dir.join(&r.scene), &set)?;
         if scene.machine.is_some() {
             return Err(c.err(&key("scene"), "a roll's scene is one roll, not a machine"));
         }
@@ -131,9 +182,10 @@ fn build(c: &Check, raw: &MachineFile) -> Result<Machine, InputError> {
         rolls.push(MachineRoll {
             name: r.name.clone(),
             scene,
-            set: r.set.clone(),
+            set,
             position,
             arm_force,
+            speed_factor: 1.0,
         });
     }
     let names: Vec<&str> = raw.rolls.iter().map(|r| r.name.as_str()).collect();
@@ -359,6 +411,7 @@ fn tie_speeds(
             (nip.radii.1, nip.radii.0)
         };
         rolls[i].scene.speed = rolls[o].scene.speed.scaled(-theirs / own);
+        rolls[i].speed_factor = -theirs / own;
     }
     Ok(())
 }

@@ -291,6 +291,9 @@ pub struct MachineRoll {
     pub position: [f64; 2],
     /// Loading-arm force (x, y) on each of its support nodes, inertial frame [N].
     pub arm_force: [f64; 2],
+    /// Its speed per speed of the roll it follows (`surface_speed_of`: −R_other/R_own), 1 for a
+    /// roll with a speed of its own.
+    pub speed_factor: f64,
 }
 
 /// A nip between two rolls.

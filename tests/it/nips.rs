@@ -4,7 +4,9 @@
 //!   coupled by a linear nip spring k_c along their length: the in-phase mode keeps
 //!   ω = √(2k/m) and the anti-phase mode has ω = √((2k + 2k_c)/m) (two equal masses on springs
 //!   to ground joined by a spring, e.g. Thomson & Dahleh, *Theory of Vibration with
-//!   Applications*, 5th ed., §5.1), read from a free decay of the time run.
+//!   Applications*, 5th ed., §5.1), read from a free decay of the time run, and from
+//!   `rotorsweep linear` on the machine (the coupled rolls linearised at their static
+//!   equilibrium; the translational modes of the symmetric cylinders do not feel the spin).
 //! - Steel on steel: the nip band's width 2b with the Hertz half-width of two cylinders
 //!   b = √(4 p R/(π E*)), 1/E* = (1−ν₁²)/E₁ + (1−ν₂²)/E₂, 1/R = 1/R₁ + 1/R₂ (Johnson,
 //!   *Contact Mechanics*, 1985, eq. 4.43), p the force per length.
@@ -133,6 +135,56 @@ fn coupled_rigid_rotors_have_the_two_closed_form_frequencies() {
         (0.5 * (lo + hi) / expected - 1.0).abs() < 1e-3,
         "{lo}..{hi} vs {expected}"
     );
+}
+
+#[test]
+fn linear_of_coupled_rigid_rotors_has_the_two_closed_form_frequencies() {
+    let dir = support::scratch("nips-linear");
+    let (k, kc) = (1.0e5, 1.0e5);
+    support::write_file(
+        &dir,
+        "roll.toml",
+        &cylinder(&format!("kx_n_per_m = {k:e}, ky_n_per_m = {k:e}"), ""),
+    );
+    let nips = "[[nips]]\nname = \"nip\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
+                segments = 10\nlaw = \"linear\"\nstiffness_n_per_m2 = 2.5e5\nline_load_kn_per_m = 1.0\n";
+    let path = machine(
+        &dir,
+        &[
+            ("a", "roll.toml", [0.0, 0.0], ""),
+            ("b", "roll.toml", [0.0, 200.0], ""),
+        ],
+        nips,
+    );
+    let scene = Scene::load(&path, &[]).unwrap();
+    let m = Model::build(&scene, None).unwrap().rotor.mass();
+    let f1 = (2.0 * k / m).sqrt() / (2.0 * PI);
+    let f2 = ((2.0 * k + 2.0 * kc) / m).sqrt() / (2.0 * PI);
+    let p = path.to_str().unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&support::rotorsweep_ok(&[
+        "linear", p, "--speeds", "0:10:2", "--json",
+    ]))
+    .unwrap();
+    for (s, set) in json["modes"].as_array().unwrap().iter().enumerate() {
+        let freqs: Vec<f64> = (set.as_array().unwrap().iter())
+            .filter(|m| m["kind"] == "lateral")
+            .map(|m| m["freq_hz"].as_f64().unwrap())
+            .collect();
+        let near = |f: f64| freqs.iter().filter(|x| (*x / f - 1.0).abs() < 1e-4).count();
+        // Both rolls sideways and the two in phase vertically at √(2k/m); the two against each
+        // other across the nip (vertical) at √((2k + 2k_c)/m); nothing below.
+        assert_eq!(near(f1), 3, "speed {s}: {freqs:?} vs {f1} Hz");
+        assert_eq!(near(f2), 1, "speed {s}: {freqs:?} vs {f2} Hz");
+        assert!(freqs[0] > f1 * (1.0 - 1e-4), "{freqs:?}");
+    }
+    // The static nip force of the two-mass statics (as the free-decay test): P k_c/(2k + 2k_c).
+    let total = json["static"]["nips"][0]["total_force_n"].as_f64().unwrap();
+    let expected = 1e3 * 0.4 * kc / (2.0 * k + 2.0 * kc);
+    assert!(
+        (total / expected - 1.0).abs() < 1e-4,
+        "{total} vs {expected}"
+    );
+    assert!(json["critical_speeds_hz"].is_array() && json["stability_threshold_hz"].is_null());
 }
 
 /// The force [N] and, if present, the width [mm] of every segment of `nip` at the last sample.
@@ -339,6 +391,39 @@ fn bad_machines_are_clear_errors_at_their_key_and_line() {
         assert_eq!(e.line, Some(support::line_number(&text, line)), "{e}");
         assert!(e.reason.contains(reason), "{e}");
     }
+}
+
+#[test]
+fn run_window_and_speed_set_on_a_machine_reach_its_first_roll() {
+    let dir = support::scratch("nips-set");
+    support::write_file(
+        &dir,
+        "roll.toml",
+        &cylinder("kx_n_per_m = 1.0e5, ky_n_per_m = 1.0e5", ""),
+    );
+    let nips =
+        "[[nips]]\nname = \"n\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
+                segments = 4\nlaw = \"hertz\"\n";
+    let path = machine(
+        &dir,
+        &[
+            ("a", "roll.toml", [0.0, 0.0], ""),
+            ("b", "roll.toml", [0.0, 200.0], "surface_speed_of = \"a\""),
+        ],
+        nips,
+    );
+    let set = ["simulation.t_end_s=0.25".to_string(), "speed.hz=3.0".into()];
+    let scene = Scene::load(&path, &set).unwrap_or_else(|e| panic!("{e}"));
+    let m = scene.machine.as_ref().unwrap();
+    assert_eq!(scene.simulation.t_end, 0.25);
+    assert_eq!(m.rolls[1].scene.simulation.t_end, 0.25);
+    // Equal radii: roll b follows at −1 × roll a's 3 Hz.
+    assert_eq!(m.rolls[0].scene.speed.at(0.0).1, 2.0 * PI * 3.0);
+    assert_eq!(m.rolls[1].scene.speed.at(0.0).1, -2.0 * PI * 3.0);
+    // A key of a roll's scene is an error naming it and saying where it goes.
+    let e = Scene::load(&path, &["roll.shell.elements=3".to_string()]).expect_err("roll key");
+    assert_eq!(e.key.as_deref(), Some("roll.shell.elements"), "{e}");
+    assert!(e.reason.contains("rolls[i].set"), "{e}");
 }
 
 #[test]

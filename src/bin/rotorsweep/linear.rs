@@ -3,7 +3,11 @@
 //!
 //! In: a scene, `--speed-hz F` (that speed only) or `--speeds START:STOP:COUNT` [Hz] (default
 //! 0:100:101; with a trailing `rpm` in rev/min), `--set KEY=VALUE`, `--modes`, `--max-freq-hz`,
-//! `--unbalance`, `--floquet-cutoff-hz`, `--no-floquet`.
+//! `--unbalance`, `--floquet-cutoff-hz`, `--no-floquet`. A machine file (several rolls in nips)
+//! gets the coupled analysis of [`rotorsweep::linear::machine`] with the same JSON keys for what
+//! it has (`speeds_hz`, `modes` with `roll` and `energy_share` added, `critical_speeds_hz`,
+//! `stability_threshold_hz`, `static` with `sag_um` per `roll.sensor` and `nips`, `frame`,
+//! `warnings`) plus `rolls`; no `-o`.
 //! Out: tables, or with `--json` one object: `speeds_hz`; `modes` (per speed, ascending:
 //! `{freq_hz, damping_ratio, log_dec, whirl, kind, whirl_index}`, damped frequency [Hz]);
 //! with `--shapes` each mode's `shape` `{x_re, x_im, y_re, y_im}` at the nodes of `node_z_mm`;
@@ -29,11 +33,14 @@
 use std::path::PathBuf;
 
 use rotorsweep::dynamics::model::Model;
+use rotorsweep::error::InputError;
+use rotorsweep::linear::machine::{MachineLinear, MACHINE_FRAME_NOTE};
 use rotorsweep::linear::modes::Kind;
 use rotorsweep::linear::request::{self, PointUnbalance, Request, Results, PHASE_NOTE};
 use rotorsweep::linear::scene_system::{in_scene, scene_system};
 use rotorsweep::linear::FRAME_NOTE;
 use rotorsweep::results::linear_file;
+use rotorsweep::scene::{Machine, Scene};
 use rotorsweep::store;
 
 use crate::error::CliError;
@@ -117,6 +124,9 @@ fn request(a: &Args) -> Result<Request, String> {
 pub fn run(a: &Args) -> Result<(), CliError> {
     let req = request(a).map_err(CliError::input)?;
     let (scene, model) = Model::load(&a.scene, &a.set, a.modes.as_deref())?;
+    if let Some(m) = &scene.machine {
+        return machine(a, &req, &scene, m, &model);
+    }
     // The output is claimed before the work (store::output): one writer, nothing replaced
     // that is not a rotorsweep results file.
     let _lock = a
@@ -134,6 +144,92 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         println!("{}", serde_json::to_string_pretty(&r.to_json(true))?);
     } else {
         print_tables(&r);
+    }
+    Ok(())
+}
+
+/// A machine file: its rolls coupled by their nips ([`rotorsweep::linear::machine`]); the
+/// one-roll analyses (unbalance response, Floquet, critical-speed map, shapes, HDF5) are not
+/// run on a machine, a warning says so.
+fn machine(
+    a: &Args,
+    req: &Request,
+    scene: &Scene,
+    m: &Machine,
+    first: &Model,
+) -> Result<(), CliError> {
+    if a.output.is_some() {
+        return Err(CliError::input(
+            "-o: the linear analysis of a machine (several rolls) is printed only (--json); \
+             its HDF5 layout is not defined",
+        ));
+    }
+    let lin = MachineLinear::new(m, first)
+        .map_err(|e| InputError::new(&scene.source, format!("linear analysis: {e}")))?;
+    let mut json = lin
+        .to_json(&scene.name, &req.speeds_hz)
+        .map_err(|e| InputError::new(&scene.source, format!("linear analysis: {e}")))?;
+    let mut warnings = Vec::new();
+    if a.unbalance.is_some() || a.floquet_cutoff_hz.is_some() || a.shapes {
+        warnings.push(
+            "--unbalance, --floquet-cutoff-hz and --shapes apply to one roll; a machine's \
+             analysis has the static equilibrium and the damped modes only",
+        );
+    }
+    json["warnings"] = serde_json::json!(warnings);
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&json)?);
+        return Ok(());
+    }
+    println!(
+        "machine {}: linear analysis of the coupled rolls",
+        scene.name
+    );
+    println!("({MACHINE_FRAME_NOTE})");
+    for (name, f) in lin.rolls() {
+        println!("  roll {name}: speed {f:+.4} × the first roll's");
+    }
+    println!("\nstatic deflection at the sensors [µm] (vertical / horizontal):");
+    for (roll, s, x, y) in &lin.sag {
+        println!("  {roll}.{s}: {:.2} / {:.2}", 1e6 * y, 1e6 * x);
+    }
+    for n in &lin.nips {
+        let total: f64 = n.segments.iter().map(|s| s.force).sum();
+        println!("\nnip {}: {total:.1} N over {} segments", n.name, n.z.len());
+        for (z, s) in n.z.iter().zip(&n.segments) {
+            println!(
+                "  z {:8.1} mm: force {:10.2} N, penetration {:8.3} µm, stiffness {:.4e} N/m",
+                1e3 * z,
+                s.force,
+                1e6 * s.delta,
+                s.stiffness
+            );
+        }
+    }
+    println!("\nlowest modes per speed of the first roll: damped frequency [Hz] / log dec / whirl / roll");
+    let modes = json["modes"].as_array().cloned().unwrap_or_default();
+    for (s, set) in req.speeds_hz.iter().zip(&modes) {
+        let row: Vec<String> = (set.as_array().into_iter().flatten())
+            .filter(|m| m["kind"] == "lateral")
+            .take(6)
+            .map(|m| {
+                format!(
+                    "{:8.3} {:+.4} {:<8} {}",
+                    m["freq_hz"].as_f64().unwrap_or(f64::NAN),
+                    m["log_dec"].as_f64().unwrap_or(f64::NAN),
+                    m["whirl"].as_str().unwrap_or(""),
+                    m["roll"].as_str().unwrap_or("")
+                )
+            })
+            .collect();
+        println!("  {}: {}", speeds::with_rpm(*s), row.join(" | "));
+    }
+    match json["stability_threshold_hz"].as_f64() {
+        Some(t) => println!("stability threshold: {t:.4} Hz"),
+        None => println!("stability threshold: none (stable over the range)"),
+    }
+    for w in warnings {
+        println!("warning: {w}");
     }
     Ok(())
 }
