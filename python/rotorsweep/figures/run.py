@@ -30,6 +30,7 @@ from .compare import compare_figures
 from .jobs import stability, timing, work_precision_pages
 from .linear import campbell, linear_figures, linear_groups, study_systems
 from .ramps import ramp_figures
+from .sampled import sampled_figures
 from .sweeps import harmonics, mean_runout, roller_ratios, spectral_map, sweep_means, trial_mass
 from .tables import ReportTables
 
@@ -140,8 +141,13 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
             report.error_classes(list(summary["job_id"])), report.class_colours())))
     figures.append(("campbell.png", campbell(study_systems(path, names(physics)), study)))
     figures += linear_figures(linear_groups(path))
-    figures += ramp_figures(path, orders, sensor if chosen else None, names(varying), study,
-                            numbers)
+    # A sampled study (its jobs labelled by their design row, `label:sample`) gets the figures
+    # of its distribution instead of one set of ramp figures per job.
+    if "sample" in labels.columns:
+        figures += sampled_figures(report.document()[0], channel, study)
+    else:
+        figures += ramp_figures(path, orders, sensor if chosen else None, names(varying), study,
+                                numbers)
     if balanced is not None:
         figures.append(("balancing.png", balancing(balanced, study, numbers)))
     return _write(figures, outdir)
