@@ -257,7 +257,7 @@ fn morris_points(n: usize, d: usize, levels: usize, seed: u64) -> Vec<Vec<f64>> 
         let mut level: Vec<usize> = (0..d)
             .map(|_| (rng.next_u64() % jump as u64) as usize)
             .collect();
-        let up: Vec<bool> = (0..d).map(|_| rng.next_u64() % 2 == 0).collect();
+        let up: Vec<bool> = (0..d).map(|_| rng.next_u64().is_multiple_of(2)).collect();
         for (l, u) in level.iter_mut().zip(&up) {
             if !u {
                 *l += jump;

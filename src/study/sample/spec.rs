@@ -106,7 +106,9 @@ impl SampleFile {
             )
         })?;
         match (method, self.levels) {
-            (Method::Morris(_), Some(p)) if (2..=MAX_LEVELS).contains(&p) && p % 2 == 0 => {
+            (Method::Morris(_), Some(p))
+                if (2..=MAX_LEVELS).contains(&p) && p.is_multiple_of(2) =>
+            {
                 method = Method::Morris(p as usize)
             }
             (Method::Morris(_), Some(p)) => {
