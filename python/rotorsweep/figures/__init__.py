@@ -82,8 +82,8 @@ and ``sensitivity`` tables): ``histograms.png`` (a histogram per output of the c
 of none, mean and 5 %/95 % quantiles marked), ``scatter.png`` (each output against each sampled
 input; a random wall's realised statistics stand for its seed) and ``sensitivity.png`` (per
 output the first-order and total Sobol' indices, or Morris's μ* and σ, with their 95 %
-intervals); a sampled study gets these instead of the per-ramp-job figures below (one
-waterfall per sample would be hundreds).
+intervals); a sampled study gets these instead of ``timing.png`` and the per-ramp-job figures
+below (a bar or a waterfall per sample would be hundreds).
 
 Last, with ``--balance JSON`` (:mod:`.balance`): ``balancing.png``, the 1× amplitude [µm, log]
 per sensor and direction, one panel per speed: the reference run, the influence coefficients'

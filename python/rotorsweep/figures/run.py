@@ -133,7 +133,9 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
                                      names(physics_keys), same)
         figures += [(f"work_precision{f'-{n}' if n > 1 else ''}.png", fig)
                     for n, fig in enumerate(pages, 1)]
-    if len(summary) > 0:
+    sampled = "sample" in labels.columns
+    # A bar a job: unreadable for the hundreds of jobs of a sampled study.
+    if len(summary) > 0 and not sampled:
         figures.append(("timing.png", timing(summary, names(varying), study)))
     if "solver.integrator" in varying and len(varying) > 1:
         figures.append(("stability.png", stability(
@@ -143,7 +145,7 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
     figures += linear_figures(linear_groups(path))
     # A sampled study (its jobs labelled by their design row, `label:sample`) gets the figures
     # of its distribution instead of one set of ramp figures per job.
-    if "sample" in labels.columns:
+    if sampled:
         figures += sampled_figures(report.document()[0], channel, study)
     else:
         figures += ramp_figures(path, orders, sensor if chosen else None, names(varying), study,
