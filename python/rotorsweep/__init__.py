@@ -16,6 +16,7 @@ A sampled study's statistics and Sobol' indices (:mod:`rotorsweep.statistics`):
 
 >>> st = rs.statistics("sens.h5")                     # per output: mean, std, quantiles, 95 % CIs
 >>> si = rs.sensitivity("sens.h5")                    # per output and parameter: first_order, total
+>>> sa = rs.samples("sens.h5")                        # per job: its sampled inputs and outputs
 """
 
 from .results import (
@@ -63,7 +64,7 @@ from .runner import (
     simulate,
 )
 from .scene import Scene, SceneError, SceneKeyError, SceneValueError
-from .statistics import sensitivity, statistics
+from .statistics import samples, sensitivity, statistics
 
 __all__ = [
     "COUNT_COLUMNS",
@@ -104,6 +105,7 @@ __all__ = [
     "orbits",
     "run",
     "runout",
+    "samples",
     "sensitivity",
     "simulate",
     "spectral_map",

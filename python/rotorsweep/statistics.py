@@ -3,6 +3,7 @@
 >>> import rotorsweep as rs
 >>> st = rs.statistics("sens.h5")      # one row per output: mean, std, quantiles, their 95 % CIs
 >>> si = rs.sensitivity("sens.h5")     # one row per output and parameter: first_order, total, CIs
+>>> sa = rs.samples("sens.h5")         # one row per job: its sampled inputs and its outputs
 
 In: a results file of ``rotorsweep run`` on a sampled study. Out: the ``statistics`` and
 ``sensitivity`` tables of ``rotorsweep report FILE --table NAME --format json`` (docs/statistics.md)
@@ -36,7 +37,7 @@ def _table(path: PathLike, name: str, timeout: float | None, binary: PathLike | 
     for c in df.columns:
         if c == "n":
             df[c] = df[c].astype("int64")
-        elif c not in ("output", "parameter"):
+        elif c not in ("output", "parameter", "job_id", "label"):
             df[c] = df[c].astype(float).fillna(np.nan)
         else:
             df[c] = df[c].astype(str)
@@ -54,10 +55,20 @@ def statistics(
     return _table(path, "statistics", timeout, binary)
 
 
+def samples(
+    path: PathLike, *, timeout: float | None = DEFAULT_TIMEOUT, binary: PathLike | None = None
+) -> pd.DataFrame:
+    """Per job of the sampled study in ``path`` that ended ok: ``job_id``, ``label`` (its design
+    row), each sampled parameter's value (column: its first key) and each output (its unit in
+    its name; NaN where the job has none)."""
+    return _table(path, "samples", timeout, binary)
+
+
 def sensitivity(
     path: PathLike, *, timeout: float | None = DEFAULT_TIMEOUT, binary: PathLike | None = None
 ) -> pd.DataFrame:
     """Per output and sampled parameter of the Saltelli study in ``path``: ``output``,
     ``parameter``, ``n`` (design rows used), ``first_order`` and ``total`` Sobol' indices each
-    with ``_low`` and ``_high`` (95 % bootstrap interval)."""
+    with ``_low`` and ``_high`` (95 % bootstrap interval); of a Morris study ``mu``, ``mu_star``
+    and ``sigma`` of the elementary effects instead, each with ``_low`` and ``_high``."""
     return _table(path, "sensitivity", timeout, binary)

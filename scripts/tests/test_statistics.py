@@ -78,3 +78,22 @@ def test_a_grid_study_has_no_sensitivity_table(tmp_path: Path) -> None:
     rs.run(study, output=out)
     with pytest.raises(rs.RotorsweepError):
         rs.sensitivity(out)
+
+
+def test_samples_frame_holds_every_job_with_its_inputs(sens: Path) -> None:
+    # n (d + 2) = 32 × 5 jobs, each with its three sampled values and its outputs; the critical
+    # speed √(2k/m)/2π of each job from its own k and ρ (m = ρ π 0.1² 0.4, scenes/rigid-jeffcott).
+    sa = rs.samples(sens)
+    assert len(sa) == 160
+    assert {"job_id", "label", "speed.hz", "critical_speed_hz:1"} <= set(sa.columns)
+    m = sa["materials.steel.density_kg_m3"] * math.pi * 0.1**2 * 0.4
+    f = (2 * sa["supports[0].spring.kx_n_per_m"] / m) ** 0.5 / (2 * math.pi)
+    assert ((sa["critical_speed_hz:1"] / f - 1).abs() < 1e-4).all()
+
+
+def test_a_sampled_study_gets_its_histograms_scatter_and_sensitivity_figures(
+        sens: Path, tmp_path: Path) -> None:
+    from rotorsweep.figures import render
+
+    names = [p.name for p in render(sens, tmp_path / "figs")]
+    assert {"histograms.png", "scatter.png", "sensitivity.png"} <= set(names)

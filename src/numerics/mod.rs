@@ -5,11 +5,13 @@
 //! problems ([`eigen`]), the SVD with a bounded iteration ([`svd`]), the median of a sample ([`median`]), Newton's iteration
 //! for a static equilibrium ([`newton`]), a
 //! seeded random stream ([`rng`]), a sample's statistics with bootstrap intervals
-//! ([`sample_statistics`]) and Sobol' indices from a Saltelli design ([`sobol_indices`]). Each module's doc states its method
+//! ([`sample_statistics`]) Sobol' indices from a Saltelli design ([`sobol_indices`]) and Morris elementary effects
+//! ([`elementary_effects`]). Each module's doc states its method
 //! and cost.
 
 pub mod dense;
 pub mod eigen;
+pub mod elementary_effects;
 pub mod median;
 pub mod newton;
 pub mod rng;

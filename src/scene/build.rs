@@ -24,6 +24,7 @@ pub(super) fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
     let Geometry {
         rotor,
         thickness_map: map,
+        wall_field,
         sensors,
         boundary: default_boundary,
         body,
@@ -57,6 +58,7 @@ pub(super) fn build(c: &Check, raw: SceneFile) -> Result<Scene, InputError> {
         bases: Vec::new(),
         rotor,
         thickness_map: map,
+        wall_field,
         body,
         boundary,
         modes,

@@ -272,6 +272,31 @@ pub(super) struct ShellFile {
     pub elements: usize,
     pub thickness_map: Option<String>,
     pub synthetic_map: Option<SyntheticMapFile>,
+    pub random_wall: Option<RandomWallFile>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RandomWallFile {
+    pub seed: u64,
+    pub mean_mm: f64,
+    pub std_mm: f64,
+    pub correlation_around_mm: f64,
+    pub correlation_along_mm: f64,
+    #[serde(default = "random_wall_angles")]
+    pub angles: usize,
+    #[serde(default = "random_wall_stations")]
+    pub stations: usize,
+}
+
+/// The default grid of a random wall: 36 angles (10°) …
+fn random_wall_angles() -> usize {
+    36
+}
+
+/// … and 31 stations, the grid of the shipped reference map.
+fn random_wall_stations() -> usize {
+    31
 }
 
 #[derive(Debug, Deserialize)]

@@ -49,6 +49,7 @@ pub fn warnings(
             SectionSpec::Mapped { outer, map, .. } => {
                 let key = match source.table.get("roll").and_then(|r| r.get("shell")) {
                     Some(sh) if sh.get("synthetic_map").is_some() => "roll.shell.synthetic_map",
+                    Some(sh) if sh.get("random_wall").is_some() => "roll.shell.random_wall",
                     _ => "roll.shell.thickness_map",
                 };
                 (*outer, map.stats().min_m, key.to_string())

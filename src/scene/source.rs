@@ -9,7 +9,7 @@
 //! Merge rules: tables merge key by key, the extending file's values win; any other value
 //! (numbers, strings, arrays, arrays of tables such as `[[supports]]` or `[[roll.sensors]]`) is
 //! replaced whole. Choices that exclude each other replace each other: a file that gives one of
-//! `roll.shell.wall_thickness_mm`, `thickness_map`, `synthetic_map` drops the others its base
+//! `roll.shell.wall_thickness_mm`, `thickness_map`, `synthetic_map`, `random_wall` drops the others its base
 //! gave, and `[roll]` and `[rotor]`, and `speed.hz` and `speed.rpm`, likewise. Relative paths written in a base
 //! (`roll.shell.thickness_map`) stay relative to the base's own folder.
 //!
@@ -44,7 +44,12 @@ const EXCLUSIVE: &[(&str, &[&str])] = &[
     ("", &["roll", "rotor", "fe"]),
     (
         "roll.shell",
-        &["wall_thickness_mm", "thickness_map", "synthetic_map"],
+        &[
+            "wall_thickness_mm",
+            "thickness_map",
+            "synthetic_map",
+            "random_wall",
+        ],
     ),
     ("speed", &["hz", "rpm"]),
 ];

@@ -17,7 +17,7 @@ use crate::integrators::SolverSettings;
 use crate::rotor::fe::RotorSpec;
 use crate::rotor::import::body::ImportedBody;
 use crate::rotor::reduction::ModeSelection;
-use crate::rotor::wall::ThicknessMap;
+use crate::rotor::wall::{FieldStats, ThicknessMap};
 
 /// A validated scene in SI units.
 #[derive(Debug, Clone)]
@@ -34,6 +34,9 @@ pub struct Scene {
     pub rotor: RotorSpec,
     /// Thickness map of the shell, if the rotor is a roll with a map.
     pub thickness_map: Option<Arc<ThicknessMap>>,
+    /// The realised statistics of the shell's wall when it is a random field (`random_wall`),
+    /// which a study stores with each job.
+    pub wall_field: Option<FieldStats>,
     /// The FE body of `[fe]`, when the rotor is one: it replaces `rotor`'s mesh, whose named
     /// points are the body's nodes.
     pub body: Option<Arc<ImportedBody>>,

@@ -5,7 +5,8 @@
 //! rigid-Jeffcott study's indices against their closed form (derived in
 //! studies/sensitivity-jeffcott.toml), the mean and standard deviation of a linear output (the
 //! static sag, linear in the density) under a normal input, identical bytes at 1 and 2 threads
-//! and through shards, and bad `[sample]` tables named by file, key and line.
+//! and through shards, Morris elementary effects of a linear output (Morris 1991; Campolongo et
+//! al. 2007), and bad `[sample]` tables named by file, key and line.
 
 use crate::support;
 
@@ -484,4 +485,69 @@ fn a_sampled_value_the_scene_refuses_names_its_parameter() {
     );
     assert_eq!(key.as_deref(), Some("solver.hmax"), "{msg}");
     assert_eq!(at, line(&text, "key = \"solver.hmax\""), "{msg}");
+}
+
+#[test]
+fn morris_effects_of_a_linear_output_are_its_coefficient_times_the_range() {
+    // The static sag s = ρ V g/(2k) (see the test above) is linear in ρ and does not depend on
+    // the run's speed. Over ρ uniform on [7000, 8500] every elementary effect (Morris 1991) in
+    // the table's unit (per unit probability, so per range) is ds/dρ × 1500 kg/m³: μ = that,
+    // μ* = |μ| (Campolongo, Cariboni & Saltelli 2007) and σ = 0; the speed's are all 0. The
+    // cylinder's bending, also linear in ρ, adds under 2e-5 of the sag (studies/
+    // sensitivity-jeffcott.toml).
+    let d = scratch("sample-morris");
+    let trajectories = 12;
+    let text = jeffcott_study(&format!(
+        "[linear]\nspeeds = \"0:1:2\"\nstatic = true\n[sample]\nmethod = \"morris\"\nn = {trajectories}\nlevels = 6\nseed = 11\n\
+         [[sample.parameters]]\nkey = \"materials.steel.density_kg_m3\"\ndistribution = \"uniform\"\nlower = 7000.0\nupper = 8500.0\n\
+         [[sample.parameters]]\nkey = \"speed.hz\"\ndistribution = \"uniform\"\nlower = 5.0\nupper = 10.0\n"
+    ));
+    let st = Study::load(&write_file(&d, "s.toml", &text)).unwrap();
+    assert_eq!(st.jobs.len(), trajectories * 3);
+    let out = d.join("s.h5");
+    campaign::run(&st, &support::run_options(&out)).unwrap();
+    let per_rho = PI * 0.01 * 0.4 * 9.81 / 2e5 * 1e6; // µm per kg/m³
+    let exact = -per_rho * 1500.0;
+    let table = report_table(&out, "sensitivity");
+    let row = |param: &str| {
+        rows(&table)
+            .into_iter()
+            .find(|r| r["output"] == "sag_vertical_um:centre" && r["parameter"] == param)
+            .unwrap_or_else(|| panic!("{param}"))
+    };
+    let rho = row("materials.steel.density_kg_m3");
+    eprintln!(
+        "morris: mu {} mu* {} sigma {} (exact mu {exact}, mu* {}, sigma 0)",
+        num(&rho, "mu"),
+        num(&rho, "mu_star"),
+        num(&rho, "sigma"),
+        exact.abs()
+    );
+    assert_eq!(num(&rho, "n"), trajectories as f64);
+    assert!((num(&rho, "mu") / exact - 1.0).abs() < 1e-4);
+    assert!((num(&rho, "mu_star") / exact.abs() - 1.0).abs() < 1e-4);
+    assert!(num(&rho, "sigma") < 1e-6 * exact.abs());
+    let speed = row("speed.hz");
+    for col in ["mu", "mu_star", "sigma"] {
+        assert!(num(&speed, col).abs() < 1e-9 * exact.abs(), "speed {col}");
+    }
+}
+
+#[test]
+fn a_morris_grid_needs_even_levels_and_its_method() {
+    for (sample, levels, says) in [
+        ("method = \"morris\"\nn = 4\n", "levels = 5", "even"),
+        (
+            "method = \"sobol\"\nn = 4\n",
+            "levels = 4",
+            "only with method",
+        ),
+    ] {
+        let (key, at, msg, text) = error_of(&format!(
+            "[sample]\n{sample}{levels}\n[[sample.parameters]]\nkey = \"speed.hz\"\ndistribution = \"uniform\"\nlower = 5.0\nupper = 10.0\n"
+        ));
+        assert_eq!(key.as_deref(), Some("sample.levels"));
+        assert_eq!(at, line(&text, levels));
+        assert!(msg.contains(says), "{msg}");
+    }
 }

@@ -77,6 +77,14 @@ response that steady state dashed over it and the critical speeds dotted; the le
 each curve holds: the run's 1× every 1× source, journal roundness included, the steady state
 the unbalance alone).
 
+Per sampled study (``[sample]``, :mod:`.sampled`, from the report's ``samples``, ``statistics``
+and ``sensitivity`` tables): ``histograms.png`` (a histogram per output of the chosen channel or
+of none, mean and 5 %/95 % quantiles marked), ``scatter.png`` (each output against each sampled
+input; a random wall's realised statistics stand for its seed) and ``sensitivity.png`` (per
+output the first-order and total Sobol' indices, or Morris's μ* and σ, with their 95 %
+intervals); a sampled study gets these instead of ``timing.png`` and the per-ramp-job figures
+below (a bar or a waterfall per sample would be hundreds).
+
 Last, with ``--balance JSON`` (:mod:`.balance`): ``balancing.png``, the 1× amplitude [µm, log]
 per sensor and direction, one panel per speed: the reference run, the influence coefficients'
 prediction after the corrections and, with ``--check``, the check run with its reduction [%];
@@ -155,6 +163,10 @@ _EXPORTS = {
     "compare_waterfalls": "compare",
     "compare_orders": "compare",
     "compare_figures": "compare",
+    "sampled_figures": "sampled",
+    "histograms": "sampled",
+    "scatter": "sampled",
+    "sensitivity": "sampled",
 }
 
 __all__ = sorted(_EXPORTS)

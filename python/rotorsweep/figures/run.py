@@ -30,6 +30,7 @@ from .compare import compare_figures
 from .jobs import stability, timing, work_precision_pages
 from .linear import campbell, linear_figures, linear_groups, study_systems
 from .ramps import ramp_figures
+from .sampled import sampled_figures
 from .sweeps import harmonics, mean_runout, roller_ratios, spectral_map, sweep_means, trial_mass
 from .tables import ReportTables
 
@@ -132,7 +133,9 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
                                      names(physics_keys), same)
         figures += [(f"work_precision{f'-{n}' if n > 1 else ''}.png", fig)
                     for n, fig in enumerate(pages, 1)]
-    if len(summary) > 0:
+    sampled = "sample" in labels.columns
+    # A bar a job: unreadable for the hundreds of jobs of a sampled study.
+    if len(summary) > 0 and not sampled:
         figures.append(("timing.png", timing(summary, names(varying), study)))
     if "solver.integrator" in varying and len(varying) > 1:
         figures.append(("stability.png", stability(
@@ -140,8 +143,13 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
             report.error_classes(list(summary["job_id"])), report.class_colours())))
     figures.append(("campbell.png", campbell(study_systems(path, names(physics)), study)))
     figures += linear_figures(linear_groups(path))
-    figures += ramp_figures(path, orders, sensor if chosen else None, names(varying), study,
-                            numbers)
+    # A sampled study (its jobs labelled by their design row, `label:sample`) gets the figures
+    # of its distribution instead of one set of ramp figures per job.
+    if sampled:
+        figures += sampled_figures(report.document()[0], channel, study)
+    else:
+        figures += ramp_figures(path, orders, sensor if chosen else None, names(varying), study,
+                                numbers)
     if balanced is not None:
         figures.append(("balancing.png", balancing(balanced, study, numbers)))
     return _write(figures, outdir)

@@ -1,6 +1,7 @@
 //! The outputs of every job as numbers, for the `statistics` and `sensitivity` tables.
 //!
-//! In: a results file: `/jobs/<id>/runout_mean/<sensor>/<dir>` [µm], `/analysis/lines` (each
+//! In: a results file: `/jobs/<id>/runout_mean/<sensor>/<dir>` [µm], a random wall's realised
+//! statistics (the job attributes `wall_mean_mm`, `wall_std_mm`, `wall_h1_mm`, `wall_h2_mm`), `/analysis/lines` (each
 //! job's line amplitude per channel and order [µm]), `/analysis/order_resonances` (the highest
 //! peak per job, channel and order: speed [Hz] and amplitude [µm]) and the job's linear system
 //! `/linear/<linear_id>` (`critical_speeds_hz` [Hz], `static/sag_vertical_um` and
@@ -19,6 +20,9 @@ use hdf5::File;
 use super::orders::{records, PeakRow};
 use crate::store;
 use crate::text::number_text;
+
+/// The job attributes of a random wall's realised statistics [mm], outputs under their own names.
+const WALL_FIELD: [&str; 4] = ["wall_mean_mm", "wall_std_mm", "wall_h1_mm", "wall_h2_mm"];
 
 /// A row of `/analysis/lines`.
 #[derive(hdf5::H5Type, Clone)]
@@ -52,6 +56,11 @@ pub(crate) fn job_outputs(f: &File, job_ids: &[String]) -> hdf5::Result<Outputs>
     let linear = f.group("linear").ok();
     for (j, id) in job_ids.iter().enumerate() {
         let g = jobs.group(id)?;
+        for attr in WALL_FIELD {
+            if let Ok(v) = store::read_num(&g, attr) {
+                put(attr.to_string(), j, v);
+            }
+        }
         if let Ok(means) = g.group("runout_mean") {
             for sensor in means.member_names()? {
                 let sg = means.group(&sensor)?;

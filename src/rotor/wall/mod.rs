@@ -1,7 +1,8 @@
 //! Wall-thickness map t(φ, z) of a tube roll's shell.
 //!
 //! **In:** a measured map as CSV ([`ThicknessMap::from_csv`]), a synthetic recipe
-//! ([`SyntheticSpec`] → [`ThicknessMap::synthetic`]) or one thickness ([`ThicknessMap::uniform`]),
+//! ([`SyntheticSpec`] → [`ThicknessMap::synthetic`]), a random field ([`RandomFieldSpec`] →
+//! [`ThicknessMap::random_field`]) or one thickness ([`ThicknessMap::uniform`]),
 //! plus the shell length.
 //! **Out:** the wall thickness t(φ, z) in metres anywhere on the shell
 //! ([`ThicknessMap::thickness`]), the thinnest wall at a z ([`ThicknessMap::min_thickness_at`]),
@@ -14,6 +15,7 @@
 //! | `map.rs` | the map: stations, interpolation, statistics |
 //! | `csv.rs` | the `angle_deg,z_mm,thickness_mm` CSV: reading (file:line errors) and writing |
 //! | `synthetic.rs` | synthetic maps: harmonics, seeded random field, fit of the tails |
+//! | `random_field.rs` | random walls: a stationary Gaussian field per seed, realised statistics |
 //!
 //! # Conventions
 //! - SI inside: φ in radians, z and t in metres.
@@ -25,6 +27,7 @@
 
 mod csv;
 mod map;
+mod random_field;
 mod synthetic;
 
 #[cfg(test)]
@@ -33,4 +36,5 @@ mod test_support;
 pub(crate) use self::csv::data_rows;
 pub use self::csv::COVERAGE_SHARE;
 pub use map::{MapStats, ThicknessMap};
+pub use random_field::{FieldStats, RandomFieldSpec};
 pub use synthetic::{AxialShape, HarmonicSpec, SyntheticSpec};

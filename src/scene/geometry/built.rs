@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use crate::rotor::fe::RotorSpec;
 use crate::rotor::import::body::ImportedBody;
-use crate::rotor::wall::ThicknessMap;
+use crate::rotor::wall::{FieldStats, ThicknessMap};
 
 /// The rotor built from `[roll]`, `[rotor]` or `[fe]`.
 pub(crate) struct Geometry {
@@ -15,6 +15,8 @@ pub(crate) struct Geometry {
     pub rotor: RotorSpec,
     /// Thickness map of the shell, if the rotor is a roll with a map.
     pub thickness_map: Option<Arc<ThicknessMap>>,
+    /// The realised statistics of the shell's wall when it is a random field (`random_wall`).
+    pub wall_field: Option<FieldStats>,
     /// Names of the sensor nodes.
     pub sensors: Vec<String>,
     /// The Craig–Bampton boundary when `reduction.boundary` names none (the roll's journals);

@@ -121,6 +121,7 @@ pub(crate) fn build_fe(c: &Check, fe: &FeFile) -> Result<Geometry, InputError> {
             balancing: None,
         },
         thickness_map: None,
+        wall_field: None,
         sensors,
         boundary: Vec::new(),
         body: Some(Arc::new(body)),

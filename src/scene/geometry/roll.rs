@@ -15,6 +15,7 @@ use super::materials::Materials;
 use super::shell::{nominal_wall, shell_section, thickness_map};
 use crate::error::InputError;
 use crate::rotor::fe::{BalancingSpec, Material, RotorSpec, SectionSpec, SegmentSpec};
+use crate::rotor::wall::FieldStats;
 use crate::scene::check::Check;
 use crate::scene::file::*;
 use crate::scene::limits::mesh_size;
@@ -89,6 +90,11 @@ pub(crate) fn build_roll(
     let boundary = vec!["journal_tending".to_string(), "journal_drive".to_string()];
     Ok(Geometry {
         rotor,
+        wall_field: sh
+            .random_wall
+            .as_ref()
+            .and(map.as_deref())
+            .map(FieldStats::of),
         thickness_map: map,
         sensors,
         boundary,

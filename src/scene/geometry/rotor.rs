@@ -108,6 +108,7 @@ pub(crate) fn build_rotor(
             balancing: None,
         },
         thickness_map: None,
+        wall_field: None,
         sensors,
         boundary: Vec::new(),
         body: None,

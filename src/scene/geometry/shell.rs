@@ -1,5 +1,7 @@
 //! A roll shell's wall: nominal (`wall_thickness_mm`), a thickness map read from a CSV file
-//! (`thickness_map`) or a seeded synthetic map (`synthetic_map`) → the shell's section.
+//! (`thickness_map`), a seeded synthetic map (`synthetic_map`) or a seeded random field
+//! (`random_wall`: mean and standard deviation in mm, correlation lengths around (arc length at
+//! the mean wall's mid radius) and along the shell in mm, the grid) → the shell's section.
 //!
 //! In: the `[roll.shell]` table (the wall in mm; a CSV path relative to the scene file; the
 //! synthetic map's mean, min, max and standard deviation in mm, harmonics with phases in
@@ -16,9 +18,9 @@ use std::sync::Arc;
 
 use crate::error::InputError;
 use crate::rotor::fe::SectionSpec;
-use crate::rotor::wall::{AxialShape, HarmonicSpec, SyntheticSpec, ThicknessMap};
+use crate::rotor::wall::{AxialShape, HarmonicSpec, RandomFieldSpec, SyntheticSpec, ThicknessMap};
 use crate::scene::check::Check;
-use crate::scene::file::{ShellFile, SyntheticMapFile};
+use crate::scene::file::{RandomWallFile, ShellFile, SyntheticMapFile};
 
 /// The key of the shell's outer diameter, which its wall must fit.
 const OUTER_KEY: &str = "roll.shell.outer_diameter_mm";
@@ -32,33 +34,33 @@ pub(super) fn nominal_wall(
 ) -> Result<Option<f64>, InputError> {
     // The wall is either nominal (uniform) or a map, never both: with a map, a nominal wall would
     // be ignored in favour of the map's, a silent change of the roll's mass and stiffness.
-    Ok(
-        match (sh.wall_thickness_mm, &sh.thickness_map, &sh.synthetic_map) {
-            (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
-                return Err(c.err(
-                    "roll.shell.wall_thickness_mm",
-                    "give either a nominal wall (wall_thickness_mm) or a thickness map \
-                 (thickness_map or synthetic_map), not both: with a map the wall, and so the \
-                 shell's mass and stiffness, come from the map",
-                ))
+    let has_map =
+        sh.thickness_map.is_some() || sh.synthetic_map.is_some() || sh.random_wall.is_some();
+    Ok(match sh.wall_thickness_mm {
+        Some(_) if has_map => {
+            return Err(c.err(
+                "roll.shell.wall_thickness_mm",
+                "give either a nominal wall (wall_thickness_mm) or a thickness map \
+                 (thickness_map, synthetic_map or random_wall), not both: with a map the wall, \
+                 and so the shell's mass and stiffness, come from the map",
+            ))
+        }
+        Some(w) => {
+            let wall = 1e-3 * c.size_mm("roll.shell.wall_thickness_mm", w)?;
+            if 2.0 * wall >= outer {
+                return Err(c.err_among(
+                    &["roll.shell.wall_thickness_mm", OUTER_KEY],
+                    format!(
+                        "a wall of {} mm does not fit in a {} mm tube",
+                        wall * 1e3,
+                        outer * 1e3
+                    ),
+                ));
             }
-            (Some(w), None, None) => {
-                let wall = 1e-3 * c.size_mm("roll.shell.wall_thickness_mm", w)?;
-                if 2.0 * wall >= outer {
-                    return Err(c.err_among(
-                        &["roll.shell.wall_thickness_mm", OUTER_KEY],
-                        format!(
-                            "a wall of {} mm does not fit in a {} mm tube",
-                            wall * 1e3,
-                            outer * 1e3
-                        ),
-                    ));
-                }
-                Some(wall)
-            }
-            (None, _, _) => None,
-        },
-    )
+            Some(wall)
+        }
+        None => None,
+    })
 }
 
 /// The shell's thickness map over its `length` [m], if it has one: read from the CSV file
@@ -70,14 +72,21 @@ pub(super) fn thickness_map(
     length: f64,
     outer: f64,
 ) -> Result<Option<Arc<ThicknessMap>>, InputError> {
-    let map = match (&sh.thickness_map, &sh.synthetic_map) {
-        (Some(_), Some(_)) => {
+    let map = match (&sh.thickness_map, &sh.synthetic_map, &sh.random_wall) {
+        (Some(_), Some(_), _) => {
             return Err(c.err(
                 "roll.shell.synthetic_map",
                 "give either thickness_map (a CSV file) or synthetic_map, not both",
             ))
         }
-        (Some(csv), None) => {
+        (Some(_), None, Some(_)) | (None, Some(_), Some(_)) => {
+            return Err(c.err(
+                "roll.shell.random_wall",
+                "give one thickness map: thickness_map (a CSV file), synthetic_map or \
+                 random_wall, not two",
+            ))
+        }
+        (Some(csv), None, None) => {
             let p = c.file.parent().unwrap_or(Path::new(".")).join(csv);
             // Errors inside the CSV name the CSV and its line, and where the scene names it; an
             // unreadable file is reported where the scene names it.
@@ -93,13 +102,19 @@ pub(super) fn thickness_map(
             })?;
             Some(map)
         }
-        (None, Some(s)) => {
+        (None, Some(s), None) => {
             let spec = synthetic_spec(c, s)?;
             spec.validate(length)
                 .map_err(|r| c.err("roll.shell.synthetic_map", r))?;
             Some(ThicknessMap::synthetic(&spec, length))
         }
-        (None, None) => None,
+        (None, None, Some(r)) => {
+            let spec = random_wall_spec(c, r, outer)?;
+            spec.validate(length)
+                .map_err(|e| c.err("roll.shell.random_wall", e))?;
+            Some(ThicknessMap::random_field(&spec, length))
+        }
+        (None, None, None) => None,
     };
     if let Some(m) = &map {
         fits_tube(c, sh, m, outer)?;
@@ -123,10 +138,7 @@ fn fits_tube(c: &Check, sh: &ShellFile, m: &ThicknessMap, outer: f64) -> Result<
             ),
             None => String::new(),
         };
-        let map_key = match sh.thickness_map {
-            Some(_) => "roll.shell.thickness_map",
-            None => "roll.shell.synthetic_map",
-        };
+        let map_key = map_key(sh);
         return Err(c.err_among(
             &[map_key, OUTER_KEY],
             format!(
@@ -138,6 +150,15 @@ fn fits_tube(c: &Check, sh: &ShellFile, m: &ThicknessMap, outer: f64) -> Result<
         ));
     }
     Ok(())
+}
+
+/// The key of the shell's map, where errors about the map point.
+fn map_key(sh: &ShellFile) -> &'static str {
+    match (&sh.thickness_map, &sh.random_wall) {
+        (Some(_), _) => "roll.shell.thickness_map",
+        (None, Some(_)) => "roll.shell.random_wall",
+        (None, None) => "roll.shell.synthetic_map",
+    }
 }
 
 /// The shell's section, of diameter `outer` [m]: mapped when it has a map, else a tube of its
@@ -162,7 +183,7 @@ pub(super) fn shell_section(
             return Err(c.err(
                 "roll.shell",
                 "the shell needs its wall: wall_thickness_mm (uniform) or a thickness map \
-                 (thickness_map or synthetic_map)",
+                 (thickness_map, synthetic_map or random_wall)",
             ))
         }
     })
@@ -214,5 +235,41 @@ fn synthetic_spec(c: &Check, s: &SyntheticMapFile) -> Result<SyntheticSpec, Inpu
             )?,
         n_angles: c.count(&format!("{k}.angles"), s.angles, 8, 4096)?,
         n_stations: c.count(&format!("{k}.stations"), s.stations, 2, 4096)?,
+    })
+}
+
+/// The random wall's spec in SI (m) from `roll.shell.random_wall`, on a shell of diameter
+/// `outer` [m]: the correlation around is an arc length at the mean wall's mid radius.
+fn random_wall_spec(
+    c: &Check,
+    r: &RandomWallFile,
+    outer: f64,
+) -> Result<RandomFieldSpec, InputError> {
+    let k = "roll.shell.random_wall";
+    let mean = 1e-3 * c.positive(&format!("{k}.mean_mm"), r.mean_mm)?;
+    let std = 1e-3 * c.positive(&format!("{k}.std_mm"), r.std_mm)?;
+    if 2.0 * mean >= outer {
+        return Err(c.err_among(
+            &[&format!("{k}.mean_mm"), OUTER_KEY],
+            format!(
+                "a mean wall of {} mm does not fit in a {} mm tube",
+                mean * 1e3,
+                outer * 1e3
+            ),
+        ));
+    }
+    Ok(RandomFieldSpec {
+        seed: r.seed,
+        mean_m: mean,
+        std_m: std,
+        around_m: 1e-3
+            * c.positive(
+                &format!("{k}.correlation_around_mm"),
+                r.correlation_around_mm,
+            )?,
+        along_m: 1e-3 * c.positive(&format!("{k}.correlation_along_mm"), r.correlation_along_mm)?,
+        radius_m: 0.5 * (outer - mean),
+        n_angles: c.count(&format!("{k}.angles"), r.angles, 8, 4096)?,
+        n_stations: c.count(&format!("{k}.stations"), r.stations, 2, 1000)?,
     })
 }

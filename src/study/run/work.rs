@@ -2,7 +2,9 @@
 //!
 //! In: the study, the jobs and reference runs still to run. Out: one [`Work`] per run, the
 //! reference runs first, then the jobs in study order: its id, scene, model and linearised
-//! system, pruning threshold, the parameters its part file records ([`Work::part_params`]) and
+//! system, pruning threshold, the parameters its part file records ([`Work::part_params`]: a
+//! random wall's realised statistics `wall_mean_mm`, `wall_std_mm`, `wall_h1_mm`, `wall_h2_mm`
+//! among them) and
 //! the name its progress line gives it (its labels, else its varying values).
 
 use crate::scene::Scene;
@@ -104,6 +106,17 @@ impl Work<'_> {
         // The spin speed over the record, the roll angle's offset and the roller ratios, for
         // the spectral analysis.
         params.extend(crate::results::analyse::job_attrs(self.scene));
+        // A random wall's realised statistics (outputs of the statistics and sensitivity tables).
+        if let Some(w) = &self.scene.wall_field {
+            for (name, v) in [
+                ("wall_mean_mm", w.mean_mm),
+                ("wall_std_mm", w.std_mm),
+                ("wall_h1_mm", w.h1_mm),
+                ("wall_h2_mm", w.h2_mm),
+            ] {
+                params.push((name.into(), Param::Number(v)));
+            }
+        }
         if let Some(p) = self.prune {
             params.push((crate::study::PRUNE_KEY.into(), Param::Number(p)));
         }

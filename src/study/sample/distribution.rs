@@ -12,7 +12,9 @@
 //! mean m and standard deviation s of the variable has σ² = ln(1 + s²/m²), μ = ln m − σ²/2;
 //! truncated normal by inversion, x = μ + σ Φ⁻¹(Φ(a') + u (Φ(b') − Φ(a'))) with a', b' the
 //! standardised bounds (clamped into [a, b]); discrete by the cumulative weights (the first
-//! value whose cumulative share exceeds u).
+//! value whose cumulative share exceeds u); `seed` (no parameters) the integer ⌊u · 2³²⌋, the
+//! seed of a random field (a random wall: each design row's own realisation, and in a Saltelli
+//! design the field is one parameter whose AB_i rows take B's field).
 
 use statrs::distribution::{ContinuousCDF, LogNormal, Normal};
 
@@ -39,15 +41,21 @@ pub enum Distribution {
         values: Vec<toml::Value>,
         cumulative: Vec<f64>,
     },
+    /// A seed of a random field: the integer ⌊u · 2³²⌋.
+    Seed,
 }
 
+/// The seeds a `seed` distribution draws from: 0 … 2³² − 1.
+const SEED_RANGE: f64 = 4_294_967_296.0;
+
 /// The names a study may give.
-pub const NAMES: [&str; 5] = [
+pub const NAMES: [&str; 6] = [
     "uniform",
     "normal",
     "lognormal",
     "truncated-normal",
     "discrete",
+    "seed",
 ];
 
 /// The parameters of a distribution as written; each is present or not.
@@ -133,6 +141,7 @@ impl Distribution {
             "lognormal" => &["mean", "std", "log_mean", "log_std"],
             "truncated-normal" => &["mean", "std", "lower", "upper"],
             "discrete" => &["values", "weights"],
+            "seed" => &[],
             other => {
                 return Err((
                     "distribution",
@@ -166,6 +175,7 @@ impl Distribution {
                 Ok(Distribution::Normal(normal(mean, std)?))
             }
             "lognormal" => Self::lognormal(p),
+            "seed" => Ok(Distribution::Seed),
             "truncated-normal" => {
                 let mean = need(p.mean, "mean", name)?;
                 let std = positive(p.std, "std", name)?;
@@ -290,6 +300,9 @@ impl Distribution {
                     .unwrap_or(values.len() - 1);
                 return values[i].clone();
             }
+            Distribution::Seed => {
+                return toml::Value::Integer((u * SEED_RANGE).floor() as i64);
+            }
         };
         toml::Value::Float(x)
     }
@@ -301,6 +314,21 @@ mod tests {
 
     fn num(v: toml::Value) -> f64 {
         v.as_float().unwrap()
+    }
+
+    #[test]
+    fn a_seed_is_the_integer_part_of_u_times_two_to_the_32() {
+        let s = Distribution::new("seed", &Parameters::default()).unwrap();
+        assert_eq!(s.value(0.5), toml::Value::Integer(1 << 31));
+        assert_eq!(
+            s.value(1.0 - 0.5f64.powi(33)),
+            toml::Value::Integer((1 << 32) - 1)
+        );
+        let bad = Parameters {
+            mean: Some(1.0),
+            ..Parameters::default()
+        };
+        assert_eq!(Distribution::new("seed", &bad).unwrap_err().0, "mean");
     }
 
     #[test]

@@ -1,14 +1,15 @@
 //! The `[sample]` table of a study as written, and its check.
 //!
-//! In: the raw `[sample]` table (`method`, `n`, `seed`, `correlation`, `[[sample.parameters]]`
+//! In: the raw `[sample]` table (`method`, `n`, `seed`, `correlation`, `levels` of a Morris
+//! grid, `[[sample.parameters]]`
 //! each with `key` or `keys`, `distribution` and its parameters). Out: a [`Spec`]: the
 //! method, n, seed, each parameter's keys and [`Distribution`], and the [`Copula`] when
 //! correlated. Errors name the study file, the key (`sample.parameters[1].std`) and its line:
 //! an unknown method or distribution, n = 0, a parameter without keys or with both `key` and
 //! `keys`, a key sampled twice, parameters a distribution does not take or lacks, a standard
 //! deviation that is not positive, bounds not ascending, a correlation matrix that is not one
-//! (or is not positive definite), a correlated Saltelli design (its indices assume independent
-//! inputs), and a design of more than [`MAX_JOBS`](crate::study::MAX_JOBS) jobs or more
+//! (or is not positive definite), a correlated Saltelli or Morris design (their indices assume
+//! independent inputs), `levels` that are not even and 2 … 1000 or beside another method, and a design of more than [`MAX_JOBS`](crate::study::MAX_JOBS) jobs or more
 //! coordinates than the Sobol' points have.
 
 use serde::Deserialize;
@@ -21,6 +22,9 @@ use crate::results::request::axis_keys;
 use crate::study::context::Ctx;
 use crate::study::MAX_JOBS;
 
+/// Most levels of a Morris grid.
+const MAX_LEVELS: u64 = 1000;
+
 /// `[sample]` as written.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -30,6 +34,7 @@ pub(in crate::study) struct SampleFile {
     #[serde(default)]
     seed: u64,
     correlation: Option<Vec<Vec<f64>>>,
+    levels: Option<u64>,
     #[serde(default)]
     parameters: Vec<ParameterFile>,
 }
@@ -90,7 +95,7 @@ impl SampleFile {
 
     /// The checked spec (module doc).
     pub(in crate::study) fn check(&self, c: &Ctx) -> Result<Spec, InputError> {
-        let method = Method::parse(&self.method).ok_or_else(|| {
+        let mut method = Method::parse(&self.method).ok_or_else(|| {
             c.err(
                 "sample.method",
                 format!(
@@ -100,6 +105,29 @@ impl SampleFile {
                 ),
             )
         })?;
+        match (method, self.levels) {
+            (Method::Morris(_), Some(p))
+                if (2..=MAX_LEVELS).contains(&p) && p.is_multiple_of(2) =>
+            {
+                method = Method::Morris(p as usize)
+            }
+            (Method::Morris(_), Some(p)) => {
+                return Err(c.err(
+                    "sample.levels",
+                    format!(
+                        "a Morris design needs an even number of levels from 2 to \
+                         {MAX_LEVELS} (a step of p/2 levels then stays on the grid), got {p}"
+                    ),
+                ))
+            }
+            (_, Some(_)) => {
+                return Err(c.err(
+                    "sample.levels",
+                    "`levels` is the grid of a Morris design: only with method = \"morris\"",
+                ))
+            }
+            (_, None) => {}
+        }
         if self.parameters.is_empty() {
             return Err(c.err(
                 "sample",
@@ -132,11 +160,11 @@ impl SampleFile {
         }
         let copula = match &self.correlation {
             None => None,
-            Some(_) if method == Method::Saltelli => {
+            Some(_) if matches!(method, Method::Saltelli | Method::Morris(_)) => {
                 return Err(c.err(
                     "sample.correlation",
-                    "Sobol' indices (method = \"saltelli\") assume independent parameters: \
-                     leave out `correlation`",
+                    "Sobol' indices (method = \"saltelli\") and elementary effects \
+                     (\"morris\") assume independent parameters: leave out `correlation`",
                 ))
             }
             Some(r) => Some(Copula::new(r, d).map_err(|e| c.err("sample.correlation", e))?),
