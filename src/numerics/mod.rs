@@ -2,19 +2,22 @@
 //!
 //! In: dense matrices and vectors (f64, nalgebra / faer), or a seed. Out: products, inverses,
 //! factorisations ([`dense`]), eigenvalues and eigenvectors of symmetric, generalized and general
-//! problems ([`eigen`]), the SVD with a bounded iteration ([`svd`]), the median of a sample ([`median`]), Newton's iteration
-//! for a static equilibrium ([`newton`]), a
-//! seeded random stream ([`rng`]), a sample's statistics with bootstrap intervals
-//! ([`sample_statistics`]) Sobol' indices from a Saltelli design ([`sobol_indices`]) and Morris elementary effects
-//! ([`elementary_effects`]). Each module's doc states its method
+//! problems ([`eigen`]), sparse matrices and their Cholesky factor ([`sparse`]) and the lowest
+//! eigenpairs of large sparse problems ([`lanczos`]), the SVD with a bounded iteration
+//! ([`svd`]), the median of a sample ([`median`]), Newton's iteration for a static equilibrium
+//! ([`newton`]), a seeded random stream ([`rng`]), a sample's statistics with bootstrap
+//! intervals ([`sample_statistics`]), Sobol' indices from a Saltelli design ([`sobol_indices`])
+//! and Morris elementary effects ([`elementary_effects`]). Each module's doc states its method
 //! and cost.
 
 pub mod dense;
 pub mod eigen;
 pub mod elementary_effects;
+pub mod lanczos;
 pub mod median;
 pub mod newton;
 pub mod rng;
 pub mod sample_statistics;
 pub mod sobol_indices;
+pub mod sparse;
 pub mod svd;

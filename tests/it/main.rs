@@ -29,6 +29,7 @@ mod dynamics_checks;
 mod error_trust;
 mod export;
 mod fe_import;
+mod fe_sparse;
 mod import;
 mod input_checks;
 mod integrator_order;

@@ -20,6 +20,7 @@ mod import;
 mod keys;
 mod linear;
 mod modes;
+mod reduce;
 mod report;
 mod simulate;
 mod speeds;
@@ -88,6 +89,9 @@ enum Command {
     /// (--model full|reduced), or its linear plant at a speed as a state-space model
     /// (--state-space --speed-hz F, .h5 or .npz).
     Export(export::Args),
+    /// The sparse Craig–Bampton reduction of a large [fe] body at its named nodes (no dense
+    /// n × n matrix): reduced matrices and frequencies to a folder.
+    Reduce(reduce::Args),
 }
 
 fn main() -> ExitCode {
@@ -125,6 +129,7 @@ fn main() -> ExitCode {
         Command::Balance(a) => balance::run(&a).map(|()| true),
         Command::Import(a) => import::run(&a).map(|()| true),
         Command::Export(a) => export::run(&a).map(|()| true),
+        Command::Reduce(a) => reduce::run(&a).map(|()| true),
     };
     if let Err(e) = &result {
         eprintln!("error: {e}");

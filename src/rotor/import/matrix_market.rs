@@ -3,7 +3,8 @@
 //! In: a file `%%MatrixMarket matrix coordinate real|integer general|symmetric|skew-symmetric`,
 //! comment lines (`%`), a size line `rows cols entries` and one `i j value` line per entry,
 //! 1-based, as ANSYS, Abaqus (via scripts), scipy.io.mmwrite and the NIST collection write them.
-//! Out: a dense square matrix (units as in the file) and the `% units:` comment if the file has
+//! Out: a dense square matrix ([`read`]) or its entries ([`read_sparse`], for large models)
+//! (units as in the file) and the `% units:` comment if the file has
 //! one; or an [`InputError`] naming the file and line (a bad header, an entry outside the size,
 //! a repeated entry, an entry above the diagonal of a symmetric file, fewer entries than the
 //! size line announces — a truncated file — or a value that is not a finite number).
@@ -63,8 +64,105 @@ pub fn read(path: &Path) -> Result<MarketMatrix, InputError> {
     parse(path, &text)
 }
 
+/// One entry as the file writes it: 0-based row and column, value, line.
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    i: usize,
+    j: usize,
+    x: f64,
+    line: usize,
+}
+
+/// A file's entries as written (one triangle of a symmetric file), before any is mirrored.
+struct Entries {
+    n: usize,
+    symmetry: Symmetry,
+    units: Option<(String, usize)>,
+    entries: Vec<Entry>,
+}
+
 /// Parses Matrix Market text; `path` names it in errors.
 pub fn parse(path: &Path, text: &str) -> Result<MarketMatrix, InputError> {
+    let e = parse_entries(path, text, MAX_DIM)?;
+    let n = e.n;
+    let mut a = DMatrix::zeros(n, n);
+    let mut seen = DMatrix::<u8>::zeros(n, n);
+    for &Entry { i, j, x, line } in &e.entries {
+        if seen[(i, j)] != 0 {
+            return Err(twice(path, i, j, line));
+        }
+        seen[(i, j)] = 1;
+        a[(i, j)] = x;
+        match e.symmetry {
+            Symmetry::General => {}
+            Symmetry::Symmetric => a[(j, i)] = x,
+            Symmetry::SkewSymmetric => a[(j, i)] = -x,
+        }
+    }
+    Ok(MarketMatrix {
+        matrix: a,
+        symmetry: e.symmetry,
+        units: e.units,
+    })
+}
+
+fn twice(path: &Path, i: usize, j: usize, line: usize) -> InputError {
+    InputError::new(path, format!("entry ({}, {}) is given twice", i + 1, j + 1)).at_line(line)
+}
+
+/// A matrix read from a Matrix Market file as its entries, for the sparse path.
+#[derive(Debug, Clone)]
+pub struct SparseMarket {
+    /// Dimension.
+    pub n: usize,
+    /// Every entry (row, column, value), 0-based, a symmetric file's other triangle mirrored.
+    pub entries: Vec<(usize, usize, f64)>,
+    /// The symmetry the header declares.
+    pub symmetry: Symmetry,
+    /// The `% units: …` comment, with the line it is on, if the file has one.
+    pub units: Option<(String, usize)>,
+}
+
+/// The largest dimension the sparse reader takes (its memory is that of the entries).
+pub const MAX_SPARSE_DIM: usize = 10_000_000;
+
+/// Reads a square Matrix Market coordinate file as its entries (module doc; the same checks,
+/// a position given twice found by sorting).
+pub fn read_sparse(path: &Path) -> Result<SparseMarket, InputError> {
+    let text = read_text(path)
+        .map_err(|e| InputError::new(path, format!("cannot read the matrix file: {e}")))?;
+    let e = parse_entries(path, &text, MAX_SPARSE_DIM)?;
+    drop(text);
+    let mut sorted = e.entries;
+    sorted.sort_unstable_by_key(|x| (x.j, x.i, x.line));
+    if let Some(w) = sorted
+        .windows(2)
+        .find(|w| (w[0].i, w[0].j) == (w[1].i, w[1].j))
+    {
+        return Err(twice(path, w[1].i, w[1].j, w[1].line));
+    }
+    let mut entries = Vec::with_capacity(2 * sorted.len());
+    for &Entry { i, j, x, .. } in &sorted {
+        entries.push((i, j, x));
+        if i != j {
+            match e.symmetry {
+                Symmetry::General => {}
+                Symmetry::Symmetric => entries.push((j, i, x)),
+                Symmetry::SkewSymmetric => entries.push((j, i, -x)),
+            }
+        }
+    }
+    Ok(SparseMarket {
+        n: e.n,
+        entries,
+        symmetry: e.symmetry,
+        units: e.units,
+    })
+}
+
+/// The header, size line and entries of Matrix Market text, each entry checked but not yet
+/// for repetition (module doc); dimensions up to `max_dim`.
+fn parse_entries(path: &Path, text: &str, max_dim: usize) -> Result<Entries, InputError> {
     let err = |line: usize, reason: String| InputError::new(path, reason).at_line(line);
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
     let (_, header) = lines
@@ -127,10 +225,10 @@ pub fn parse(path: &Path, text: &str) -> Result<MarketMatrix, InputError> {
                         format!("a {r} × {c} matrix: only square ones are read"),
                     ));
                 }
-                if r == 0 || r > MAX_DIM {
+                if r == 0 || r > max_dim {
                     return Err(err(
                         no,
-                        format!("dimension {r}: must lie in [1, {MAX_DIM}]"),
+                        format!("dimension {r}: must lie in [1, {max_dim}]"),
                     ));
                 }
                 size = Some((r, nnz, no));
@@ -150,8 +248,7 @@ pub fn parse(path: &Path, text: &str) -> Result<MarketMatrix, InputError> {
             "no size line `rows cols entries`: truncated file".into(),
         )
     })?;
-    let mut a = DMatrix::zeros(n, n);
-    let mut seen = DMatrix::<u8>::zeros(n, n);
+    let mut entries = Vec::with_capacity(nnz.min(100_000_000));
     let mut count = 0usize;
     let mut triangle: Option<(bool, usize)> = None;
     for (no, l) in lines {
@@ -226,19 +323,7 @@ pub fn parse(path: &Path, text: &str) -> Result<MarketMatrix, InputError> {
                 }
             }
         }
-        if seen[(i, j)] != 0 {
-            return Err(err(
-                no,
-                format!("entry ({}, {}) is given twice", i + 1, j + 1),
-            ));
-        }
-        seen[(i, j)] = 1;
-        a[(i, j)] = x;
-        match symmetry {
-            Symmetry::General => {}
-            Symmetry::Symmetric => a[(j, i)] = x,
-            Symmetry::SkewSymmetric => a[(j, i)] = -x,
-        }
+        entries.push(Entry { i, j, x, line: no });
         count += 1;
     }
     if count < nnz {
@@ -249,10 +334,11 @@ pub fn parse(path: &Path, text: &str) -> Result<MarketMatrix, InputError> {
             ),
         ));
     }
-    Ok(MarketMatrix {
-        matrix: a,
+    Ok(Entries {
+        n,
         symmetry,
         units,
+        entries,
     })
 }
 

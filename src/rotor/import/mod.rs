@@ -6,6 +6,8 @@
 //! ([`abaqus`]), in SI or mm-t-s units. Out: an [`ImportedBody`](body::ImportedBody) in SI and
 //! the rotor's DOF order, with its inertia invariants ([`invariants`]); or an
 //! [`InputError`](crate::error::InputError) naming the file and the line or entry.
+//! Large bodies are read sparse ([`sparse_body`]) for the sparse reduction
+//! ([`crate::rotor::sparse_reduction`]).
 //! Method: dense matrices (the reduction's dense eigen-solvers bound a body to
 //! [`MAX_FE_NODES`](crate::scene::MAX_FE_NODES) nodes), checked for symmetry, size, nodes,
 //! positive-definite mass and units ([`body`]).
@@ -14,4 +16,5 @@ pub mod abaqus;
 pub mod body;
 pub mod invariants;
 pub mod matrix_market;
+pub mod sparse_body;
 pub mod tables;

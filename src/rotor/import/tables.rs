@@ -186,6 +186,7 @@ pub fn read_dofs(
     let r = reader(path, "DOF table", &["index", "node", "dof"])?;
     let mut dofs: Vec<Option<(Dof, usize)>> = vec![None; n];
     let mut pairs = BTreeMap::new();
+    let ids: std::collections::HashSet<i64> = nodes.iter().map(|p| p.id).collect();
     for rec in records(path, r) {
         let (line, rec) = rec?;
         let err = |reason: String| InputError::new(path, reason).at_line(line);
@@ -202,7 +203,7 @@ pub fn read_dofs(
         let node: i64 = rec[1]
             .parse()
             .map_err(|_| err(format!("node id `{}` is not an integer", &rec[1])))?;
-        if !nodes.iter().any(|p| p.id == node) {
+        if !ids.contains(&node) {
             return Err(err(format!(
                 "node {node} does not exist in the node table {}",
                 nodes_file.display()

@@ -21,6 +21,7 @@ use crate::rotor::fe::RotorSpec;
 use crate::rotor::import::body::{self, BodyFiles, Format, ImportedBody, RotatingFiles};
 use crate::rotor::import::tables::Units;
 use crate::scene::check::Check;
+use crate::scene::source::Source;
 
 /// `[fe]` as written.
 #[derive(Debug, Deserialize)]
@@ -54,8 +55,8 @@ fn matrix_market() -> String {
     "matrix-market".to_string()
 }
 
-/// The body of `[fe]` (module doc).
-pub(crate) fn build_fe(c: &Check, fe: &FeFile) -> Result<Geometry, InputError> {
+/// The files of `[fe]`, paths relative to the scene file (module doc).
+fn files_of(c: &Check, fe: &FeFile) -> Result<BodyFiles, InputError> {
     let dir = c.file.parent().unwrap_or(Path::new("."));
     let path = |p: &str| -> PathBuf { dir.join(p) };
     let format = match fe.format.as_str() {
@@ -72,7 +73,7 @@ pub(crate) fn build_fe(c: &Check, fe: &FeFile) -> Result<Geometry, InputError> {
         return Err(c.err("fe.dofs", "a Matrix Market body needs its DOF table"));
     }
     let units = Units::parse(&fe.units).map_err(|r| c.err("fe.units", r))?;
-    let files = BodyFiles {
+    Ok(BodyFiles {
         format,
         mass: path(&fe.mass),
         stiffness: path(&fe.stiffness),
@@ -86,7 +87,32 @@ pub(crate) fn build_fe(c: &Check, fe: &FeFile) -> Result<Geometry, InputError> {
             gyroscopic: path(&r.gyroscopic),
             loads: path(&r.loads),
         }),
+    })
+}
+
+/// The files and named nodes (name → node id) of the `[fe]` body of the scene file `scene`
+/// (after `extends`), without reading the body: the sparse reduction reads it itself.
+pub fn fe_body_files(scene: &Path) -> Result<(BodyFiles, BTreeMap<String, i64>), InputError> {
+    let source = Source::load(scene)?;
+    let c = Check {
+        file: scene,
+        source: &source,
+        overridden: &[],
     };
+    let table = source
+        .table
+        .get("fe")
+        .ok_or_else(|| InputError::new(scene, "the scene has no [fe] body"))?;
+    let fe: FeFile = table
+        .clone()
+        .try_into()
+        .map_err(|e: toml::de::Error| c.err("fe", e.message().to_string()))?;
+    Ok((files_of(&c, &fe)?, fe.named))
+}
+
+/// The body of `[fe]` (module doc).
+pub(crate) fn build_fe(c: &Check, fe: &FeFile) -> Result<Geometry, InputError> {
+    let files = files_of(c, fe)?;
     let mut body: ImportedBody = body::load(&files)?;
     let mut named_points = Vec::new();
     for (name, id) in &fe.named {

@@ -19,6 +19,7 @@ mod rotor;
 mod shell;
 
 pub(super) use built::Geometry;
+pub use fe::fe_body_files;
 pub(crate) use fe::{build_fe, FeFile};
 pub(super) use materials::Materials;
 pub(super) use roll::build_roll;
