@@ -3,13 +3,15 @@
 //! In: dense matrices and vectors (f64, nalgebra / faer), or a seed. Out: products, inverses,
 //! factorisations ([`dense`]), eigenvalues and eigenvectors of symmetric, generalized and general
 //! problems ([`eigen`]), the SVD with a bounded iteration ([`svd`]), the median of a sample ([`median`]), Newton's iteration
-//! for a static equilibrium ([`newton`]), a
+//! for a static equilibrium ([`newton`]), bounded nonlinear least squares by
+//! Levenberg–Marquardt with batched finite differences ([`least_squares`]), a
 //! seeded random stream ([`rng`]), a sample's statistics with bootstrap intervals
 //! ([`sample_statistics`]) and Sobol' indices from a Saltelli design ([`sobol_indices`]). Each module's doc states its method
 //! and cost.
 
 pub mod dense;
 pub mod eigen;
+pub mod least_squares;
 pub mod median;
 pub mod newton;
 pub mod rng;
