@@ -62,6 +62,7 @@ from .runner import (
     run,
     simulate,
 )
+from .calibration import calibration
 from .scene import Scene, SceneError, SceneKeyError, SceneValueError
 from .statistics import sensitivity, statistics
 
@@ -83,6 +84,7 @@ __all__ = [
     "Sweep",
     "analysis",
     "analysis_table",
+    "calibration",
     "campbell",
     "channel",
     "channels",

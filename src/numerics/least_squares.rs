@@ -408,10 +408,19 @@ mod tests {
         let sty: f64 = t.iter().zip(&y).map(|(a, b)| (a - tm) * (b - ym)).sum();
         let b = sty / stt;
         let a = ym - b * tm;
-        let rss: f64 = t.iter().zip(&y).map(|(ti, yi)| (yi - a - b * ti).powi(2)).sum();
+        let rss: f64 = t
+            .iter()
+            .zip(&y)
+            .map(|(ti, yi)| (yi - a - b * ti).powi(2))
+            .sum();
         let s2 = rss / (n - 2.0);
         let mut e = Closure(
-            |x: &[f64]| t.iter().zip(&y).map(|(ti, yi)| x[0] + x[1] * ti - yi).collect(),
+            |x: &[f64]| {
+                t.iter()
+                    .zip(&y)
+                    .map(|(ti, yi)| x[0] + x[1] * ti - yi)
+                    .collect()
+            },
             0,
         );
         let fit = minimize(
@@ -444,7 +453,11 @@ mod tests {
             SETTINGS,
         )
         .unwrap();
-        assert!((fit.x[0] - 1.0).abs() < 1e-5 && (fit.x[1] - 1.0).abs() < 1e-5, "{:?}", fit.x);
+        assert!(
+            (fit.x[0] - 1.0).abs() < 1e-5 && (fit.x[1] - 1.0).abs() < 1e-5,
+            "{:?}",
+            fit.x
+        );
         assert!(e.1 < 400, "{} evaluations", e.1);
     }
 
