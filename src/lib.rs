@@ -18,6 +18,7 @@
 //! | [`results`] | a results file → its analysis, order tracking, balancing; measured records in |
 //! | [`study`] | study TOML → jobs, plan, campaign run, shards, merge |
 //! | [`report`] | a results file → tables (Markdown, CSV, JSON, HTML) |
+//! | [`calibration`] | calibration TOML → parameters fitted to measured targets, every evaluation a study run |
 
 #![warn(missing_docs)]
 
@@ -46,3 +47,5 @@ pub mod results;
 pub mod study;
 
 pub mod report;
+
+pub mod calibration;

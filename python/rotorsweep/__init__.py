@@ -63,6 +63,7 @@ from .runner import (
     run,
     simulate,
 )
+from .calibration import calibration
 from .scene import Scene, SceneError, SceneKeyError, SceneValueError
 from .statistics import samples, sensitivity, statistics
 
@@ -84,6 +85,7 @@ __all__ = [
     "Sweep",
     "analysis",
     "analysis_table",
+    "calibration",
     "campbell",
     "channel",
     "channels",

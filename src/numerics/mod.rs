@@ -5,15 +5,17 @@
 //! problems ([`eigen`]), sparse matrices and their Cholesky factor ([`sparse`]) and the lowest
 //! eigenpairs of large sparse problems ([`lanczos`]), the SVD with a bounded iteration
 //! ([`svd`]), the median of a sample ([`median`]), Newton's iteration for a static equilibrium
-//! ([`newton`]), a seeded random stream ([`rng`]), a sample's statistics with bootstrap
-//! intervals ([`sample_statistics`]), Sobol' indices from a Saltelli design ([`sobol_indices`])
-//! and Morris elementary effects ([`elementary_effects`]). Each module's doc states its method
+//! ([`newton`]), bounded nonlinear least squares by Levenberg–Marquardt with batched finite
+//! differences ([`least_squares`]), a seeded random stream ([`rng`]), a sample's statistics
+//! with bootstrap intervals ([`sample_statistics`]), Sobol' indices from a Saltelli design
+//! ([`sobol_indices`]) and Morris elementary effects ([`elementary_effects`]). Each module's doc states its method
 //! and cost.
 
 pub mod dense;
 pub mod eigen;
 pub mod elementary_effects;
 pub mod lanczos;
+pub mod least_squares;
 pub mod median;
 pub mod newton;
 pub mod rng;

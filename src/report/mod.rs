@@ -58,7 +58,7 @@ mod labels;
 mod read;
 mod render;
 mod table;
-mod tables;
+pub(crate) mod tables;
 
 pub use classes::error_class;
 pub use compare::compare;

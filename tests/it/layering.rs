@@ -28,6 +28,7 @@ const STAGES: &[&str] = &[
     "results",
     "study",
     "report",
+    "calibration",
 ];
 
 /// Lines of code a file may hold (issue 19: "no file over ~800 lines, tests aside"). The scene

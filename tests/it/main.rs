@@ -18,6 +18,7 @@ mod analysis_study;
 mod balancing;
 mod bdf_tolerance;
 mod beam_closed_forms;
+mod calibration;
 mod campaign_messages;
 mod campaign_safety;
 mod cli_check;

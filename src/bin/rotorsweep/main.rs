@@ -12,6 +12,7 @@
 //! is the exit code ([`error`]); `main` maps them in one `match`.
 
 mod balance;
+mod calibrate;
 mod campaign;
 mod check;
 mod error;
@@ -83,6 +84,9 @@ enum Command {
     /// Influence-coefficient balancing from a study's trial-mass runs: corrections, predicted
     /// residual, and with --check a run of the corrected roll.
     Balance(balance::Args),
+    /// Scene parameters fitted to measured targets (a resonance table, natural frequencies,
+    /// any output) by weighted least squares, every evaluation a study run.
+    Calibrate(calibrate::Args),
     /// A measured record (CSV) into a results file, analysed like a simulated job.
     Import(import::Args),
     /// A scene's model to Matrix Market, CSV and HDF5 with a scene on the exported body
@@ -127,6 +131,7 @@ fn main() -> ExitCode {
         Command::Check(a) => check::run(&a).map(|()| true),
         Command::Keys(a) => keys::run(&a).map(|()| true),
         Command::Balance(a) => balance::run(&a).map(|()| true),
+        Command::Calibrate(a) => calibrate::run(&a).map(|()| true),
         Command::Import(a) => import::run(&a).map(|()| true),
         Command::Export(a) => export::run(&a).map(|()| true),
         Command::Reduce(a) => reduce::run(&a).map(|()| true),

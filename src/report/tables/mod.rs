@@ -6,7 +6,7 @@
 mod balancing;
 mod linear;
 pub(crate) mod orders;
-mod outputs;
+pub(crate) mod outputs;
 mod resonances;
 mod samples;
 mod sensitivity;
