@@ -5,9 +5,11 @@
 //! problems ([`eigen`]), the SVD with a bounded iteration ([`svd`]), the median of a sample ([`median`]), Newton's iteration
 //! for a static equilibrium ([`newton`]), a
 //! seeded random stream ([`rng`]), a sample's statistics with bootstrap intervals
-//! ([`sample_statistics`]) and Sobol' indices from a Saltelli design ([`sobol_indices`]). Each module's doc states its method
+//! ([`sample_statistics`]) and Sobol' indices from a Saltelli design ([`sobol_indices`]), the characteristic roots of a
+//! linear delay equation ([`dde_spectrum`]). Each module's doc states its method
 //! and cost.
 
+pub mod dde_spectrum;
 pub mod dense;
 pub mod eigen;
 pub mod median;
