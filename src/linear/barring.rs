@@ -21,7 +21,7 @@
 //! A₀ = [[0, 1], [−(k + k_c)/m, −c/m]], A₁ = [[0, 0], [μ k_c/m, 0]]. Every root with
 //! Re λ ≥ 0 lies in the disk |λ| ≤ R = √((k + (1 + μ)k_c)/m) (there |e^{−λT}| ≤ 1 and
 //! |mλ² + cλ| ≥ m|λ|² for c ≥ 0), so the rightmost root is taken among the eigenvalues with
-//! |λ| ≤ 2R, the artefacts of the discretisation lying farther out. N starts at ⌈2RT⌉ + 16
+//! |λ| ≤ 1.1R, the artefacts of the discretisation lying farther out. N starts at ⌈RT⌉ + 16
 //! intervals and grows by half until the rightmost root moves less than [`ROOT_TOLERANCE`]
 //! relative (at most [`dde_spectrum::MAX_INTERVALS`]). The limit: k_c doubled from
 //! [`K_START_FACTOR`]·k until unstable (at most up to [`K_MAX_FACTOR`]·k; at k_c = 0 the roll
@@ -40,10 +40,10 @@ use crate::numerics::dde_spectrum::{self, DdeError, MAX_INTERVALS};
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 
 /// Relative change of the rightmost root (to max(|λ|, 1/T)) at which N counts as converged.
-pub const ROOT_TOLERANCE: f64 = 1e-7;
+pub const ROOT_TOLERANCE: f64 = 1e-6;
 
 /// Relative width of the bracket at which the limit k_lim is accepted.
-pub const LIMIT_TOLERANCE: f64 = 1e-7;
+pub const LIMIT_TOLERANCE: f64 = 1e-6;
 
 /// Most Illinois steps for the limit.
 pub const LIMIT_ITERATIONS: usize = 80;
@@ -163,7 +163,7 @@ impl BarringRoll {
         ((self.stiffness_n_m + (1.0 + self.overlap) * kc) / self.mass_kg).sqrt()
     }
 
-    /// The rightmost collocated root in the disk |λ| ≤ 2R on `n` intervals.
+    /// The rightmost collocated root in the disk |λ| ≤ 1.1R on `n` intervals.
     fn rightmost_on(&self, kc: f64, period: f64, n: usize) -> Result<Complex<f64>, BarringError> {
         let m = self.mass_kg;
         let a0 = DMatrix::from_row_slice(
@@ -177,7 +177,7 @@ impl BarringRoll {
             ],
         );
         let a1 = DMatrix::from_row_slice(2, 2, &[0.0, 0.0, self.overlap * kc / m, 0.0]);
-        let disk = 2.0 * self.radius(kc);
+        let disk = 1.1 * self.radius(kc);
         dde_spectrum::roots(&a0, &a1, period, n)?
             .into_iter()
             .filter(|l| l.norm() <= disk)
@@ -203,7 +203,7 @@ impl BarringRoll {
 
     /// The rightmost root converged in N, starting from `n0` intervals (module doc).
     fn converged(&self, kc: f64, period: f64, n0: usize) -> Result<Root, BarringError> {
-        let mut n = n0.max((2.0 * self.radius(kc) * period).ceil() as usize + 16);
+        let mut n = n0.max((self.radius(kc) * period).ceil() as usize + 16);
         if n > MAX_INTERVALS {
             return Err(BarringError::NotConverged {
                 kc,
