@@ -41,7 +41,7 @@ pub fn chebyshev(n: usize) -> (Vec<f64>, DMatrix<f64>) {
         .collect();
     let c = |j: usize| {
         let end = if j == 0 || j == n { 2.0 } else { 1.0 };
-        if j % 2 == 0 {
+        if j.is_multiple_of(2) {
             end
         } else {
             -end
