@@ -27,6 +27,9 @@
 //! - [`machine`]: a machine's rolls coupled by their nips, linearised at the machine's static
 //!   equilibrium with the nips loaded: static nip profile, damped modes over speed (the `linear`
 //!   command on a machine file);
+//! - [`barring`]: the barring (regenerative) stability of a roll mode on a cover with one
+//!   revolution's memory: the limiting nip contact stiffness over speed, polygon order at onset
+//!   and growth rates (a delay equation, Chebyshev collocation);
 //! - [`scene_system`]: a scene's system for the commands, failures as input errors naming the
 //!   scene.
 //!
@@ -39,6 +42,7 @@
 //! D plus the circulatory stiffness −Ω·skew(D Ŝ) (Ŝ: the rotation generator on the modal
 //! coordinates), exact for an axisymmetric rotor.
 
+pub mod barring;
 pub mod basis;
 pub mod campbell;
 pub mod critical_map;

@@ -8,9 +8,11 @@
 //! ([`newton`]), bounded nonlinear least squares by Levenberg–Marquardt with batched finite
 //! differences ([`least_squares`]), a seeded random stream ([`rng`]), a sample's statistics
 //! with bootstrap intervals ([`sample_statistics`]), Sobol' indices from a Saltelli design
-//! ([`sobol_indices`]) and Morris elementary effects ([`elementary_effects`]). Each module's doc states its method
+//! ([`sobol_indices`]), Morris elementary effects ([`elementary_effects`]) and the
+//! characteristic roots of a linear delay equation ([`dde_spectrum`]). Each module's doc states its method
 //! and cost.
 
+pub mod dde_spectrum;
 pub mod dense;
 pub mod eigen;
 pub mod elementary_effects;

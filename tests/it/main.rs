@@ -16,6 +16,7 @@ fn no_hdf5_file_locks() {
 
 mod analysis_study;
 mod balancing;
+mod barring;
 mod bdf_tolerance;
 mod beam_closed_forms;
 mod calibration;
