@@ -9,10 +9,12 @@ use super::context::Ctx;
 use crate::error::InputError;
 
 /// Most jobs a study may expand to. `plan` and `run` validate every job's scene before anything
-/// runs: measured, 4901 jobs of the reference roll took 4.3 s and 274 MB to load (0.9 ms and
-/// 56 KB each), so the limit loads in about 10 s and 0.6 GB; that many jobs of a second of CPU
-/// each are already a night on a workstation (use shards of several studies beyond that).
-pub const MAX_JOBS: usize = 10_000;
+/// runs and hold every job: measured, 4901 jobs of the reference roll took 4.3 s and 274 MB to
+/// load (0.9 ms and 56 KB each); `plan` of 100 000 Jeffcott jobs took 23 s and 0.93 GB, and
+/// their run on 2 threads 10.4 min at 2.2 GB peak (2026-12-03). So the limit loads in about
+/// 1.5 min and 6 GB for jobs the size of the reference roll; beyond it, split the study (shards
+/// of several studies).
+pub const MAX_JOBS: usize = 100_000;
 
 /// The number of jobs, the product of the axes (each counted before any is expanded) plus the
 /// explicit jobs, stays within [`MAX_JOBS`].

@@ -199,7 +199,7 @@ fn syntax_and_duplicate_key_errors_keep_line_and_key() {
 
 #[test]
 fn too_many_jobs_fail_fast_without_expanding() {
-    // Five axes of 1000 values: 1e15 jobs (issue 9: plan aborted). The limit is 10 000, passed
+    // Five axes of 1000 values: 1e15 jobs (issue 9: plan aborted). The limit is 100 000, passed
     // at the second axis (1e6 jobs).
     let values: Vec<String> = (1..=1000).map(|i| format!("{i}.0")).collect();
     let values = values.join(", ");
@@ -223,7 +223,7 @@ fn too_many_jobs_fail_fast_without_expanding() {
     assert_eq!(e.line, Some(text[..second].lines().count() + 1), "{e}");
     assert_eq!(e.key.as_deref(), Some("axes[1]"), "{e}");
     assert!(e.to_string().contains("1000000 jobs"), "{e}");
-    assert!(e.to_string().contains("limit of 10000"), "{e}");
+    assert!(e.to_string().contains("limit of 100000"), "{e}");
     // Through `plan`: exit 1 at once. Generous bound for a busy 2-core machine: expanding and
     // validating 1e6 jobs alone would take about 15 minutes (0.9 ms each, measured).
     let out = Command::new(env!("CARGO_BIN_EXE_rotorsweep"))

@@ -18,6 +18,7 @@ use super::models::Models;
 use super::options::{Outcome, ReferenceSource, RunOptions};
 use super::parts::{parts_dir, remove_parts, saved_parts};
 use super::references::{open_references, same_file, stored_identity};
+use super::saver::Sink;
 use super::schedule::{run_all, stopped};
 use super::stream::Stream;
 use super::work::work_list;
@@ -120,16 +121,15 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         .fold(0.0, f64::max);
     let prepared = Prepared::new(&study.text, &study.varying, top_speed_hz);
     let mut stream = Stream::create(&tmp, order, &done, prepared);
-    let ran = run_all(
-        &pool,
-        &work,
-        &models,
-        &dir,
-        &identity,
-        &mut progress,
-        &mut stream,
-        || linear::compute_all(&study.linear, &systems_to_compute, &models),
-    );
+    let sink = Sink {
+        dir: &dir,
+        identity: &identity,
+        progress: &mut progress,
+        stream: &mut stream,
+    };
+    let ran = run_all(&pool, &work, &models, sink, || {
+        linear::compute_all(&study.linear, &systems_to_compute, &models)
+    });
     progress.finish();
     if let Some(e) = ran.error {
         stream.drop_file();

@@ -88,23 +88,29 @@ impl<'a> Saver<'a> {
     }
 }
 
+/// Where finished runs go: the parts folder and the study's digest its part files carry, the
+/// progress lines, and the results file being filled.
+pub(super) struct Sink<'a> {
+    pub(super) dir: &'a Path,
+    pub(super) identity: &'a Identity,
+    pub(super) progress: &'a mut Progress,
+    pub(super) stream: &'a mut Stream,
+}
+
 /// What the writer leaves: where each run is saved, and the first failed save.
 pub(super) struct Written {
     pub(super) saved: BTreeMap<String, Saved>,
     pub(super) error: Option<CampaignError>,
 }
 
-/// Writes each batch from `batches` to its part file in `dir`, copies its runs into the
-/// results file being filled (`stream`) and reports each of its runs (module doc); the first
+/// Writes each batch from `batches` to its part file in the sink's folder, copies its runs
+/// into the results file being filled (its `stream`) and reports each of its runs (module doc); the first
 /// failed save raises `stop`. Ends when the [`Saver`] is dropped.
 pub(super) fn write_batches(
     batches: Receiver<Batch>,
-    dir: &Path,
-    identity: &Identity,
-    progress: &mut Progress,
+    sink: Sink,
     work: &[Work],
     stop: &AtomicBool,
-    stream: &mut Stream,
 ) -> Written {
     let mut out = Written {
         saved: BTreeMap::new(),
@@ -112,9 +118,9 @@ pub(super) fn write_batches(
     };
     for batch in batches {
         let (index, runs): (Vec<usize>, Vec<Finished>) = batch.into_iter().unzip();
-        let written = save_batch(dir, &runs, identity);
+        let written = save_batch(sink.dir, &runs, sink.identity);
         for (i, r) in index.iter().zip(&runs) {
-            progress.job_done(
+            sink.progress.job_done(
                 r.id,
                 &work[*i].name,
                 &r.result.stats,
@@ -123,7 +129,7 @@ pub(super) fn write_batches(
         }
         match written {
             Ok(places) => {
-                stream.add(
+                sink.stream.add(
                     runs.iter()
                         .zip(&places)
                         .map(|(r, place)| (r.id.to_string(), place.clone())),

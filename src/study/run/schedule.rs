@@ -19,12 +19,10 @@ use rayon::prelude::*;
 use super::error::CampaignError;
 use super::models::Models;
 use super::parts::{saved_parts, Saved};
-use super::saver::{write_batches, Batch, Saver};
-use super::stream::Stream;
+use super::saver::{write_batches, Batch, Saver, Sink};
 use super::work::Work;
 use crate::dynamics::simulation::JobResult;
 use crate::study::identity::Identity;
-use crate::study::progress::Progress;
 
 /// What [`run_all`] leaves: where each run it saved is, the first failed save, and what the
 /// work beside the jobs returned.
@@ -34,16 +32,13 @@ pub(super) struct Ran<T> {
     pub(super) beside: T,
 }
 
-/// Runs `work` on `pool` and saves the results in `dir` in batches as they arrive, copying
-/// them into the results file being filled (`stream`) (module doc, `saver`), with `beside` (the study's linear systems) on the same pool at the same time.
+/// Runs `work` on `pool` and saves the results in batches as they arrive, into the `sink`'s
+/// parts folder and the results file it fills (module doc, `saver`), with `beside` (the study's linear systems) on the same pool at the same time.
 pub(super) fn run_all<T: Send>(
     pool: &rayon::ThreadPool,
     work: &[Work],
     models: &Models,
-    dir: &Path,
-    identity: &Identity,
-    progress: &mut Progress,
-    stream: &mut Stream,
+    sink: Sink,
     beside: impl FnOnce() -> T + Send,
 ) -> Ran<T> {
     // A rendezvous channel: a worker hands its result over only when this thread takes it, so
@@ -69,8 +64,7 @@ pub(super) fn run_all<T: Send>(
                 });
             });
         });
-        let writer = scope
-            .spawn(move || write_batches(batches, dir, identity, progress, work, stop_ref, stream));
+        let writer = scope.spawn(move || write_batches(batches, sink, work, stop_ref));
         let mut saver = Saver::new(work, to_writer);
         loop {
             let next = match saver.due_in() {
