@@ -123,8 +123,8 @@ pub(super) fn model_id(inputs: Inputs, merged: &toml::Value) -> String {
     hash_id('m', inputs, &[&model_part])
 }
 
-/// The id of a merged scene's linearised system: its model on its supports and drive, with
-/// gravity.
+/// The id of a merged scene's linearised system: its model with its modal damping, on its
+/// supports and drive, with gravity.
 pub(super) fn linear_id(inputs: Inputs, merged: &toml::Value) -> String {
     let linear_part = canonical(
         merged,
@@ -133,6 +133,7 @@ pub(super) fn linear_id(inputs: Inputs, merged: &toml::Value) -> String {
             "roll",
             "rotor",
             "reduction",
+            "damping",
             "supports",
             "drive",
         ],

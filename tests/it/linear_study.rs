@@ -155,3 +155,49 @@ fn a_bad_linear_table_names_its_key_and_line() {
         assert!(msg.contains("expected a boolean"), "{bad}: {msg}");
     }
 }
+
+/// Jobs that differ only in their modal damping (`damping.schedule`) are two linearised
+/// systems: each job's `linear_id` names its own `/linear` group, and the rotating damping
+/// shows in their log decrements (physics.md: the schedule's ratio per mode). Before the
+/// damping table was part of the id, both jobs shared the first one's system.
+#[test]
+fn jobs_differing_only_in_damping_have_their_own_linear_systems() {
+    let d = scratch("linear-study-damping");
+    write_file(&d, "jeffcott.toml", &scene());
+    let study = r#"name = "jeffcott-linear-damping"
+scene = "jeffcott.toml"
+[set]
+"simulation.t_end_s" = 1.1
+[[axes]]
+key = "damping.schedule"
+values = ["comparison", "adams-default"]
+[linear]
+speeds = "30:60:2"
+"#;
+    let st = Study::load(&write_file(&d, "study.toml", study)).expect("study");
+    let out = d.join("out.h5");
+    let outcome = campaign::run(&st, &run_options(&out)).expect("campaign");
+    assert_eq!(outcome.ok, 2);
+    let f = hdf5::File::open(&out).unwrap();
+    let ids = f.group("linear").unwrap().member_names().unwrap();
+    assert_eq!(ids.len(), 2, "one linear system per damping schedule: {ids:?}");
+    let jobs = f.group("jobs").unwrap();
+    let mut used: Vec<String> = jobs
+        .member_names()
+        .unwrap()
+        .iter()
+        .map(|j| {
+            let a = jobs.group(j).unwrap().attr("linear_id").unwrap();
+            a.read_scalar::<hdf5::types::VarLenUnicode>()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    used.sort();
+    let mut stored = ids.clone();
+    stored.sort();
+    assert_eq!(used, stored, "each job names its own system");
+    let a = f64s(&f, &format!("linear/{}/campbell/log_dec", ids[0]));
+    let b = f64s(&f, &format!("linear/{}/campbell/log_dec", ids[1]));
+    assert_ne!(a, b, "the schedules' log decrements differ");
+}
