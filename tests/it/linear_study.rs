@@ -180,7 +180,11 @@ speeds = "30:60:2"
     assert_eq!(outcome.ok, 2);
     let f = hdf5::File::open(&out).unwrap();
     let ids = f.group("linear").unwrap().member_names().unwrap();
-    assert_eq!(ids.len(), 2, "one linear system per damping schedule: {ids:?}");
+    assert_eq!(
+        ids.len(),
+        2,
+        "one linear system per damping schedule: {ids:?}"
+    );
     let jobs = f.group("jobs").unwrap();
     let mut used: Vec<String> = jobs
         .member_names()
