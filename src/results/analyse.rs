@@ -142,7 +142,7 @@ fn read_jobs(
     for id in ids {
         let entry = match prepared.remove(&id) {
             Some((_, e)) => e,
-            None => analyse_job(&jobs.group(&id)?, &id, (varying, axes, spec), study_cap)?,
+            None => analyse_job(&jobs.group(&id)?, &id, (varying, axes, spec), study_cap)?.1,
         };
         match entry {
             Entry::Data(mut d) => {

@@ -62,11 +62,7 @@ impl JobData {
     /// Keeps the spectrum bins at or below `cap_hz` (the study's cap, at most the one it was
     /// analysed with).
     pub(super) fn keep_below(&mut self, cap_hz: f64) {
-        let keep = self
-            .freq_hz
-            .iter()
-            .take_while(|f| **f <= cap_hz + 1e-9)
-            .count();
+        let keep = bins_below(&self.freq_hz, cap_hz);
         self.freq_hz.truncate(keep);
         for s in &mut self.spectra {
             s.truncate(keep);
@@ -97,13 +93,14 @@ pub(super) enum Entry {
 }
 
 /// Analyses the job `id` in group `g` (module doc), keeping its spectrum bins up to
-/// `keep_cap` [Hz].
+/// `keep_cap` [Hz]; with its constant speed [Hz] when it ended ok ([`analysable_speed`], what
+/// sets the study's cap).
 pub(super) fn analyse_job(
     g: &hdf5::Group,
     id: &str,
     (varying, axes, spec): (&[String], &[LabelledAxis], &AnalysisSpec),
     keep_cap: f64,
-) -> hdf5::Result<Entry> {
+) -> hdf5::Result<(Option<f64>, Entry)> {
     let orders = &spec.orders;
     let values: BTreeMap<String, String> = varying
         .iter()
@@ -130,12 +127,15 @@ pub(super) fn analyse_job(
     let speed_hz = match speed {
         Some(s) if time.len() >= 2 && time[time.len() - 1] > time[0] && !channels.is_empty() => s,
         _ => {
-            return Ok(Entry::Skipped(Skipped {
-                values,
-                labels,
-                speed_hz: store::read_num(g, "speed_hz").unwrap_or(f64::NAN),
-                id: id.to_string(),
-            }));
+            return Ok((
+                speed,
+                Entry::Skipped(Skipped {
+                    values,
+                    labels,
+                    speed_hz: store::read_num(g, "speed_hz").unwrap_or(f64::NAN),
+                    id: id.to_string(),
+                }),
+            ));
         }
     };
     // The study's orders, and 1× for the trial-mass response, fitted together.
@@ -174,7 +174,7 @@ pub(super) fn analyse_job(
         let cap = spec
             .max_freq_hz
             .unwrap_or_else(|| default_cap(orders, speed_hz));
-        let own = bins_below(&full[0], cap);
+        let own = bins_below(&full[0].freq_hz, cap);
         store::dataset(g, "spectrum/freq_hz", &full[0].freq_hz[..own], "Hz")?;
         for (name, s) in names.iter().zip(&full) {
             store::dataset(g, &format!("spectrum/{name}"), &s.amplitude[..own], "um")?;
@@ -186,21 +186,24 @@ pub(super) fn analyse_job(
             scalar_dataset(g, &format!("runout_mean/{name}"), *m, "um")?;
         }
     }
-    let keep = bins_below(&full[0], keep_cap);
-    Ok(Entry::Data(JobData {
-        id: id.to_string(),
-        speed_hz,
-        samples: n,
-        rate_hz,
-        freq_hz: full[0].freq_hz[..keep].to_vec(),
-        spectra: full.iter().map(|s| s.amplitude[..keep].to_vec()).collect(),
-        means,
-        names,
-        values,
-        labels,
-        lines,
-        one_x,
-    }))
+    let keep = bins_below(&full[0].freq_hz, keep_cap);
+    Ok((
+        speed,
+        Entry::Data(JobData {
+            id: id.to_string(),
+            speed_hz,
+            samples: n,
+            rate_hz,
+            freq_hz: full[0].freq_hz[..keep].to_vec(),
+            spectra: full.iter().map(|s| s.amplitude[..keep].to_vec()).collect(),
+            means,
+            names,
+            values,
+            labels,
+            lines,
+            one_x,
+        }),
+    ))
 }
 
 /// Jobs analysed as a run saved them (module doc): each job's [`Entry`] and its constant speed
@@ -240,9 +243,8 @@ impl Prepared {
     /// Analyses the job `id` just written to `g`, writing its means and spectra there.
     pub fn add(&mut self, g: &hdf5::Group, id: &str) -> hdf5::Result<()> {
         let context = (self.varying.as_slice(), self.axes.as_slice(), &self.spec);
-        let entry = analyse_job(g, id, context, self.keep_cap)?;
-        self.entries
-            .insert(id.to_string(), (analysable_speed(g), entry));
+        let analysed = analyse_job(g, id, context, self.keep_cap)?;
+        self.entries.insert(id.to_string(), analysed);
         Ok(())
     }
 }
@@ -273,9 +275,6 @@ pub(super) fn scalar_dataset(
 }
 
 /// The number of spectrum bins at or below `max_hz`.
-pub(super) fn bins_below(s: &signal::Spectrum, max_hz: f64) -> usize {
-    s.freq_hz
-        .iter()
-        .take_while(|f| **f <= max_hz + 1e-9)
-        .count()
+pub(super) fn bins_below(freq_hz: &[f64], max_hz: f64) -> usize {
+    freq_hz.iter().take_while(|f| **f <= max_hz + 1e-9).count()
 }
