@@ -650,3 +650,44 @@ fn run_up_of_a_stressed_body_peaks_at_the_stiffened_critical_speed() {
         "{hz} Hz vs {critical} Hz"
     );
 }
+
+/// An Abaqus body in mm-t-s with a stress stiffness: the two-mass chain of
+/// `fe_import::abaqus_chain_…` (2e-3 t, 1 N/mm) and ΔK = 0.5 N/mm on node 1 DOF 1 at 10 Hz give
+/// K_σ = 500 N/m / (2π · 10 rad/s)² (1 N/mm = 1000 N/m, the unit conversion); an entry on a DOF
+/// the mass and stiffness lack is refused naming the file and line.
+#[test]
+fn abaqus_stress_stiffness_in_millimetres_is_scaled_to_si() {
+    let dir = scratch("abaqus-stress");
+    let body = |stress: &str| BodyFiles {
+        format: Format::Abaqus,
+        mass: write_file(&dir, "m.mtx", "** MASS\n1,1, 1,1, 2e-3\n2,1, 2,1, 2e-3\n"),
+        stiffness: write_file(
+            &dir,
+            "k.mtx",
+            "** STIFFNESS\n1,1, 1,1, 2.0\n2,1, 1,1, -1.0\n2,1, 2,1, 1.0\n",
+        ),
+        nodes: write_file(&dir, "nodes.csv", "id,x,y,z\n1,0,0,0\n2,0,0,100\n"),
+        dofs: None,
+        units: Units::MmTonne,
+        rotating: None,
+        stress: Some(StressFiles {
+            stiffness: write_file(&dir, "s.mtx", stress),
+            kind: StressKind::Increment,
+            reference_hz: 10.0,
+        }),
+    };
+    let read = read_body(&body("** STRESS\n1,1, 1,1, 0.5\n")).unwrap();
+    let ks = read.ks.unwrap();
+    let want = 500.0 / (TAU * 10.0).powi(2);
+    assert!(
+        (ks[(0, 0)] / want - 1.0).abs() < 1e-14,
+        "{} vs {want}",
+        ks[(0, 0)]
+    );
+    assert_eq!(ks[(1, 1)], 0.0);
+    let e = format!(
+        "{}",
+        read_body(&body("** STRESS\n1,1, 1,1, 0.5\n2,2, 2,2, 0.5\n")).unwrap_err()
+    );
+    assert!(e.contains("s.mtx:3:") && e.contains("node 2 dof 2"), "{e}");
+}
