@@ -10,7 +10,8 @@
 //! M q̈ + (C(Ω) + Ω G_s) q̇ + K(Ω) q = f
 //! ```
 //!
-//! - Rotor: modal stiffness, modal damping d_ii = 2 ζ(f_i) ω_i (the time simulation's bands;
+//! - Rotor: modal stiffness plus, for a body with stress stiffening, Ω² K_σ (`ReducedModel::ks`;
+//!   none otherwise), modal damping d_ii = 2 ζ(f_i) ω_i (the time simulation's bands;
 //!   rigid modes none), and — since that damping acts on body-frame velocities — the circulatory
 //!   stiffness −Ω·skew(D Ŝ), Ŝ the projection on the modes of the rotation generator ẑ× on the
 //!   translations and tilts (module doc of [`crate::linear`]).
@@ -208,8 +209,12 @@ pub struct LinearSystem {
     pub node_z: Vec<f64>,
     /// Body-frame Coriolis matrix ΦᵀG_cΦ (the equations carry 2Ω G_c).
     pub gc_body: DMatrix<f64>,
-    /// Body-frame spin-softening matrix ΦᵀEΦ (the equations carry −Ω² E).
+    /// Body-frame spin-softening matrix less the stress stiffening, Φᵀ(E − K_σ)Φ (the equations
+    /// carry −Ω² (E − K_σ); [`ReducedModel::body_e`]).
     pub e_body: DMatrix<f64>,
+    /// Stress stiffening per (rad/s)² on the modal coordinates (nm × nm), if the body has it;
+    /// [`Self::at`] adds Ω² K_σ.
+    pub ks: Option<DMatrix<f64>>,
     /// Rotor + drive stiffness without the supports (n × n, support masses' rows empty).
     base_k: DMatrix<f64>,
     /// Rotor (modal) + drive damping without the supports.
@@ -321,7 +326,8 @@ impl LinearSystem {
             lateral,
             node_z: model.node_z.clone(),
             gc_body: model.gc.clone(),
-            e_body: model.e.clone(),
+            e_body: model.body_e(),
+            ks: model.ks.clone(),
             base_k,
             base_c,
             s_hat: rotation_generator(&model.phi),
@@ -371,9 +377,20 @@ impl LinearSystem {
             .collect()
     }
 
-    /// Whether any support's spring depends on the speed.
+    /// Whether the stiffness depends on the speed otherwise than by the circulatory term: a
+    /// support's spring by speed or the rotor's stress stiffening.
     pub fn speed_dependent(&self) -> bool {
-        self.stages.iter().any(|s| !s.support.by_speed.is_empty())
+        self.ks.is_some() || self.stages.iter().any(|s| !s.support.by_speed.is_empty())
+    }
+
+    /// The stress stiffening per (rad/s)² padded to the system's size (support masses' rows
+    /// empty), if the rotor has it.
+    pub fn stress_stiffness(&self) -> Option<DMatrix<f64>> {
+        self.ks.as_ref().map(|ks| {
+            let mut out = DMatrix::zeros(self.n(), self.n());
+            out.view_mut((0, 0), (self.nm, self.nm)).copy_from(ks);
+            out
+        })
     }
 
     /// The supports' springs at spin speed `omega` [rad/s]: (rotor node rows, support-mass
@@ -401,6 +418,9 @@ impl LinearSystem {
             let circ = -0.5 * omega * (&ds - ds.transpose());
             let mut v = k.view_mut((0, 0), (nm, nm));
             v += circ;
+            if let Some(ks) = &self.ks {
+                v += (omega * omega) * ks;
+            }
         }
         for (st, sp, ground) in self.springs_at(omega) {
             for (target, a, g) in [

@@ -4,7 +4,8 @@
 //! what to export ([`Which`]) and an output folder that does not exist yet.
 //! Out (docs/export.md): `mass.mtx`, `stiffness.mtx` (symmetric), `coriolis.mtx`,
 //! `gyroscopic.mtx` (skew-symmetric), `spin_softening.mtx` (symmetric),
-//! `angular_acceleration.mtx` (general), `loads.csv` (f_c, f_t, g_x, g_y per row), `nodes.csv`
+//! `angular_acceleration.mtx` (general), for a body with stress stiffening
+//! `stress_stiffness.mtx` (K_σ per (rad/s)², symmetric), `loads.csv` (f_c, f_t, g_x, g_y per row), `nodes.csv`
 //! (id, x, y, z [m]), `dofs.csv` (row, node id, DOF) and `scene.toml` for the full body — the
 //! scene with `[roll]` or `[rotor]` replaced by `[fe]` on these files, so `rotorsweep modes
 //! DIR/scene.toml` reproduces the scene's model; for the reduced model the modal matrices
@@ -94,16 +95,27 @@ fn write(dir: &Path, name: &str, text: &str, files: &mut Vec<String>) -> Result<
     Ok(())
 }
 
+const STRESS_UNITS: &str = "SI: N/m (translations), N/rad (translation-rotation), N m/rad \
+(rotations), per (rad/s)^2";
+
+/// The reference speed [Hz] an export gives its stress stiffness: Ω_ref = 1 rad/s, so the file
+/// holds K_σ = ΔK/Ω_ref² itself.
+pub const STRESS_REFERENCE_HZ: f64 = 1.0 / std::f64::consts::TAU;
+
 /// The matrices of an export: name, matrix, units, meaning.
 fn matrices(f: &FeMatrices) -> Vec<(&'static str, &DMatrix<f64>, &'static str, &'static str)> {
-    vec![
+    let mut out = vec![
         ("mass", &f.m, MASS_UNITS, "mass matrix M"),
         ("stiffness", &f.k, STIFF_UNITS, "stiffness matrix K"),
         ("coriolis", &f.gc, MASS_UNITS, "Coriolis matrix G_c; the body-frame equations carry 2 Omega G_c"),
         ("spin_softening", &f.e, MASS_UNITS, "spin-softening and rotary-inertia matrix E; the body-frame equations carry -Omega^2 E"),
         ("angular_acceleration", &f.c, MASS_UNITS, "angular-acceleration matrix C; the body-frame equations carry dOmega/dt C"),
         ("gyroscopic", &f.gs, MASS_UNITS, "stationary-frame gyroscopic matrix G_s; the stationary-frame equations carry Omega G_s"),
-    ]
+    ];
+    if let Some(ks) = &f.ks {
+        out.push(("stress_stiffness", ks, STRESS_UNITS, "stress stiffening K_sigma per (rad/s)^2 (dK at Omega_ref = 1 rad/s); the equations carry +Omega^2 K_sigma"));
+    }
+    out
 }
 
 fn loads(f: &FeMatrices) -> [(&'static str, &DVector<f64>, &'static str); 4] {
@@ -136,6 +148,7 @@ fn exported_scene(
     scene: &Scene,
     model: &Model,
     table: &toml::Value,
+    stress: bool,
 ) -> Result<String, ExportError> {
     let mut t = table.as_table().cloned().unwrap_or_default();
     t.remove("roll");
@@ -151,6 +164,11 @@ fn exported_scene(
         ("units", "SI"),
     ] {
         fe.insert(k.into(), v.into());
+    }
+    if stress {
+        fe.insert("stress_stiffness".into(), "stress_stiffness.mtx".into());
+        fe.insert("stress_stiffness_kind".into(), "increment".into());
+        fe.insert("stress_reference_hz".into(), STRESS_REFERENCE_HZ.into());
     }
     let mut rot = toml::Table::new();
     for k in [
@@ -229,6 +247,7 @@ pub fn write_model(
                 ft: red.ft.clone(),
                 gx: red.gx.clone(),
                 gy: red.gy.clone(),
+                ks: red.ks.clone(),
             };
             &modal
         }
@@ -276,7 +295,7 @@ pub fn write_model(
         write(
             dir,
             "scene.toml",
-            &exported_scene(scene, model, table)?,
+            &exported_scene(scene, model, table, f.ks.is_some())?,
             &mut files,
         )?;
     }

@@ -9,7 +9,8 @@
 //! Method: a synchronous whirl q = Re(X e^{iΩt}) of the undamped system needs
 //! (K − Ω² (M − i G_s)) X = 0; with X = a + ib this is the real symmetric pencil
 //! diag(K, K) − Ω² [[M, G_s], [−G_s, M]] (each root twice, for X and iX), solved as the real
-//! eigenproblem of its inverse-mass form. A system of more than [`FULL_MAX`] coordinates, given
+//! eigenproblem of its inverse-mass form. A body with stress stiffening has K + Ω² K_σ, so M
+//! becomes M − K_σ in that pencil. A system of more than [`FULL_MAX`] coordinates, given
 //! a range, is first projected on its undamped modes (with that support stiffness) below
 //! [`BASIS_FACTOR`] × the range, and lists the critical speeds up to half that cut-off (as the
 //! damped modes, [`super::basis`]). Frame: stationary.
@@ -63,7 +64,12 @@ fn critical_of(
         Some(v) => v.transpose() * a * v,
         None => a.clone(),
     };
-    let (m, g, k) = (project(&sys.m), project(&sys.gs), project(k));
+    // Stress stiffening K + Ω² K_σ: at the critical speed ω = Ω it joins the inertia term.
+    let inertia = match sys.stress_stiffness() {
+        Some(ks) => &sys.m - ks,
+        None => sys.m.clone(),
+    };
+    let (m, g, k) = (project(&inertia), project(&sys.gs), project(k));
     let n = m.nrows();
     let mut b = DMatrix::zeros(2 * n, 2 * n);
     b.view_mut((0, 0), (n, n)).copy_from(&m);

@@ -16,8 +16,9 @@
 //! supports, rollers and nips), linearised there at standstill: M, the tangent stiffness K and
 //! damping C (a closed nip segment adds Jᵀ(dF/dδ)J and Jᵀ c J, J its penetration row). At speed
 //! the analysis is in the stationary frame as the one-roll analysis (module doc of
-//! [`crate::linear`]): each roll's modal block adds its gyroscopic Ω_i G_s to C and the
-//! circulatory −Ω_i skew(D Ŝ) of its rotating modal damping to K; supports and nips stay as
+//! [`crate::linear`]): each roll's modal block adds its gyroscopic Ω_i G_s to C, the
+//! circulatory −Ω_i skew(D Ŝ) of its rotating modal damping to K and, for a body with stress
+//! stiffening, Ω_i² K_σ to K; supports and nips stay as
 //! linearised at standstill (a support's `spring_by_speed` table is read at standstill; the
 //! nip's kinematic term Ω S Φ of the body frame is absent in the stationary frame). Exact for
 //! axisymmetric rolls on speed-independent supports. Eigenvalues of the state matrix
@@ -53,6 +54,8 @@ struct RollPart {
     factor: f64,
     /// Stationary-frame gyroscopic matrix per rad/s (nm × nm).
     gs: DMatrix<f64>,
+    /// Stress stiffening per (rad/s)² (nm × nm), if the roll's body has it.
+    ks: Option<DMatrix<f64>>,
     /// skew(D Ŝ) = ½(DŜ − (DŜ)ᵀ) per rad/s (nm × nm).
     skew: DMatrix<f64>,
     /// u_x rows then u_y rows of Φ at every node (2·nodes × nm).
@@ -157,6 +160,7 @@ impl MachineLinear {
                 nm,
                 factor: roll.speed_factor,
                 gs: red.gs.clone(),
+                ks: red.ks.clone(),
                 skew: 0.5 * (&ds - ds.transpose()),
                 lateral,
                 family_mass: red.family_mass.clone(),
@@ -200,6 +204,9 @@ impl MachineLinear {
             let w = omega * p.factor / first;
             let mut kv = k.view_mut((p.offset, p.offset), (p.nm, p.nm));
             kv -= w * &p.skew;
+            if let Some(ks) = &p.ks {
+                kv += (w * w) * ks;
+            }
             let mut cv = c.view_mut((p.offset, p.offset), (p.nm, p.nm));
             cv += w * &p.gs;
         }

@@ -4,7 +4,9 @@
 //! fixed-interface normal modes.
 //! Out: a [`ReducedModel`]: a mass-normalised modal basis Φ (physical DOFs × modes) with
 //! diagonal stiffness ω², a label (normal / static correction) and a kind per mode, and every
-//! body-frame matrix and load of `fe` projected on it (physics.md §3–§4). Frequencies in Hz.
+//! body-frame matrix and load of `fe` projected on it (physics.md §3–§4), the stress stiffening
+//! K_σ of an imported body among them (on the standstill modes: the stiffened shapes are as well
+//! represented as the kept modes span them). Frequencies in Hz.
 //!
 //! Procedure (physics.md §3): boundary DOFs B are the six DOFs of each journal node; constraint
 //! modes Ψ = −K_II⁻¹ K_IB; fixed-interface normal modes K_II φ = ω² M_II φ (lowest n); the
@@ -196,6 +198,9 @@ pub struct ReducedModel {
     pub c: DMatrix<f64>,
     /// ΦᵀG_sΦ (stationary-frame gyroscopic).
     pub gs: DMatrix<f64>,
+    /// ΦᵀK_σΦ, the stress stiffening per (rad/s)² ([`FeMatrices::ks`]) on the standstill modes;
+    /// `None` without it.
+    pub ks: Option<DMatrix<f64>>,
     /// Kinetic-energy matrices per DOF family (bending-x, bending-y, axial, torsion): Φᵀ M_f Φ,
     /// with M_f the rows and columns of M of that family; they sum to the modal mass.
     pub family_mass: [DMatrix<f64>; 4],
@@ -381,6 +386,7 @@ fn project(fe: &FeMatrices, phi: DMatrix<f64>, node_z: Vec<f64>) -> ReducedModel
         e: sym(proj(&fe.e)),
         c: proj(&fe.c),
         gs: proj(&fe.gs),
+        ks: fe.ks.as_ref().map(|a| sym(proj(a))),
         fc: &pt * &fe.fc,
         ft: &pt * &fe.ft,
         gx: &pt * &fe.gx,
@@ -393,6 +399,16 @@ fn project(fe: &FeMatrices, phi: DMatrix<f64>, node_z: Vec<f64>) -> ReducedModel
 }
 
 impl ReducedModel {
+    /// The body-frame Ω² stiffness change per (rad/s)², E − K_σ: the equations carry
+    /// −Ω²(E − K_σ) (spin softening and rotary inertia less the stress stiffening). Without
+    /// stress stiffening it is E itself (the same numbers, bit for bit).
+    pub fn body_e(&self) -> DMatrix<f64> {
+        match &self.ks {
+            Some(ks) => &self.e - ks,
+            None => self.e.clone(),
+        }
+    }
+
     /// Number of modal coordinates.
     pub fn len(&self) -> usize {
         self.freq_hz.len()
@@ -483,6 +499,7 @@ impl ReducedModel {
             e: sq(&self.e),
             c: sq(&self.c),
             gs: sq(&self.gs),
+            ks: self.ks.as_ref().map(sq),
             family_mass: std::array::from_fn(|f| sq(&self.family_mass[f])),
             fc: vec(&self.fc),
             ft: vec(&self.ft),

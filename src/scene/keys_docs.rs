@@ -715,6 +715,27 @@ pub const DOCS: &[KeyDoc] = &[
         meaning: "Loads per matrix row: columns index,fc,ft,gx,gy (centrifugal per Omega^2, angular acceleration, unit fields along body x and y).",
     },
     KeyDoc {
+        key: "fe.stress_stiffness",
+        units: "",
+        default: "none (no stress stiffening)",
+        range: "a file in the format and units of fe.mass",
+        meaning: "Stress stiffening: a stiffness exported at the speed fe.stress_reference_hz, so K(Omega) = K + (Omega/Omega_ref)^2 dK, in modes, linear and simulate (docs/export.md). Give fe.stress_stiffness_kind and fe.stress_reference_hz with it.",
+    },
+    KeyDoc {
+        key: "fe.stress_stiffness_kind",
+        units: "",
+        default: "required with fe.stress_stiffness",
+        range: "increment, total",
+        meaning: "What the fe.stress_stiffness file holds: increment (dK, the geometric stiffness of the centrifugal prestress) or total (K + dK, the stiffness an FE code exports after a prestressed step). Without spin softening either way: the engine adds that.",
+    },
+    KeyDoc {
+        key: "fe.stress_reference_hz",
+        units: "Hz",
+        default: "required with fe.stress_stiffness",
+        range: "> 0",
+        meaning: "The spin speed at which the fe.stress_stiffness file was computed.",
+    },
+    KeyDoc {
         key: "fe.named",
         units: "",
         default: "required",

@@ -214,6 +214,7 @@ fn axis_body(dir: &Path, mass: Option<&str>, stiff: Option<&str>, dofs: Option<&
         dofs: Some(write_file(dir, "dofs.csv", dofs.unwrap_or(&d))),
         units: Units::Si,
         rotating: None,
+        stress: None,
     }
 }
 

@@ -159,6 +159,7 @@ fn error_of(mass: &str, stiffness: &str, dofs: &str) -> String {
         dofs: Some(write_file(&dir, "dofs.csv", dofs)),
         units: Units::Si,
         rotating: None,
+        stress: None,
     };
     sparse_body::load(&f).unwrap_err().to_string()
 }

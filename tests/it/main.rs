@@ -59,6 +59,7 @@ mod scene_errors;
 mod scene_files;
 mod scene_keys;
 mod shipped_scenes;
+mod stress_stiffening;
 mod study;
 mod study_errors;
 mod study_kill;

@@ -47,6 +47,14 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     }
     let t0 = Instant::now();
     let (files, named) = fe_body_files(&a.scene)?;
+    if let Some(s) = &files.stress {
+        return Err(InputError::new(
+            &s.stiffness,
+            "`reduce` does not reduce a stress stiffness (fe.stress_stiffness): remove the key, \
+             or attach the body in a scene (the dense path) to use it",
+        )
+        .into());
+    }
     let body = sparse_body::load(&files)?;
     let n = body.dofs.len();
     println!(

@@ -3,7 +3,9 @@
 //!
 //! In: a [`Scene`] (supports, drive, sensors, damping, gravity, speed) and its [`Model`]
 //! (reduced basis: modal M, K, E, C, G_c, loads, Φ). Out: the system's matrices over
-//! q = (modal coordinates, then (x, y) [m] of each support mass), n × n: M [kg], K [N/m], E, C,
+//! q = (modal coordinates, then (x, y) [m] of each support mass), n × n: M [kg], K [N/m],
+//! E (spin softening less the body's stress stiffening K_σ, if it has one: `ReducedModel::body_e`,
+//! so a run-up stiffens at every instant's speed), C,
 //! G_c, modal damping D [Ns/m]; the loads per Ω², Ω̇ and unit acceleration; the supports; the
 //! axial drive; the sensors' rows; the error weights [m per unit]; for a constant speed the
 //! pre-combined [K − Ω²E | D + 2ΩG]. Method: the modal matrices padded with the support masses'
@@ -104,7 +106,7 @@ impl RollSystem {
             n,
             m,
             k,
-            e: pad(&r.e, n),
+            e: pad(&r.body_e(), n),
             c: pad(&r.c, n),
             g: pad(&r.gc, n),
             d,

@@ -36,6 +36,11 @@ pub struct FeMatrices {
     pub gx: DVector<f64>,
     /// Load of a unit acceleration field along body y [N/(m/s²)].
     pub gy: DVector<f64>,
+    /// Stress stiffening per (rad/s)² [N/m per (rad/s)²], K_σ = ΔK/Ω_ref² of a stiffness ΔK
+    /// exported at a reference speed Ω_ref: the equations carry +Ω² K_σ (stiffness K + Ω² K_σ).
+    /// `None` (the default, and always for the native beam rotor: the `fe` module doc) adds
+    /// nothing.
+    pub ks: Option<DMatrix<f64>>,
 }
 
 impl Rotor {
@@ -56,6 +61,7 @@ impl Rotor {
             ft: DVector::zeros(n),
             gx: DVector::zeros(n),
             gy: DVector::zeros(n),
+            ks: None,
         };
         for el in &self.elements {
             let t = ElementTerms::new(el);

@@ -21,6 +21,19 @@
 //! the body frame for a thin slice, as it must (a thin disk has no body-frame gyroscopic
 //! coupling because I_p = 2 I_d).
 //!
+//! **Stress stiffening of the beam rotor is zero, not left out.** A rotor spinning about its own
+//! axis z carries a centrifugal body force ρΩ²(x, y, 0) with no axial component and no load on
+//! its free ends, so the axial force N(z) and the shear forces of every section vanish: the
+//! beam's geometric stiffness N∫w'² has nothing to act with. The centrifugal stress that does
+//! exist lies in the section's plane (hoop and radial, σ_θ ≈ ρΩ²R² in a thin tube); its
+//! geometric stiffness on a section that tilts by φ is ∫σ_yy φ² dV = Ω²φ²∫ρy² dV (virial
+//! theorem, ∫σ_ij dV = ∫ρΩ² x_i x_j dV over a traction-free body), and that is exactly the
+//! section's rotary-inertia stiffening Ω²(I_p − I_d) that the rigid section's ½φ×(φ×d) term
+//! already gives in E (the rigid section carries that stress as a constraint). Counting it again
+//! as a stiffness would count it twice. What the beam cannot have is the hoop stress's
+//! stiffening of shell modes (ovalization), which the beam lacks altogether; an imported body
+//! brings its own, [`FeMatrices::ks`] (`crate::rotor::import::body`).
+//!
 //! The files, in the order they build on each other: the description (`spec.rs`), the mass
 //! packets and their 6×6 terms (`packet.rs`), the Timoshenko beam element (`beam.rs`), the mesh
 //! and its balancing (`mesh.rs`) and the global assembly (`assembly.rs`).

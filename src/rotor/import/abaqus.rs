@@ -9,7 +9,8 @@
 //! node the table lacks, an entry given twice, a value that is not a finite number, an empty
 //! file). Method: two passes, the DOFs first, then the entries; an entry whose mirror is not in
 //! the file is mirrored (symmetric storage), both given are kept (the symmetry check of
-//! [`super::body`] then compares them).
+//! [`super::body`] then compares them). A third file on the same DOFs (the stress stiffness)
+//! is read by [`read_on`].
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -136,4 +137,34 @@ pub fn read_pair(
         assemble(stiffness, &ek, &index)?,
         dofs,
     ))
+}
+
+/// Reads one more matrix file (a stress stiffness) on the DOFs `dofs` of the pair already read
+/// ([`read_pair`]); an entry on a DOF the pair does not have is an error naming its line.
+pub fn read_on(
+    path: &Path,
+    dofs: &[Dof],
+    nodes: &[Node],
+    nodes_file: &Path,
+) -> Result<DMatrix<f64>, InputError> {
+    let e = entries(path, nodes, nodes_file)?;
+    let index: BTreeMap<(i64, usize), usize> = dofs
+        .iter()
+        .enumerate()
+        .map(|(i, d)| ((d.node, d.dof), i))
+        .collect();
+    for &(no, (r, c, _)) in &e {
+        if let Some(d) = [r, c].into_iter().find(|d| !index.contains_key(d)) {
+            return Err(InputError::new(
+                path,
+                format!(
+                    "node {} dof {} is not a DOF of the mass and stiffness matrices",
+                    d.0,
+                    d.1 + 1
+                ),
+            )
+            .at_line(no));
+        }
+    }
+    assemble(path, &e, &index)
 }

@@ -4,10 +4,13 @@
 //! or an Abaqus coordinate file, [`super::abaqus`]), the node table and, for Matrix Market, the
 //! DOF table ([`super::tables`]), the unit system, and optionally the body-frame rotating terms
 //! a rotorsweep export writes (Coriolis G_c, spin softening E, angular acceleration C,
-//! stationary gyroscopic G_s and the loads f_c, f_t, g_x, g_y).
+//! stationary gyroscopic G_s and the loads f_c, f_t, g_x, g_y), and optionally a stiffness
+//! exported at a reference speed Ω_ref ([`StressFiles`]: stress stiffening).
 //! Out: an [`ImportedBody`]: the node ids and z [m] in ascending z, the body-frame
 //! [`FeMatrices`] over six DOFs per node in the order of `fe` (u_x, u_y, u_z, θ_x, θ_y, θ_z),
-//! SI, its [`Invariants`] and whether it is axisymmetric; or an [`InputError`] naming the file
+//! SI, with the stress stiffening per (rad/s)² K_σ = ΔK/Ω_ref² ([`FeMatrices::ks`]; ΔK the file's
+//! matrix, or the file's matrix less K when it holds the total stiffness at Ω_ref), its
+//! [`Invariants`] and whether it is axisymmetric; or an [`InputError`] naming the file
 //! and the line or entry: a matrix not symmetric, a size that does not match the DOF table, a
 //! node that does not exist, a mass matrix that is not positive definite, a truncated file, a
 //! file whose `% units:` differs from the scene's, a node off the axis.
@@ -16,7 +19,9 @@
 //! symmetry checked to 1e-10 of the largest entry; Cholesky of M; rotating terms from the files
 //! or, without them, from M and the node coordinates ([`super::invariants`]). A scene attaches
 //! bodies whose nodes lie on the rotor axis with all six DOFs (beam-like models, rotorsweep's
-//! own export); a solid or shell body (nodes off the axis) is refused here with that reason.
+//! own export); a solid or shell body (nodes off the axis) is refused here with that reason,
+//! and [`read_body`] reads any body (its nodes anywhere) with every other check, for the
+//! general rotating terms of [`super::invariants::rotating_terms`].
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -54,6 +59,30 @@ pub struct RotatingFiles {
     pub loads: PathBuf,
 }
 
+/// What a stress-stiffness file holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StressKind {
+    /// The stiffness change ΔK at the reference speed (the geometric stiffness of the
+    /// centrifugal prestress).
+    Increment,
+    /// The whole stiffness at the reference speed, K + ΔK (what an FE code exports after a
+    /// prestressed step); ΔK is it less the body's stiffness.
+    Total,
+}
+
+/// A stiffness exported at a reference speed (stress stiffening): K(Ω) = K + (Ω/Ω_ref)² ΔK.
+/// The file must not contain spin softening (an FE code's "spin softening" option): the engine
+/// adds that itself from the mass matrix (or `[fe.rotating]`'s E).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StressFiles {
+    /// The matrix file, in the format and units of the mass and stiffness.
+    pub stiffness: PathBuf,
+    /// What it holds.
+    pub kind: StressKind,
+    /// The reference speed Ω_ref [Hz] (> 0) at which it was computed.
+    pub reference_hz: f64,
+}
+
 /// Where an FE body is and in which units (module doc).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodyFiles {
@@ -71,6 +100,8 @@ pub struct BodyFiles {
     pub units: Units,
     /// The rotating terms, if the files carry them.
     pub rotating: Option<RotatingFiles>,
+    /// The stress stiffening, if the body has it (none by default).
+    pub stress: Option<StressFiles>,
 }
 
 /// An imported body (module doc).
@@ -86,8 +117,8 @@ pub struct ImportedBody {
     pub matrices: FeMatrices,
     /// Rigid-body inertia.
     pub invariants: Invariants,
-    /// Whether M, K and the rotating terms are unchanged by a quarter turn about z and the
-    /// body has no unbalance (to [`AXISYMMETRY_TOLERANCE`]).
+    /// Whether M, K, the rotating terms and the stress stiffening are unchanged by a quarter
+    /// turn about z and the body has no unbalance (to [`AXISYMMETRY_TOLERANCE`]).
     pub axisymmetric: bool,
 }
 
@@ -275,8 +306,62 @@ fn positive_definite(path: &Path, m: &DMatrix<f64>, dofs: &[Dof]) -> Result<(), 
     ))
 }
 
-/// Reads and checks an FE body (module doc).
-pub fn load(f: &BodyFiles) -> Result<ImportedBody, InputError> {
+/// The stress stiffening per (rad/s)², K_σ = ΔK/Ω_ref², in the file's DOF order and SI
+/// (module doc); `k` is the body's stiffness in SI.
+fn read_stress(
+    f: &BodyFiles,
+    s: &StressFiles,
+    nodes: &[Node],
+    dofs: &[Dof],
+    k: &DMatrix<f64>,
+) -> Result<DMatrix<f64>, InputError> {
+    let path = &s.stiffness;
+    let n = dofs.len();
+    let mut a = match f.format {
+        Format::MatrixMarket => read_market(path, f.units)?,
+        Format::Abaqus => super::abaqus::read_on(path, dofs, nodes, &f.nodes)?,
+    };
+    if a.nrows() != n {
+        return Err(InputError::new(
+            path,
+            format!(
+                "the stress stiffness is {} × {}, the body has {n} DOFs (the mass matrix {})",
+                a.nrows(),
+                a.nrows(),
+                f.mass.display()
+            ),
+        ));
+    }
+    symmetric(path, &a, dofs)?;
+    scale_matrix(&mut a, dofs, f.units);
+    if s.kind == StressKind::Total {
+        a -= k;
+    }
+    let w = std::f64::consts::TAU * s.reference_hz;
+    Ok(a / (w * w))
+}
+
+/// A body's matrices as read and checked, in SI and the files' DOF order, before it is made an
+/// axis body: any body, its nodes anywhere (solids, shells, rings).
+#[derive(Debug, Clone)]
+pub struct ReadBody {
+    /// The node table, positions in metres.
+    pub nodes: Vec<Node>,
+    /// What each matrix row is.
+    pub dofs: Vec<Dof>,
+    /// Each row's node position [m].
+    pub positions: Vec<Vector3<f64>>,
+    /// Mass M [kg, kg m, kg m²].
+    pub m: DMatrix<f64>,
+    /// Stiffness K [N/m, N, N m].
+    pub k: DMatrix<f64>,
+    /// Stress stiffening per (rad/s)², K_σ = ΔK/Ω_ref², if the files give it.
+    pub ks: Option<DMatrix<f64>>,
+}
+
+/// Reads a body's matrices and tables with every check of [`load`] but the axis body's (module
+/// doc); [`super::invariants::rotating_terms`] then gives the rotating terms of any body.
+pub fn read_body(f: &BodyFiles) -> Result<ReadBody, InputError> {
     let nodes = tables::read_nodes(&f.nodes, f.units)?;
     let (
         Read {
@@ -290,6 +375,37 @@ pub fn load(f: &BodyFiles) -> Result<ImportedBody, InputError> {
     scale_matrix(&mut m, &dofs, f.units);
     scale_matrix(&mut k, &dofs, f.units);
     positive_definite(&f.mass, &m, &dofs)?;
+    let ks = match &f.stress {
+        Some(s) => Some(read_stress(f, s, &nodes, &dofs, &k)?),
+        None => None,
+    };
+    let positions = dofs
+        .iter()
+        .map(|d| {
+            let p = nodes.iter().find(|p| p.id == d.node).expect("checked");
+            Vector3::from(p.x)
+        })
+        .collect();
+    Ok(ReadBody {
+        nodes,
+        dofs,
+        positions,
+        m,
+        k,
+        ks,
+    })
+}
+
+/// Reads and checks an FE body (module doc).
+pub fn load(f: &BodyFiles) -> Result<ImportedBody, InputError> {
+    let ReadBody {
+        nodes,
+        dofs,
+        positions: pos,
+        m,
+        k,
+        ks,
+    } = read_body(f)?;
     // The axis body: every node on the axis with its six DOFs.
     let extent = nodes.iter().map(|p| p.x[2].abs()).fold(1.0, f64::max);
     for p in &nodes {
@@ -330,13 +446,6 @@ pub fn load(f: &BodyFiles) -> Result<ImportedBody, InputError> {
     }
     let pm = |a: &DMatrix<f64>| DMatrix::from_fn(n, n, |i, j| a[(perm[i], perm[j])]);
     let pv = |a: &DVector<f64>| DVector::from_fn(n, |i, _| a[perm[i]]);
-    let pos: Vec<Vector3<f64>> = dofs
-        .iter()
-        .map(|d| {
-            let p = nodes.iter().find(|p| p.id == d.node).expect("checked");
-            Vector3::from(p.x)
-        })
-        .collect();
     let mut t = match &f.rotating {
         None => rotating_terms(&m, &k, &dofs, &pos),
         Some(r) => {
@@ -367,6 +476,7 @@ pub fn load(f: &BodyFiles) -> Result<ImportedBody, InputError> {
                 gy,
                 m: m.clone(),
                 k: k.clone(),
+                ks: None,
             }
         }
     };
@@ -381,6 +491,7 @@ pub fn load(f: &BodyFiles) -> Result<ImportedBody, InputError> {
         ft: pv(&t.ft),
         gx: pv(&t.gx),
         gy: pv(&t.gy),
+        ks: ks.as_ref().map(pm),
     };
     let node_z: Vec<f64> = order.iter().map(|p| p.x[2]).collect();
     let axis_dofs: Vec<Dof> = (0..n)
@@ -433,7 +544,8 @@ fn axisymmetric(t: &FeMatrices, mass: f64, length: f64) -> bool {
         .fold(0.0, |m: f64, i| m.max(t.ft[i].abs()));
     let unbalance = t.fc.amax().max(lateral_ft);
     [&t.m, &t.k, &t.gc, &t.e, &t.c, &t.gs]
-        .iter()
-        .all(|a| same(a))
+        .into_iter()
+        .chain(&t.ks)
+        .all(same)
         && unbalance <= tol * mass * length
 }

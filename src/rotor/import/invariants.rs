@@ -137,5 +137,6 @@ pub fn rotating_terms(
         gy: col(1),
         m: m.clone(),
         k: k.clone(),
+        ks: None,
     }
 }

@@ -3,7 +3,10 @@
 //!
 //! In: the `[fe]` table: the matrices' `format` (`matrix-market` or `abaqus`), the files
 //! `mass`, `stiffness`, `nodes`, `dofs` (Matrix Market) and optionally the `[fe.rotating]`
-//! terms, paths relative to the scene file; `units` (`SI` or `mm-t-s`); `named` nodes (name →
+//! terms, paths relative to the scene file; `units` (`SI` or `mm-t-s`); optionally a stress
+//! stiffness `stress_stiffness` (a file in the matrices' format), `stress_stiffness_kind`
+//! (`increment`: ΔK, or `total`: K + ΔK) and `stress_reference_hz` (the speed [Hz] it was
+//! computed at), all three or none; `named` nodes (name →
 //! node id) and `sensors` (names among them). Out: a [`Geometry`] whose rotor spec has no
 //! segments, only the named points at their nodes' z [m], and the [`ImportedBody`]; no
 //! default boundary (the supports' nodes are); or an [`InputError`] at the key, or naming the
@@ -18,7 +21,9 @@ use serde::Deserialize;
 use super::built::Geometry;
 use crate::error::InputError;
 use crate::rotor::fe::RotorSpec;
-use crate::rotor::import::body::{self, BodyFiles, Format, ImportedBody, RotatingFiles};
+use crate::rotor::import::body::{
+    self, BodyFiles, Format, ImportedBody, RotatingFiles, StressFiles, StressKind,
+};
 use crate::rotor::import::tables::Units;
 use crate::scene::check::Check;
 use crate::scene::source::Source;
@@ -35,6 +40,9 @@ pub(crate) struct FeFile {
     pub dofs: Option<String>,
     pub units: String,
     pub rotating: Option<FeRotatingFile>,
+    pub stress_stiffness: Option<String>,
+    pub stress_stiffness_kind: Option<String>,
+    pub stress_reference_hz: Option<f64>,
     pub named: BTreeMap<String, i64>,
     #[serde(default)]
     pub sensors: Vec<String>,
@@ -73,6 +81,53 @@ fn files_of(c: &Check, fe: &FeFile) -> Result<BodyFiles, InputError> {
         return Err(c.err("fe.dofs", "a Matrix Market body needs its DOF table"));
     }
     let units = Units::parse(&fe.units).map_err(|r| c.err("fe.units", r))?;
+    let stress = match (
+        &fe.stress_stiffness,
+        &fe.stress_stiffness_kind,
+        fe.stress_reference_hz,
+    ) {
+        (None, None, None) => None,
+        (Some(file), Some(kind), Some(hz)) => {
+            let kind = match kind.as_str() {
+                "increment" => StressKind::Increment,
+                "total" => StressKind::Total,
+                k => {
+                    return Err(c.err(
+                        "fe.stress_stiffness_kind",
+                        format!("`{k}`: expected `increment` (ΔK) or `total` (K + ΔK)"),
+                    ))
+                }
+            };
+            if !(hz.is_finite() && hz > 0.0) {
+                return Err(c.err(
+                    "fe.stress_reference_hz",
+                    format!("{hz}: the reference speed must be a positive number of Hz"),
+                ));
+            }
+            Some(StressFiles {
+                stiffness: path(file),
+                kind,
+                reference_hz: hz,
+            })
+        }
+        (file, kind, hz) => {
+            let keys = [
+                ("fe.stress_stiffness", file.is_some()),
+                ("fe.stress_stiffness_kind", kind.is_some()),
+                ("fe.stress_reference_hz", hz.is_some()),
+            ];
+            let given = keys.iter().find(|(_, g)| *g).map_or(keys[0].0, |k| k.0);
+            let missing: Vec<&str> = keys.iter().filter(|(_, g)| !g).map(|k| k.0).collect();
+            return Err(c.err(
+                given,
+                format!(
+                    "stress stiffening needs fe.stress_stiffness, fe.stress_stiffness_kind and \
+                     fe.stress_reference_hz together; missing: {}",
+                    missing.join(", ")
+                ),
+            ));
+        }
+    };
     Ok(BodyFiles {
         format,
         mass: path(&fe.mass),
@@ -87,6 +142,7 @@ fn files_of(c: &Check, fe: &FeFile) -> Result<BodyFiles, InputError> {
             gyroscopic: path(&r.gyroscopic),
             loads: path(&r.loads),
         }),
+        stress,
     })
 }
 
