@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use super::record::{record_rows, OrderPoint, RecordFile};
 use crate::error::InputError;
 use crate::scene::locate;
 use crate::scene::Scene;
@@ -43,6 +44,8 @@ struct CalibrationFile {
     resonances: Vec<ResonanceFile>,
     #[serde(default)]
     frequencies: Vec<FrequencyFile>,
+    #[serde(default)]
+    records: Vec<RecordFile>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -184,6 +187,9 @@ pub struct Row {
     pub std: f64,
     /// Weight.
     pub weight: f64,
+    /// For a row of a measured record (`[[records]]`): its order amplitude's place and part;
+    /// the model's value is read from the job's order rows, not from `output`.
+    pub point: Option<OrderPoint>,
 }
 
 /// Iteration settings of `[fit]`.
@@ -232,17 +238,18 @@ const OUTPUTS: [(&str, bool); 9] = [
     ("sag_horizontal_um", false),
 ];
 
-struct Ctx<'a> {
-    path: &'a Path,
+/// The file being checked: its path and text, for errors naming the file, key and line.
+pub(super) struct Ctx<'a> {
+    pub(super) path: &'a Path,
     text: &'a str,
 }
 
 impl Ctx<'_> {
-    fn line(&self, key: &str) -> Option<usize> {
+    pub(super) fn line(&self, key: &str) -> Option<usize> {
         locate::line_of(self.text, key)
     }
 
-    fn err(&self, key: &str, reason: impl Into<String>) -> InputError {
+    pub(super) fn err(&self, key: &str, reason: impl Into<String>) -> InputError {
         let e = InputError::new(self.path, reason).with_key(key);
         match self.line(key) {
             Some(l) => e.at_line(l),
@@ -325,10 +332,13 @@ impl Calibration {
                 f.weight,
             )?);
         }
+        for (i, r) in raw.records.iter().enumerate() {
+            rows.extend(record_rows(&c, i, r)?);
+        }
         if rows.is_empty() {
             return Err(c.err(
                 "targets",
-                "no target rows: add [[targets]], [[resonances]] or [[frequencies]]",
+                "no target rows: add [[targets]], [[resonances]], [[frequencies]] or [[records]]",
             ));
         }
         if rows.len() < parameters.len() {
@@ -519,6 +529,7 @@ fn row(
         value,
         std,
         weight,
+        point: None,
     })
 }
 
@@ -577,7 +588,8 @@ fn resonance_rows(c: &Ctx, i: usize, r: &ResonanceFile) -> Result<Vec<Row>, Inpu
 
 /// A row's job exists, its output is known and its sensor and direction are the job's scene's.
 fn check_row(c: &Ctx, r: &Row, study: &Study) -> Result<(), InputError> {
-    let table = r.at.rsplit_once('.').map_or(r.at.as_str(), |p| p.0);
+    // The row's table, `targets[0]` of `targets[0].value` or `records[1]` of a record's row.
+    let table = r.at.find(']').map_or(r.at.as_str(), |e| &r.at[..=e]);
     let Some(job) = study.jobs.get(r.job) else {
         return Err(c.err(
             &format!("{table}.job"),
@@ -588,6 +600,22 @@ fn check_row(c: &Ctx, r: &Row, study: &Study) -> Result<(), InputError> {
             ),
         ));
     };
+    if let Some(p) = &r.point {
+        let sensors = &job.scene.sensors;
+        if !sensors.contains(&p.sensor) {
+            return Err(c.err(
+                &format!("{table}.file"),
+                format!(
+                    "the record's sensor `{}` is not in the scene {} (its sensors: {}): leave \
+                     its channels out with `channels`",
+                    p.sensor,
+                    study.scene_path.display(),
+                    sensors.join(", ")
+                ),
+            ));
+        }
+        return Ok(());
+    }
     let (kind, rest) = r.output.split_once(':').unwrap_or((r.output.as_str(), ""));
     let Some((_, placed)) = OUTPUTS.iter().find(|(k, _)| *k == kind) else {
         let known: Vec<&str> = OUTPUTS.iter().map(|o| o.0).collect();
