@@ -21,7 +21,9 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use super::record::{record_rows, OrderPoint, RecordFile};
+use super::record::{record_rows, RecordFile};
+use super::row::Ctx;
+pub use super::row::Row;
 use crate::error::InputError;
 use crate::scene::locate;
 use crate::scene::Scene;
@@ -170,28 +172,6 @@ pub struct Parameter {
     pub at: (String, Option<usize>),
 }
 
-/// One target row: an output of one job of the study, measured with a standard deviation.
-#[derive(Debug, Clone)]
-pub struct Row {
-    /// The row's key in the file (`resonances[0].amplitude_um`).
-    pub at: String,
-    /// Its line.
-    pub line: Option<usize>,
-    /// Output name (the statistics table's, `peak_amplitude_um:centre/vertical:2x`).
-    pub output: String,
-    /// Index of the study's job.
-    pub job: usize,
-    /// Measured value.
-    pub value: f64,
-    /// Its standard deviation.
-    pub std: f64,
-    /// Weight.
-    pub weight: f64,
-    /// For a row of a measured record (`[[records]]`): its order amplitude's place and part;
-    /// the model's value is read from the job's order rows, not from `output`.
-    pub point: Option<OrderPoint>,
-}
-
 /// Iteration settings of `[fit]`.
 #[derive(Debug, Clone, Copy)]
 pub struct FitSettings {
@@ -237,26 +217,6 @@ const OUTPUTS: [(&str, bool); 9] = [
     ("sag_vertical_um", false),
     ("sag_horizontal_um", false),
 ];
-
-/// The file being checked: its path and text, for errors naming the file, key and line.
-pub(super) struct Ctx<'a> {
-    pub(super) path: &'a Path,
-    text: &'a str,
-}
-
-impl Ctx<'_> {
-    pub(super) fn line(&self, key: &str) -> Option<usize> {
-        locate::line_of(self.text, key)
-    }
-
-    pub(super) fn err(&self, key: &str, reason: impl Into<String>) -> InputError {
-        let e = InputError::new(self.path, reason).with_key(key);
-        match self.line(key) {
-            Some(l) => e.at_line(l),
-            None => e,
-        }
-    }
-}
 
 impl Calibration {
     /// Reads and checks a calibration file (module doc).

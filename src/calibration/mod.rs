@@ -28,10 +28,11 @@ pub mod file;
 mod fit;
 mod outcome;
 mod record;
+mod row;
 mod write;
 
 pub use evaluate::Evaluation;
 pub use file::{Calibration, Parameter, Row, Scale};
 pub use fit::{calibrate, evaluations_dir};
 pub use outcome::{Fitted, Options, Outcome, RowResult};
-pub use record::OrderPoint;
+pub use row::OrderPoint;

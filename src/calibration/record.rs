@@ -34,7 +34,7 @@ use std::path::Path;
 use rustfft::num_complex::Complex64;
 use serde::Deserialize;
 
-use super::file::{Ctx, Row};
+use super::row::{Ctx, OrderPoint, Row};
 use crate::error::InputError;
 use crate::report::compare::{at_speed, Curve};
 use crate::report::tables::orders::{records, OrderRow};
@@ -53,21 +53,6 @@ pub(super) struct RecordFile {
     speed_max_hz: Option<f64>,
     amplitude_std_um: f64,
     weight: Option<f64>,
-}
-
-/// Where a record row lies: the order amplitude of a sensor's direction at a speed, one part.
-#[derive(Debug, Clone, PartialEq)]
-pub struct OrderPoint {
-    /// Sensor.
-    pub sensor: String,
-    /// `vertical` or `horizontal`.
-    pub direction: String,
-    /// Order.
-    pub order: f64,
-    /// The measured block's mean speed [Hz].
-    pub speed_hz: f64,
-    /// The imaginary part (else the real part).
-    pub imaginary: bool,
 }
 
 /// The target rows of `records[i]` (module doc); errors name the file, key and line.

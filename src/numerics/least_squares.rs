@@ -17,9 +17,9 @@
 //! proportion to [`SHRINK_TO`] (at most [`MAX_SHRINKS`] times per Jacobian, never below
 //! [`MIN_STEP_FRACTION`] of the caller's step), the shrunk columns as one batch, and the
 //! coordinate keeps its shrunk step for later Jacobians. (A fixed fraction of the value is not
-//! that scale: on a lightly damped resonance 0.2 % of Young's modulus moved the residuals by
-//! 560 σ, and the curvature in such a column biased the Gauss–Newton step so that the fit
-//! stalled at a reduced χ² of 1000; docs/calibration.md.) A step δ solves (JᵀJ + λ diag(JᵀJ)) δ = −Jᵀr over the coordinates that are
+//! that scale: on a Jeffcott run-up through its lightly damped critical, 0.2 % of Young's
+//! modulus moved the residuals by 914 σ at the start point and 700 standard errors at the fit;
+//! docs/calibration.md.) A step δ solves (JᵀJ + λ diag(JᵀJ)) δ = −Jᵀr over the coordinates that are
 //! free: a coordinate whose Jacobian column is zero is frozen (nothing it moves is measured),
 //! and a coordinate at a bound whose step points outward is held there (projection, re-solved
 //! at most n times). Two damped steps, λ and 10 λ, are tried in one batch; the lower cost is
@@ -520,7 +520,7 @@ mod tests {
     /// 5000 (x − 1)²), minimum at x = 1 (the gradient 100 r₁ + 100 r₂ + 0 · r₃ vanishes there),
     /// where J = (100, 100, 0), s² = (1 + 1 + 0)/(3 − 1) = 1 and so var x = s²/JᵀJ = 1/20 000
     /// (the closed form of a one-parameter linearised fit). A forward step of 0.1 gives the third
-    /// entry 5000 · 0.1² / 0.1 = 500 instead of 0 and an error √(1/270 000), 2.7 times too small;
+    /// entry 5000 · 0.1² / 0.1 = 500 instead of 0 and an error √(1/270 000), 3.7 times too small;
     /// the shrunk step (the point moves r by ‖(10, 10, 50)‖ = 52 > LINEAR_NORM) gives it within
     /// 0.1 %.
     #[test]
