@@ -14,14 +14,17 @@
 //! path) and run with `study::run` (resume on): the jobs run in parallel, are saved as they
 //! finish, and a calibration run again replays its batches from the saved files — the fit is a
 //! function of the evaluations, so it asks for the same points in the same batches and only
-//! the missing jobs run. The outputs are the statistics table's (`report::tables::outputs`).
+//! the missing jobs run. The outputs are the statistics table's (`report::tables::outputs`);
+//! a measured record's rows are the job's order amplitudes at the record's speeds
+//! (`calibration::record`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::file::Calibration;
+use super::record;
 use crate::numerics::least_squares::{Evaluate, Point};
-use crate::report::tables::outputs::job_outputs;
+use crate::report::tables::outputs::{job_outputs, Outputs};
 use crate::store;
 use crate::study::run::{self as campaign, CampaignError, ReferenceSource, RunOptions};
 use crate::study::Study;
@@ -226,10 +229,15 @@ impl<'a> Evaluator<'a> {
                 study_path.display()
             )));
         }
-        let read = || -> hdf5::Result<(crate::report::tables::outputs::Outputs, Vec<bool>)> {
+        type Read = (Outputs, Vec<Vec<f64>>, Vec<bool>);
+        let read = || -> hdf5::Result<Read> {
             let f = hdf5::File::open(&out)?;
             let ids: Vec<String> = jobs_of.iter().flatten().cloned().collect();
             let outputs = job_outputs(&f, &ids)?;
+            let rows = &self.cal.rows;
+            let records = (0..new.len())
+                .map(|i| record::model_values(&f, rows, |r| jobs_of[i][r.job].clone()))
+                .collect::<hdf5::Result<Vec<_>>>()?;
             let jobs = f.group("jobs")?;
             let mut ok = Vec::new();
             for id in &ids {
@@ -237,18 +245,20 @@ impl<'a> Evaluator<'a> {
                 let s = store::read_str(&g, "status")?;
                 ok.push(s == "ok" || s == "untrusted");
             }
-            Ok((outputs, ok))
+            Ok((outputs, records, ok))
         };
-        let (outputs, ok) = read().map_err(|e| CampaignError::io(&out, e))?;
+        let (outputs, records, ok) = read().map_err(|e| CampaignError::io(&out, e))?;
         for (i, (v, p)) in new.iter().enumerate() {
             let model: Vec<f64> = self
                 .cal
                 .rows
                 .iter()
-                .map(|r| {
-                    outputs
+                .zip(&records[i])
+                .map(|(r, record)| match r.point {
+                    Some(_) => *record,
+                    None => outputs
                         .get(&r.output)
-                        .map_or(f64::NAN, |vals| vals[i * per_point + r.job])
+                        .map_or(f64::NAN, |vals| vals[i * per_point + r.job]),
                 })
                 .collect();
             let mut e = Evaluation {

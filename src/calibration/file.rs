@@ -21,6 +21,9 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use super::record::{record_rows, RecordFile};
+use super::row::Ctx;
+pub use super::row::Row;
 use crate::error::InputError;
 use crate::scene::locate;
 use crate::scene::Scene;
@@ -43,6 +46,8 @@ struct CalibrationFile {
     resonances: Vec<ResonanceFile>,
     #[serde(default)]
     frequencies: Vec<FrequencyFile>,
+    #[serde(default)]
+    records: Vec<RecordFile>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -167,25 +172,6 @@ pub struct Parameter {
     pub at: (String, Option<usize>),
 }
 
-/// One target row: an output of one job of the study, measured with a standard deviation.
-#[derive(Debug, Clone)]
-pub struct Row {
-    /// The row's key in the file (`resonances[0].amplitude_um`).
-    pub at: String,
-    /// Its line.
-    pub line: Option<usize>,
-    /// Output name (the statistics table's, `peak_amplitude_um:centre/vertical:2x`).
-    pub output: String,
-    /// Index of the study's job.
-    pub job: usize,
-    /// Measured value.
-    pub value: f64,
-    /// Its standard deviation.
-    pub std: f64,
-    /// Weight.
-    pub weight: f64,
-}
-
 /// Iteration settings of `[fit]`.
 #[derive(Debug, Clone, Copy)]
 pub struct FitSettings {
@@ -231,25 +217,6 @@ const OUTPUTS: [(&str, bool); 9] = [
     ("sag_vertical_um", false),
     ("sag_horizontal_um", false),
 ];
-
-struct Ctx<'a> {
-    path: &'a Path,
-    text: &'a str,
-}
-
-impl Ctx<'_> {
-    fn line(&self, key: &str) -> Option<usize> {
-        locate::line_of(self.text, key)
-    }
-
-    fn err(&self, key: &str, reason: impl Into<String>) -> InputError {
-        let e = InputError::new(self.path, reason).with_key(key);
-        match self.line(key) {
-            Some(l) => e.at_line(l),
-            None => e,
-        }
-    }
-}
 
 impl Calibration {
     /// Reads and checks a calibration file (module doc).
@@ -325,10 +292,13 @@ impl Calibration {
                 f.weight,
             )?);
         }
+        for (i, r) in raw.records.iter().enumerate() {
+            rows.extend(record_rows(&c, i, r)?);
+        }
         if rows.is_empty() {
             return Err(c.err(
                 "targets",
-                "no target rows: add [[targets]], [[resonances]] or [[frequencies]]",
+                "no target rows: add [[targets]], [[resonances]], [[frequencies]] or [[records]]",
             ));
         }
         if rows.len() < parameters.len() {
@@ -519,6 +489,7 @@ fn row(
         value,
         std,
         weight,
+        point: None,
     })
 }
 
@@ -577,7 +548,8 @@ fn resonance_rows(c: &Ctx, i: usize, r: &ResonanceFile) -> Result<Vec<Row>, Inpu
 
 /// A row's job exists, its output is known and its sensor and direction are the job's scene's.
 fn check_row(c: &Ctx, r: &Row, study: &Study) -> Result<(), InputError> {
-    let table = r.at.rsplit_once('.').map_or(r.at.as_str(), |p| p.0);
+    // The row's table, `targets[0]` of `targets[0].value` or `records[1]` of a record's row.
+    let table = r.at.find(']').map_or(r.at.as_str(), |e| &r.at[..=e]);
     let Some(job) = study.jobs.get(r.job) else {
         return Err(c.err(
             &format!("{table}.job"),
@@ -588,6 +560,22 @@ fn check_row(c: &Ctx, r: &Row, study: &Study) -> Result<(), InputError> {
             ),
         ));
     };
+    if let Some(p) = &r.point {
+        let sensors = &job.scene.sensors;
+        if !sensors.contains(&p.sensor) {
+            return Err(c.err(
+                &format!("{table}.file"),
+                format!(
+                    "the record's sensor `{}` is not in the scene {} (its sensors: {}): leave \
+                     its channels out with `channels`",
+                    p.sensor,
+                    study.scene_path.display(),
+                    sensors.join(", ")
+                ),
+            ));
+        }
+        return Ok(());
+    }
     let (kind, rest) = r.output.split_once(':').unwrap_or((r.output.as_str(), ""));
     let Some((_, placed)) = OUTPUTS.iter().find(|(k, _)| *k == kind) else {
         let known: Vec<&str> = OUTPUTS.iter().map(|o| o.0).collect();

@@ -13,6 +13,13 @@ use crate::error::InputError;
 use crate::numerics::least_squares::{self, LmError, Settings};
 use crate::study::run::CampaignError;
 
+/// A target row that no parameter moves by more than this many of its standard deviations
+/// over the parameter's whole range (the Jacobian at the fit times the range of the fit
+/// coordinate) cannot be changed by the fit: a warning. An exact zero is too strict a test:
+/// an output that does not depend on a parameter (the horizontal sag under vertical gravity)
+/// still changes by round-off between two solutions of the model.
+pub const UNMOVED_ROW: f64 = 1e-6;
+
 /// The evaluations folder of an output.
 pub fn evaluations_dir(output: &std::path::Path) -> PathBuf {
     crate::store::with_suffix(output, ".evaluations")
@@ -124,14 +131,16 @@ pub fn calibrate(cal: &Calibration, opts: &Options) -> Result<Outcome, CampaignE
         }
     }
     for (i, r) in cal.rows.iter().enumerate() {
-        if (0..n).all(|k| fit.jacobian[(i, k)] == 0.0) {
+        let moved = |k: usize| (fit.jacobian[(i, k)] * (upper[k] - lower[k])).abs();
+        if (0..n).all(|k| moved(k) < UNMOVED_ROW) {
             warnings.push(warning(
                 cal,
                 &r.at,
                 r.line,
                 format!(
-                    "no parameter moves `{}` (its Jacobian row is zero): the fit cannot change \
-                     this row's residual",
+                    "no parameter moves `{}` (over its whole range each moves it by less than \
+                     {UNMOVED_ROW} of its standard deviation): the fit cannot change this row's \
+                     residual",
                     r.output
                 ),
             ));

@@ -20,15 +20,19 @@
 //! delta method (σ_value = value · ln 10 · σ_log on a log scale); the correlation matrix is
 //! the covariance scaled by the errors. Warnings name the file, key and line of a parameter
 //! that moves no target row (a zero Jacobian column: held at its value, no error) and of a
-//! target row that no parameter moves (a zero row: the fit cannot change its residual).
+//! target row that no parameter moves (by less than `fit::UNMOVED_ROW` of its σ over each
+//! parameter's whole range: the fit cannot change its residual).
 
 pub mod evaluate;
 pub mod file;
 mod fit;
 mod outcome;
+mod record;
+mod row;
 mod write;
 
 pub use evaluate::Evaluation;
 pub use file::{Calibration, Parameter, Row, Scale};
 pub use fit::{calibrate, evaluations_dir};
 pub use outcome::{Fitted, Options, Outcome, RowResult};
+pub use row::OrderPoint;

@@ -45,7 +45,7 @@ use crate::store;
 use crate::text::significant;
 
 /// Simulated points of one (order, sensor, direction): (speed [Hz], complex amplitude [µm]).
-type Curve = Vec<(f64, Complex64)>;
+pub(crate) type Curve = Vec<(f64, Complex64)>;
 
 /// How far a resonance's peak must rise above its curve's median amplitude to count (module
 /// doc): a resonance of light damping rises many times over its skirts (the Jeffcott's 1× run
@@ -202,7 +202,7 @@ fn order_rows(path: &Path) -> Result<(hdf5::File, Vec<OrderRow>), InputError> {
 }
 
 /// `c` interpolated linearly at speed `s`; None outside its range.
-fn at_speed(c: &Curve, s: f64) -> Option<Complex64> {
+pub(crate) fn at_speed(c: &Curve, s: f64) -> Option<Complex64> {
     let i = c.partition_point(|(x, _)| *x < s);
     if i < c.len() && c[i].0 == s {
         return Some(c[i].1);

@@ -51,7 +51,7 @@
 //! `compare`.
 
 mod classes;
-mod compare;
+pub(crate) mod compare;
 pub mod figures;
 mod jobs;
 mod labels;
