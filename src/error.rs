@@ -111,7 +111,12 @@ pub const MAX_INPUT_BYTES: u64 = 64 << 20;
 /// most [`MAX_INPUT_BYTES`]: a FIFO would block, and `/dev/zero` would fill the memory.
 /// Text that is not UTF-8 is refused naming the line (1-based) of the first byte that is not.
 pub fn read_text(path: &Path) -> std::io::Result<String> {
-    regular_file(path, MAX_INPUT_BYTES)?;
+    read_text_up_to(path, MAX_INPUT_BYTES)
+}
+
+/// [`read_text`] with another size limit (large FE matrix files).
+pub fn read_text_up_to(path: &Path, max_bytes: u64) -> std::io::Result<String> {
+    regular_file(path, max_bytes)?;
     String::from_utf8(std::fs::read(path)?).map_err(|e| {
         let bytes = e.as_bytes();
         let at = e.utf8_error().valid_up_to();

@@ -92,6 +92,16 @@ impl Sparse {
         }
     }
 
+    /// self + a · other (same dimension), e.g. K − σM for a shifted factor.
+    pub fn plus_scaled(&self, other: &Sparse, a: f64) -> Sparse {
+        assert_eq!(self.n, other.n, "sum of mismatched sizes");
+        let entries = (0..self.n)
+            .flat_map(|j| self.column(j).map(move |(i, x)| (i, j, x)))
+            .chain((0..other.n).flat_map(|j| other.column(j).map(move |(i, x)| (i, j, a * x))))
+            .collect();
+        Sparse::from_entries(self.n, entries)
+    }
+
     /// The 1-norm: the largest column sum of |entries|.
     pub fn norm1(&self) -> f64 {
         (0..self.n).fold(0.0, |m: f64, j| {

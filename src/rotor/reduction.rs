@@ -155,6 +155,11 @@ pub enum ReductionError {
     /// K_II is singular: the journals do not hold the rotor (e.g. a free part between them).
     #[error("the rotor is not held by its boundary nodes (K_II is singular)")]
     InteriorSingular,
+    /// K − σM is not positive definite: K has a negative eigenvalue below σ, or M is singular.
+    #[error(
+        "K + (2π · {0} Hz)² M is not positive definite: the body's K has a negative eigenvalue"
+    )]
+    ShiftedSingular(f64),
     /// More normal modes were asked for than interior DOFs exist.
     #[error("{asked} normal modes asked for, the interior has only {available} DOFs")]
     TooManyModes {

@@ -14,6 +14,8 @@
 //! from sparse × tall products; the reduced problem's eigenvalues by the dense solver
 //! ([`eigen::generalized_symmetric`]). Memory: the factor's fill, the Lanczos basis and T_I
 //! (n_I × (|B| + n)); time: the factorisation, |B| + (Lanczos steps) solves, and the products.
+//! [`body_modes`]: the lowest modes of the whole body, free or held by its own K, by the same
+//! solver on a factor of K − σM, σ < 0 (the full model's own modes, not the reduced ones).
 
 use std::time::Instant;
 
@@ -69,6 +71,30 @@ fn project(a_ii: &Sparse, a_ib: &Mat<f64>, a_bb: &Mat<f64>, t_i: &Mat<f64>) -> D
     DMatrix::from_fn(n, n, |i, j| 0.5 * (out[(i, j)] + out[(j, i)]))
 }
 
+/// The lowest `count` modes of the whole body (K, M), free at every DOF unless K holds it:
+/// λ ascending [rad²/s²] and M-normalised shapes, by the shift-invert Lanczos solver on one
+/// sparse Cholesky factor of K − σM with σ = −(2π `shift_hz`)² (below the rigid-body modes'
+/// λ = 0, so the factor exists for a free body). Rigid-body modes come out near 0.
+pub fn body_modes(
+    k: &Sparse,
+    m: &Sparse,
+    count: usize,
+    shift_hz: f64,
+) -> Result<lanczos::Modes, ReductionError> {
+    if count > k.n() {
+        return Err(ReductionError::TooManyModes {
+            asked: count,
+            available: k.n(),
+        });
+    }
+    let shift = -(2.0 * std::f64::consts::PI * shift_hz).powi(2);
+    let factor = k
+        .plus_scaled(m, -shift)
+        .cholesky()
+        .ok_or(ReductionError::ShiftedSingular(shift_hz))?;
+    Ok(lanczos::lowest(k, &factor, m, shift, count)?)
+}
+
 /// The Craig–Bampton reduction of (K, M) at `boundary` with `n_normal` normal modes (module
 /// doc).
 pub fn craig_bampton(
@@ -115,7 +141,7 @@ pub fn craig_bampton(
     }
     drop(psi);
     lap(2, &mut seconds);
-    let normal = lanczos::lowest(&k_ii, &factor, &m_ii, n_normal)?;
+    let normal = lanczos::lowest(&k_ii, &factor, &m_ii, 0.0, n_normal)?;
     for c in 0..n_normal {
         for r in 0..int.len() {
             t_i[(r, nb + c)] = normal.vectors[(r, c)];

@@ -47,7 +47,7 @@ mod supports;
 mod types;
 
 pub use contact_fit::{ContactFit, ContactGeometry};
-pub use geometry::fe_body_files;
+pub use geometry::{fe_body_files, fe_body_rings};
 pub use limits::{MAX_FE_NODES, MAX_RECORD_VALUES, MAX_SAMPLES_PER_CHANNEL};
 pub use overrides::{parse_override, replaces, set_path, with_overrides};
 pub use settings::{DampingBands, Outputs, SimulationSettings};

@@ -1,7 +1,8 @@
 //! The sparse reduction of large FE bodies (`rotor::import::sparse_body`,
 //! `rotor::sparse_reduction`, `rotorsweep reduce`): the same frequencies as the dense
 //! Craig–Bampton path on a mid-size body, a long spring–mass chain's fixed-interface
-//! frequencies against their closed form through the command, and the sparse reader's errors.
+//! frequencies and its whole free modes (`--free`) against their closed forms through the
+//! command, and the errors of the sparse reader and of ring attachments (`fe.rings`).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -140,6 +141,116 @@ fn reduce_command_gives_a_chains_closed_form_fixed_interface_frequencies() {
         format!("coordinate,node,dof\n1,1,ux\n2,{n},ux\n")
     );
     assert!(out.join("mass.mtx").is_file() && out.join("stiffness.mtx").is_file());
+}
+
+/// The whole free chain by `reduce --free`: n masses m joined by n − 1 springs k with both ends
+/// free, K = k B_n, whose eigenvalues are 4 (k/m) sin²(r π / (2n)), r = 0 … n − 1 (G. Strang,
+/// Computational Science and Engineering (2007), §1.5, the matrix B_n): the rigid mode below
+/// 1e-3 Hz, the next nine within 1e-9; their shapes in free_modes.mtx (n rows, 10 columns).
+#[test]
+fn reduce_free_gives_a_free_chains_closed_form_modes() {
+    let dir = scratch("fe-reduce-free");
+    let (n, k, m) = (2000, 4.0e7, 0.25);
+    let scene = chain(&dir, n, k, m);
+    let out = dir.join("out");
+    rotorsweep_ok(&[
+        "reduce",
+        scene.to_str().unwrap(),
+        "--normal",
+        "4",
+        "--free",
+        "10",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let text = std::fs::read_to_string(out.join("frequencies.csv")).unwrap();
+    let free: Vec<f64> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("free-body,"))
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(free.len(), 10);
+    assert!(free[0] < 1e-3, "rigid mode {} Hz", free[0]);
+    for (r, f) in free.iter().enumerate().skip(1) {
+        let exact =
+            2.0 * (k / m).sqrt() * (r as f64 * std::f64::consts::PI / (2.0 * n as f64)).sin()
+                / std::f64::consts::TAU;
+        assert!(
+            (f - exact).abs() <= 1e-9 * exact,
+            "mode {r}: {f} vs {exact} Hz"
+        );
+    }
+    let shapes = std::fs::read_to_string(out.join("free_modes.mtx")).unwrap();
+    assert!(shapes.starts_with("%%MatrixMarket matrix array real general"));
+    assert!(shapes.lines().any(|l| l == format!("{n} 10")));
+    assert_eq!(
+        shapes.lines().filter(|l| !l.starts_with('%')).count(),
+        1 + 10 * n
+    );
+}
+
+/// A ring the body cannot give is an error naming the scene, the ring's line and key: no node
+/// on the circle; a ring of chain nodes that have no uy row; nodes on a line.
+#[test]
+fn reduce_names_the_scene_line_and_key_of_a_bad_ring() {
+    let dir = scratch("fe-reduce-ring");
+    let scene = chain(&dir, 10, 1.0e6, 1.0);
+    let base = std::fs::read_to_string(&scene).unwrap();
+    let lines = base.lines().count();
+    let cases = [
+        (
+            "[fe.rings.far]\nz = 0.5\nradius = 0.05\n",
+            "fe.rings.far",
+            "no node lies within",
+        ),
+        (
+            "[fe.rings.line]\nnodes = [2, 3, 4]\n",
+            "fe.rings.line",
+            "the 3 nodes lie on a line",
+        ),
+        (
+            "[fe.rings.one]\nnodes = [99]\n",
+            "fe.rings.one",
+            "node 99 does not exist",
+        ),
+    ];
+    for (i, (ring, key, what)) in cases.iter().enumerate() {
+        let path = write_file(&dir, &format!("ring{i}.toml"), &format!("{base}{ring}"));
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rotorsweep"))
+            .args(["reduce", path.to_str().unwrap(), "-o"])
+            .arg(dir.join(format!("out{i}")))
+            .output()
+            .unwrap();
+        let e = String::from_utf8_lossy(&out.stderr);
+        let at = format!("ring{i}.toml:{}", lines + 1);
+        assert!(
+            !out.status.success() && e.contains(&at) && e.contains(key) && e.contains(what),
+            "expected {at} {key}: {what}; got {e}"
+        );
+    }
+    // Node 2 moved off the x axis: nodes 1, 2, 3 no longer lie on a line, but the chain's nodes
+    // have only ux rows, so the interface check names the missing uy.
+    let nodes = std::fs::read_to_string(dir.join("nodes.csv")).unwrap();
+    write_file(
+        &dir,
+        "nodes.csv",
+        &nodes.replacen("2,0.02,0,0", "2,0.02,0.01,0", 1),
+    );
+    let path = write_file(
+        &dir,
+        "ring-uy.toml",
+        &format!("{base}[fe.rings.plane]\nnodes = [1, 2, 3]\n"),
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rotorsweep"))
+        .args(["reduce", path.to_str().unwrap(), "-o"])
+        .arg(dir.join("out-uy"))
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && e.contains("fe.rings.plane") && e.contains("has no uy row"),
+        "{e}"
+    );
 }
 
 const NODES: &str = "id,x,y,z\n1,0,0,0\n2,0,0,1\n";

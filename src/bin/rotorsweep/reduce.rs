@@ -2,25 +2,34 @@
 //! `[fe]` body, with no dense n × n matrix.
 //!
 //! In: a scene whose `[fe]` body is a Matrix Market model (any size; nodes anywhere), its named
-//! nodes (`fe.named`) the interface, and the number of fixed-interface normal modes. Out, in a
-//! new folder DIR: `stiffness.mtx` and `mass.mtx` (the Craig–Bampton matrices K̂, M̂, SI,
-//! symmetric), `interface.csv` (`coordinate,node,dof`: the interface DOFs, the first
-//! coordinates) and `frequencies.csv` (`set,index,hz`: the fixed-interface normal modes and the
-//! reduced body's modes, free at its interface); a line per step with its time. Method:
+//! nodes (`fe.named`) and ring attachments (`fe.rings`, RBE3-like) whose nodes are the
+//! interface, the number of fixed-interface normal modes, and optionally a number of the whole
+//! body's own free modes (`--free`). Out, in a new folder DIR: `stiffness.mtx` and `mass.mtx`
+//! (the Craig–Bampton matrices K̂, M̂, SI, symmetric), `interface.csv` (`coordinate,node,dof`:
+//! the interface DOFs, the first coordinates), `attachments.csv` (`row,name,dof,x,y,z`: each
+//! named node's DOFs and each ring's reference point's six, position [m]) with
+//! `attachments.mtx` (array: the attachments' motion from the reduced coordinates, m or rad
+//! per coordinate: a ring's row is its interpolation, [`rotorsweep::rotor::import::rings`]),
+//! `frequencies.csv` (`set,index,hz`: the fixed-interface normal modes, the reduced body's
+//! modes free at its interface and, with `--free`, the whole body's free modes `free-body`)
+//! and, with `--free`, `free_modes.mtx` (array, DOFs × modes in the DOF table's order,
+//! M-normalised, m per unit modal coordinate); a line per step with its time. Method:
 //! [`rotorsweep::rotor::import::sparse_body`] and [`rotorsweep::rotor::sparse_reduction`].
 //! An existing output is refused (exit 64); a bad body is an input error naming its file and
 //! line (exit 65).
 
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use rotorsweep::error::InputError;
-use rotorsweep::rotor::import::matrix_market::{format, Symmetry};
-use rotorsweep::rotor::import::sparse_body;
+use rotorsweep::rotor::import::matrix_market::{format, format_array, Symmetry};
+use rotorsweep::rotor::import::rings::Ring;
+use rotorsweep::rotor::import::sparse_body::{self, SparseBody};
 use rotorsweep::rotor::import::tables::DOF_NAMES;
-use rotorsweep::rotor::sparse_reduction::craig_bampton;
-use rotorsweep::scene::fe_body_files;
+use rotorsweep::rotor::sparse_reduction::{body_modes, craig_bampton};
+use rotorsweep::scene::{fe_body_files, fe_body_rings};
 
 use crate::error::CliError;
 
@@ -32,6 +41,10 @@ pub struct Args {
     /// Fixed-interface normal modes to keep (1–1000).
     #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=1000))]
     normal: u32,
+    /// Also the lowest N modes of the whole body, free (0–1000; 0: none): frequencies.csv's
+    /// `free-body` set and free_modes.mtx.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=1000))]
+    free: u32,
     /// Output folder (new).
     #[arg(short, long)]
     output: PathBuf,
@@ -64,15 +77,36 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         body.stiffness.nnz(),
         t0.elapsed().as_secs_f64()
     );
-    if named.is_empty() {
+    let rings = fe_body_rings(&a.scene, &body.nodes, files.units)?;
+    if named.is_empty() && rings.is_empty() {
         return Err(InputError::new(
             &a.scene,
-            "fe.named is empty: the named nodes are the reduction's interface",
+            "fe.named and fe.rings are empty: the named nodes and the rings are the reduction's \
+             interface",
         )
         .with_key("fe.named")
         .into());
     }
-    let ids: Vec<i64> = named.values().copied().collect();
+    let mut ids: Vec<i64> = named.values().copied().collect();
+    ids.extend(rings.values().flat_map(|r| r.nodes.iter().copied()));
+    let row_of = |id: i64, dof: usize| body.dofs.iter().position(|d| d.node == id && d.dof == dof);
+    for (name, r) in &rings {
+        for &id in &r.nodes {
+            if let Some(d) = (0..3).find(|&d| row_of(id, d).is_none()) {
+                return Err(InputError::new(
+                    &a.scene,
+                    format!(
+                        "ring node {id} has no {} row in the DOF table {}",
+                        DOF_NAMES[d],
+                        files.dofs.as_deref().unwrap_or(&files.mass).display()
+                    ),
+                )
+                .with_key(format!("fe.rings.{name}"))
+                .into());
+            }
+        }
+    }
+    let ids: BTreeSet<i64> = ids.into_iter().collect();
     let boundary: Vec<usize> = (0..n)
         .filter(|&r| ids.contains(&body.dofs[r].node))
         .collect();
@@ -102,6 +136,18 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     for (s, t) in steps.iter().zip(r.seconds) {
         println!("  {s}: {t:.2} s");
     }
+    let free = if a.free > 0 {
+        let t = Instant::now();
+        let f = body_modes(&body.stiffness, &body.mass, a.free as usize, FREE_SHIFT_HZ)
+            .map_err(|e| CliError::input(format!("{}: {e}", a.scene.display())))?;
+        println!(
+            "  free modes of the whole body: {:.2} s",
+            t.elapsed().as_secs_f64()
+        );
+        Some(f)
+    } else {
+        None
+    };
     std::fs::create_dir(&a.output)?;
     let write = |name: &str, text: String| -> Result<(), CliError> {
         let p = a.output.join(name);
@@ -134,7 +180,40 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     for (i, hz) in r.free_hz.iter().enumerate() {
         let _ = writeln!(f, "reduced,{},{hz:e}", i + 1);
     }
+    if let Some(fm) = &free {
+        for (i, l) in fm.values.iter().enumerate() {
+            let hz = l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
+            let _ = writeln!(f, "free-body,{},{hz:e}", i + 1);
+        }
+        write(
+            "free_modes.mtx",
+            format_array(
+                n,
+                fm.values.len(),
+                |i, j| fm.vectors[(i, j)],
+                "SI",
+                &format!(
+                    "free modes of the whole body {}: DOFs in the DOF table's order x modes, \
+                     M-normalised",
+                    a.scene.display()
+                ),
+            ),
+        )?;
+    }
     write("frequencies.csv", f)?;
+    let (table, rows) = attachments(&body, &named, &rings, &boundary);
+    write("attachments.csv", table)?;
+    write(
+        "attachments.mtx",
+        format_array(
+            rows.len(),
+            r.k.nrows(),
+            |i, j| rows[i].get(&j).copied().unwrap_or(0.0),
+            "SI",
+            "attachment motion [m, rad] per reduced coordinate: attachments.csv's rows x the \
+             reduced coordinates (interface.csv's, then the normal modes)",
+        ),
+    )?;
     let first: Vec<String> = r
         .free_hz
         .iter()
@@ -154,4 +233,75 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         first.join(", ")
     );
     Ok(())
+}
+
+/// The shift of the whole body's free modes [Hz]: σ = −(2π · 1 Hz)², below the rigid-body
+/// modes' 0 (the factor of K − σM exists for a free body) and far below any elastic mode.
+const FREE_SHIFT_HZ: f64 = 1.0;
+
+/// One row of an attachment matrix: reduced coordinate → coefficient.
+type Row = HashMap<usize, f64>;
+
+/// attachments.csv's text and attachments.mtx's rows: each named node's DOFs (its interface
+/// coordinate, coefficient 1), then each ring's reference point's six DOFs (its interpolation
+/// matrix over the ring nodes' translation coordinates).
+fn attachments(
+    body: &SparseBody,
+    named: &BTreeMap<String, i64>,
+    rings: &BTreeMap<String, Ring>,
+    boundary: &[usize],
+) -> (String, Vec<Row>) {
+    let coordinate = |id: i64, dof: usize| {
+        boundary
+            .iter()
+            .position(|&r| body.dofs[r].node == id && body.dofs[r].dof == dof)
+    };
+    let mut text = String::from("row,name,dof,x,y,z\n");
+    let mut rows = Vec::new();
+    for (name, &id) in named {
+        let x = body
+            .nodes
+            .iter()
+            .find(|nd| nd.id == id)
+            .map_or([f64::NAN; 3], |nd| nd.x);
+        for (dof, dof_name) in DOF_NAMES.iter().enumerate() {
+            if let Some(c) = coordinate(id, dof) {
+                rows.push(Row::from([(c, 1.0)]));
+                let _ = writeln!(
+                    text,
+                    "{},{name},{dof_name},{:e},{:e},{:e}",
+                    rows.len(),
+                    x[0],
+                    x[1],
+                    x[2]
+                );
+            }
+        }
+    }
+    for (name, ring) in rings {
+        let cols: Vec<usize> = ring
+            .nodes
+            .iter()
+            .flat_map(|&id| (0..3).map(move |d| (id, d)))
+            .map(|(id, d)| coordinate(id, d).expect("ring DOFs checked in the interface"))
+            .collect();
+        for (dof, dof_name) in DOF_NAMES.iter().enumerate() {
+            rows.push(
+                cols.iter()
+                    .enumerate()
+                    .map(|(k, &c)| (c, ring.matrix[(dof, k)]))
+                    .collect(),
+            );
+            let c = ring.centre;
+            let _ = writeln!(
+                text,
+                "{},{name},{dof_name},{:e},{:e},{:e}",
+                rows.len(),
+                c[0],
+                c[1],
+                c[2]
+            );
+        }
+    }
+    (text, rows)
 }

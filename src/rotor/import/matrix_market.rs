@@ -20,7 +20,7 @@ use std::path::Path;
 
 use nalgebra::DMatrix;
 
-use crate::error::{read_text, InputError};
+use crate::error::{read_text, read_text_up_to, InputError};
 
 /// The symmetry a Matrix Market file declares.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -126,10 +126,14 @@ pub struct SparseMarket {
 /// The largest dimension the sparse reader takes (its memory is that of the entries).
 pub const MAX_SPARSE_DIM: usize = 10_000_000;
 
+/// The largest file the sparse reader takes: 4 GiB (a 100 000-DOF solid of quadratic
+/// hexahedra writes about 0.5 GB; the text is held while it is parsed).
+pub const MAX_SPARSE_BYTES: u64 = 4 << 30;
+
 /// Reads a square Matrix Market coordinate file as its entries (module doc; the same checks,
 /// a position given twice found by sorting).
 pub fn read_sparse(path: &Path) -> Result<SparseMarket, InputError> {
-    let text = read_text(path)
+    let text = read_text_up_to(path, MAX_SPARSE_BYTES)
         .map_err(|e| InputError::new(path, format!("cannot read the matrix file: {e}")))?;
     let e = parse_entries(path, &text, MAX_SPARSE_DIM)?;
     drop(text);
@@ -370,6 +374,29 @@ pub fn format(a: &DMatrix<f64>, symmetry: Symmetry, units: &str, comment: &str) 
     let _ = writeln!(s, "{n} {n} {}", entries.len());
     for (i, j, x) in entries {
         let _ = writeln!(s, "{} {} {x:e}", i + 1, j + 1);
+    }
+    s
+}
+
+/// A dense rows × cols matrix (`at(i, j)`) as Matrix Market `array real general` text: the
+/// header, a `% units:` line, the comment lines, the size line and the entries column by column
+/// (the format's order), each in its shortest round-trip form.
+pub fn format_array(
+    rows: usize,
+    cols: usize,
+    at: impl Fn(usize, usize) -> f64,
+    units: &str,
+    comment: &str,
+) -> String {
+    let mut s = format!("%%MatrixMarket matrix array real general\n% units: {units}\n");
+    for c in comment.lines() {
+        let _ = writeln!(s, "% {c}");
+    }
+    let _ = writeln!(s, "{rows} {cols}");
+    for j in 0..cols {
+        for i in 0..rows {
+            let _ = writeln!(s, "{:e}", at(i, j));
+        }
     }
     s
 }

@@ -16,5 +16,6 @@ pub mod abaqus;
 pub mod body;
 pub mod invariants;
 pub mod matrix_market;
+pub mod rings;
 pub mod sparse_body;
 pub mod tables;

@@ -6,8 +6,10 @@
 //! terms, paths relative to the scene file; `units` (`SI` or `mm-t-s`); optionally a stress
 //! stiffness `stress_stiffness` (a file in the matrices' format), `stress_stiffness_kind`
 //! (`increment`: ΔK, or `total`: K + ΔK) and `stress_reference_hz` (the speed [Hz] it was
-//! computed at), all three or none; `named` nodes (name →
-//! node id) and `sensors` (names among them). Out: a [`Geometry`] whose rotor spec has no
+//! computed at), all three or none; `named` nodes (name → node id) and `sensors` (names among
+//! them); `rings` (ring attachments, read only by [`fe_body_rings`] for `rotorsweep reduce`: a
+//! scene with rings is refused here, as it cannot attach a solid or shell body). Out: a
+//! [`Geometry`] whose rotor spec has no
 //! segments, only the named points at their nodes' z [m], and the [`ImportedBody`]; no
 //! default boundary (the supports' nodes are); or an [`InputError`] at the key, or naming the
 //! body's file and line ([`crate::rotor::import::body`]).
@@ -24,7 +26,8 @@ use crate::rotor::fe::RotorSpec;
 use crate::rotor::import::body::{
     self, BodyFiles, Format, ImportedBody, RotatingFiles, StressFiles, StressKind,
 };
-use crate::rotor::import::tables::Units;
+use crate::rotor::import::rings::{self, Ring, RingSpec};
+use crate::rotor::import::tables::{Node, Units};
 use crate::scene::check::Check;
 use crate::scene::source::Source;
 
@@ -46,6 +49,19 @@ pub(crate) struct FeFile {
     pub named: BTreeMap<String, i64>,
     #[serde(default)]
     pub sensors: Vec<String>,
+    #[serde(default)]
+    pub rings: BTreeMap<String, FeRingFile>,
+}
+
+/// `[fe.rings.<name>]` as written: a ring attachment ([`crate::rotor::import::rings`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct FeRingFile {
+    pub nodes: Option<Vec<i64>>,
+    pub z: Option<f64>,
+    pub radius: Option<f64>,
+    pub tolerance: Option<f64>,
+    pub weights: Option<Vec<f64>>,
 }
 
 /// `[fe.rotating]` as written.
@@ -166,8 +182,57 @@ pub fn fe_body_files(scene: &Path) -> Result<(BodyFiles, BTreeMap<String, i64>),
     Ok((files_of(&c, &fe)?, fe.named))
 }
 
+/// The ring attachments `[fe.rings]` of the scene file `scene` on the body's node table
+/// `nodes` (SI), the rings' lengths in the body's `units`; an error names the scene's line and
+/// the ring's key.
+pub fn fe_body_rings(
+    scene: &Path,
+    nodes: &[Node],
+    units: Units,
+) -> Result<BTreeMap<String, Ring>, InputError> {
+    let source = Source::load(scene)?;
+    let c = Check {
+        file: scene,
+        source: &source,
+        overridden: &[],
+    };
+    let table = source
+        .table
+        .get("fe")
+        .ok_or_else(|| InputError::new(scene, "the scene has no [fe] body"))?;
+    let fe: FeFile = table
+        .clone()
+        .try_into()
+        .map_err(|e: toml::de::Error| c.err("fe", e.message().to_string()))?;
+    let mut out = BTreeMap::new();
+    for (name, r) in &fe.rings {
+        let key = format!("fe.rings.{name}");
+        crate::error::safe_name(name).map_err(|e| c.err(&key, e))?;
+        if fe.named.contains_key(name) {
+            return Err(c.err(&key, format!("`{name}` is also a name in fe.named")));
+        }
+        let spec = RingSpec {
+            nodes: r.nodes.clone(),
+            z: r.z,
+            radius: r.radius,
+            tolerance: r.tolerance,
+            weights: r.weights.clone(),
+        };
+        let ring = rings::ring(&spec, nodes, units.length()).map_err(|e| c.err(&key, e))?;
+        out.insert(name.clone(), ring);
+    }
+    Ok(out)
+}
+
 /// The body of `[fe]` (module doc).
 pub(crate) fn build_fe(c: &Check, fe: &FeFile) -> Result<Geometry, InputError> {
+    if !fe.rings.is_empty() {
+        return Err(c.err(
+            "fe.rings",
+            "ring attachments are read by `rotorsweep reduce` (solid and shell bodies); a scene \
+             attaches an axis body by the nodes of fe.named",
+        ));
+    }
     let files = files_of(c, fe)?;
     let mut body: ImportedBody = body::load(&files)?;
     let mut named_points = Vec::new();

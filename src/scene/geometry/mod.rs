@@ -19,8 +19,8 @@ mod rotor;
 mod shell;
 
 pub(super) use built::Geometry;
-pub use fe::fe_body_files;
 pub(crate) use fe::{build_fe, FeFile};
+pub use fe::{fe_body_files, fe_body_rings};
 pub(super) use materials::Materials;
 pub(super) use roll::build_roll;
 pub(super) use rotor::build_rotor;
