@@ -62,3 +62,4 @@ mod shipped_scenes;
 mod study;
 mod study_errors;
 mod study_kill;
+mod visco;
