@@ -128,18 +128,63 @@ impl MachineSystem {
         }
     }
 
-    /// Every nip's segment states.
-    fn segments(&self, st: &States, q: &DVector<f64>, v: &DVector<f64>) -> Vec<Vec<SegmentState>> {
+    /// Every nip's segment states at time `t` [s].
+    fn segments(
+        &self,
+        t: f64,
+        st: &States,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+    ) -> Vec<Vec<SegmentState>> {
         self.nips
             .iter()
             .map(|n| {
                 let (a, b) = n.nip.rolls;
-                n.segments(&self.view(a, st, q, v), &self.view(b, st, q, v))
+                n.segments(t, &self.view(a, st, q, v), &self.view(b, st, q, v))
             })
             .collect()
     }
 
-    fn force_with(&self, st: &States, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
+    /// Sets the viscoelastic covers' points at the start state `q` (time 0).
+    fn start_covers(&mut self, q: &DVector<f64>) {
+        let st = self.states(0.0);
+        let v = DVector::zeros(self.n);
+        let views: Vec<(Matrix2<f64>, f64, std::ops::Range<usize>)> = (0..self.bodies.len())
+            .map(|i| {
+                let r = self.view(i, &st, q, &v);
+                let b = &self.bodies[i];
+                (r.rot, r.omega, b.offset..b.offset + b.sys.nm)
+            })
+            .collect();
+        let view = |i: usize| RollView {
+            rot: views[i].0,
+            omega: views[i].1,
+            p: &q.as_slice()[views[i].2.clone()],
+            pd: &v.as_slice()[views[i].2.clone()],
+        };
+        for nip in &mut self.nips {
+            let (a, b) = nip.nip.rolls;
+            nip.start_covers(0.0, &view(a), &view(b));
+        }
+    }
+
+    /// Carries the viscoelastic covers' points to the accepted step's end.
+    fn commit(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
+        let st = self.states(t);
+        for n in &self.nips {
+            let (a, b) = n.nip.rolls;
+            n.commit(t, &self.view(a, &st, q, v), &self.view(b, &st, q, v));
+        }
+    }
+
+    fn force_with(
+        &self,
+        t: f64,
+        st: &States,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
         for (i, b) in self.bodies.iter().enumerate() {
             let mut f = DVector::zeros(b.sys.n);
             b.sys
@@ -154,7 +199,7 @@ impl MachineSystem {
             }
             out.rows_mut(b.offset, b.sys.n).copy_from(&f);
         }
-        for (nip, seg) in self.nips.iter().zip(self.segments(st, q, v)) {
+        for (nip, seg) in self.nips.iter().zip(self.segments(t, st, q, v)) {
             let (a, b) = nip.nip.rolls;
             let ra = self.view(a, st, q, v).rot;
             let rb = self.view(b, st, q, v).rot;
@@ -173,7 +218,7 @@ impl MachineSystem {
 
     fn newton_with(
         &self,
-        st: &States,
+        (t, st): (f64, &States),
         q: &DVector<f64>,
         v: &DVector<f64>,
         (a, b, c): (f64, f64, f64),
@@ -188,7 +233,7 @@ impl MachineSystem {
             out.view_mut((body.offset, body.offset), (body.sys.n, body.sys.n))
                 .copy_from(&m);
         }
-        for (nip, seg) in self.nips.iter().zip(self.segments(st, q, v)) {
+        for (nip, seg) in self.nips.iter().zip(self.segments(t, st, q, v)) {
             let (ia, ib) = nip.nip.rolls;
             let (va, vb) = (self.view(ia, st, q, v), self.view(ib, st, q, v));
             let offs = (self.bodies[ia].offset, self.bodies[ib].offset, self.n);
@@ -214,8 +259,8 @@ impl MachineSystem {
         let v = DVector::zeros(self.n);
         let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
         let eval = |q: &DVector<f64>, f: &mut DVector<f64>, jac: &mut DMatrix<f64>| {
-            self.force_with(&st, q, &v, f);
-            self.newton_with(&st, q, &v, (0.0, 1.0, 0.0), true, jac);
+            self.force_with(0.0, &st, q, &v, f);
+            self.newton_with((0.0, &st), q, &v, (0.0, 1.0, 0.0), true, jac);
         };
         newton::solve(
             q0,
@@ -237,7 +282,7 @@ impl SecondOrder for MachineSystem {
     }
 
     fn force(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
-        self.force_with(&self.states(t), q, v, out);
+        self.force_with(t, &self.states(t), q, v, out);
     }
 
     fn newton_matrix(
@@ -248,7 +293,7 @@ impl SecondOrder for MachineSystem {
         coef: (f64, f64, f64),
         out: &mut DMatrix<f64>,
     ) {
-        self.newton_with(&self.states(t), q, v, coef, false, out);
+        self.newton_with((t, &self.states(t)), q, v, coef, false, out);
     }
 
     fn weights(&self) -> &[f64] {
@@ -320,6 +365,19 @@ impl MachineSystem {
         self.static_equilibrium(q0)
     }
 
+    /// Nip `k`'s segment rows J (each of length n: δ_j = J_j q − gap) at rest, roll angles 0.
+    pub fn nip_rows_at_rest(&self, k: usize, q: &DVector<f64>) -> Vec<DVector<f64>> {
+        let v = DVector::zeros(self.n);
+        let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
+        let nip = &self.nips[k];
+        let (ia, ib) = nip.nip.rolls;
+        let (va, vb) = (self.view(ia, &st, q, &v), self.view(ib, &st, q, &v));
+        let offs = (self.bodies[ia].offset, self.bodies[ib].offset, self.n);
+        (0..nip.nip.z.len())
+            .map(|j| nip.jacobian_rows(j, &va, &vb, offs).0)
+            .collect()
+    }
+
     /// Number of coordinates.
     pub fn n(&self) -> usize {
         self.n
@@ -347,9 +405,9 @@ impl MachineSystem {
         let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
         let mut k = DMatrix::zeros(self.n, self.n);
         let mut c = DMatrix::zeros(self.n, self.n);
-        self.newton_with(&st, q, &v, (0.0, 1.0, 0.0), false, &mut k);
-        self.newton_with(&st, q, &v, (0.0, 0.0, 1.0), false, &mut c);
-        (self.m.clone(), k, c, self.segments(&st, q, &v))
+        self.newton_with((0.0, &st), q, &v, (0.0, 1.0, 0.0), false, &mut k);
+        self.newton_with((0.0, &st), q, &v, (0.0, 0.0, 1.0), false, &mut c);
+        (self.m.clone(), k, c, self.segments(0.0, &st, q, &v))
     }
 }
 
@@ -359,13 +417,15 @@ pub fn run(machine: &Machine, first: &Model) -> JobResult {
         Ok(m) => m,
         Err(e) => return failed(e, first, 0),
     };
-    let sys = MachineSystem::new(machine, &models);
+    let mut sys = MachineSystem::new(machine, &models);
     let n = sys.n;
     let scene0 = &machine.rolls[0].scene;
     let q0 = match sys.initial(machine, &models, scene0.simulation.static_start) {
         Ok(q) => q,
         Err(e) => return failed(e, first, n),
     };
+    sys.start_covers(&q0);
+    let sys = sys;
     let mut v0 = DVector::zeros(n);
     let st0 = sys.states(0.0);
     for (i, b) in sys.bodies.iter().enumerate() {
@@ -406,7 +466,7 @@ pub fn run(machine: &Machine, first: &Model) -> JobResult {
                 rec.sample(t, &sys.part(i, &q), &sys.part(i, &v));
             }
             let st = sys.states(t);
-            for (k, seg) in sys.segments(&st, &q, &v).iter().enumerate() {
+            for (k, seg) in sys.segments(t, &st, &q, &v).iter().enumerate() {
                 for (j, sg) in seg.iter().enumerate() {
                     nip_force[k][j].push(sg.force);
                     let w = band_width(&sys.nips[k].nip.law, sg.delta, sg.force);
@@ -416,6 +476,7 @@ pub fn run(machine: &Machine, first: &Model) -> JobResult {
             samples += 1;
             next = settle + samples as f64 * dt;
         }
+        sys.commit(s.t1, s.q1, s.v1);
         Ok(())
     };
     let (_, _, stats) = integrate(&sys, &scene0.solver, 0.0, t_end, q0, v0, &mut observer);

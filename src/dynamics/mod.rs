@@ -6,11 +6,12 @@
 //! start), the nonlinear roll system with contacts for the integrators ([`system`]) and one time
 //! simulation ([`simulation`]: static equilibrium, then time integration, sampled outputs; what
 //! a job gives and how it records, `job`); several rolls coupled by nips ([`bodies`], the
-//! nips' segment contacts [`nip`]). SI
+//! nips' segment contacts [`nip`], a viscoelastic cover's points [`cover`]). SI
 //! units throughout, except for the readers' accounts: the model's [`summary`] and what a scene
 //! asks for, [`derived`] (mm, g, Hz: what `modes` and `check` print).
 
 pub mod bodies;
+pub mod cover;
 pub mod derived;
 mod job;
 pub mod linear_system;

@@ -15,10 +15,17 @@
 //! Laws per segment of length L (scene `machine.rs`): linear k L δ (tension too); Hertz
 //! k δ^e; a Winkler cover L (4√2/3) k_f √R δ^1.5; the damping c L δ̇ while in contact, the
 //! total never adhesive except for the linear law. Width: Hertz 2b of the Roark/Hertz band
-//! under the segment's force, cover 2√(2Rδ), none for the linear law.
+//! under the segment's force, cover 2√(2Rδ), none for the linear law. A viscoelastic cover:
+//! in the static equilibrium and the linearisation at rest the relaxed Winkler law (k_r); in a
+//! run, once [`NipSys::start_covers`] has set each segment's cover points ([`super::cover`]),
+//! the force and dF/dδ of its [`CoverTrack`] at the time and the covered roll's angle, its
+//! points carried forward by [`NipSys::commit`] after every accepted step; band 2√(2Rδ).
+
+use std::sync::Mutex;
 
 use nalgebra::{DMatrix, DVector, Matrix2, RowDVector, Vector2};
 
+use super::cover::CoverTrack;
 use crate::dynamics::model::Model;
 use crate::rotor::fe::NDOF;
 use crate::scene::{Nip, NipLaw};
@@ -43,12 +50,16 @@ pub fn law_force(law: &NipLaw, length: f64, delta: f64) -> (f64, f64) {
         }
         NipLaw::Cover {
             foundation, radius, ..
-        } => {
-            let c = length * 4.0 * std::f64::consts::SQRT_2 / 3.0 * foundation * radius.sqrt();
-            let r = delta.sqrt();
-            (c * delta * r, 1.5 * c * r)
-        }
+        } => winkler(length, foundation, radius, delta),
+        NipLaw::Viscoelastic { cover } => winkler(length, cover.relaxed, cover.radius, delta),
     }
+}
+
+/// The Winkler cover's (4√2/3) k √R δ^1.5 L and its derivative.
+fn winkler(length: f64, foundation: f64, radius: f64, delta: f64) -> (f64, f64) {
+    let c = length * 4.0 * std::f64::consts::SQRT_2 / 3.0 * foundation * radius.sqrt();
+    let r = delta.sqrt();
+    (c * delta * r, 1.5 * c * r)
 }
 
 /// The width [m] of a segment's band at penetration δ [m] carrying F [N]; `None` for a law
@@ -58,6 +69,7 @@ pub fn band_width(law: &NipLaw, delta: f64, force: f64) -> Option<f64> {
         NipLaw::Linear { .. } => None,
         NipLaw::Hertz { fit } => Some(2.0 * fit.geometry.half_width(force.max(0.0))),
         NipLaw::Cover { radius, .. } => Some(2.0 * (2.0 * radius * delta.max(0.0)).sqrt()),
+        NipLaw::Viscoelastic { cover } => Some(2.0 * (2.0 * cover.radius * delta.max(0.0)).sqrt()),
     }
 }
 
@@ -77,12 +89,14 @@ pub struct SegmentState {
 }
 
 /// A nip on the two rolls' reduced models.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct NipSys {
     /// The scene's nip.
     pub nip: Nip,
     /// Lateral rows (2 × nm) of roll_a and roll_b at each segment.
     rows: Vec<(DMatrix<f64>, DMatrix<f64>)>,
+    /// A viscoelastic cover's points per segment, once started.
+    covers: Option<Mutex<Vec<CoverTrack>>>,
 }
 
 /// A roll's kinematic state for the nips: R(θ), Ω, modal p and ṗ.
@@ -117,6 +131,63 @@ impl NipSys {
         Self {
             nip: nip.clone(),
             rows,
+            covers: None,
+        }
+    }
+
+    /// The body-frame angle [rad] of the nip line on the covered roll (a viscoelastic cover).
+    fn cover_angle(&self, a: &RollView, b: &RollView, on_b: bool) -> f64 {
+        let n = Vector2::new(self.nip.normal[0], self.nip.normal[1]);
+        let d = if on_b {
+            b.rot.transpose() * -n
+        } else {
+            a.rot.transpose() * n
+        };
+        d.y.atan2(d.x)
+    }
+
+    /// Every segment's penetration δ [m] and its rate [m/s].
+    fn penetrations(&self, a: &RollView, b: &RollView) -> Vec<(f64, f64)> {
+        let n = Vector2::new(self.nip.normal[0], self.nip.normal[1]);
+        let s = Matrix2::new(0.0, -1.0, 1.0, 0.0);
+        self.rows
+            .iter()
+            .map(|(ra, rb)| {
+                let (ua, ub) = (times(ra, a.p), times(rb, b.p));
+                let va = a.rot * (times(ra, a.pd) + a.omega * s * ua);
+                let vb = b.rot * (times(rb, b.pd) + b.omega * s * ub);
+                let delta = n.dot(&(a.rot * ua - b.rot * ub)) - self.nip.gap;
+                (delta, n.dot(&(va - vb)))
+            })
+            .collect()
+    }
+
+    /// A viscoelastic cover's points set at time `t` [s] (module doc of [`super::cover`]: those
+    /// in the band relaxed at their penetration); nothing for another law.
+    pub fn start_covers(&mut self, t: f64, a: &RollView, b: &RollView) {
+        let NipLaw::Viscoelastic { cover } = self.nip.law else {
+            return;
+        };
+        let psi = self.cover_angle(a, b, cover.on_b);
+        let tracks = (self.penetrations(a, b).iter())
+            .map(|(delta, _)| {
+                let mut track = CoverTrack::new(&cover, self.nip.segment_length);
+                track.start(t, psi, *delta);
+                track
+            })
+            .collect();
+        self.covers = Some(Mutex::new(tracks));
+    }
+
+    /// Carries a started viscoelastic cover's points to the accepted time `t` [s].
+    pub fn commit(&self, t: f64, a: &RollView, b: &RollView) {
+        let (Some(covers), NipLaw::Viscoelastic { cover }) = (&self.covers, &self.nip.law) else {
+            return;
+        };
+        let psi = self.cover_angle(a, b, cover.on_b);
+        let mut tracks = covers.lock().unwrap_or_else(|e| e.into_inner());
+        for (track, (delta, _)) in tracks.iter_mut().zip(self.penetrations(a, b)) {
+            track.commit(t, psi, delta);
         }
     }
 
@@ -133,20 +204,25 @@ impl NipSys {
         (na * &self.rows[j].0, nb * &self.rows[j].1)
     }
 
-    /// The state of every segment.
-    pub fn segments(&self, a: &RollView, b: &RollView) -> Vec<SegmentState> {
-        let n = Vector2::new(self.nip.normal[0], self.nip.normal[1]);
-        let s = Matrix2::new(0.0, -1.0, 1.0, 0.0);
+    /// The state of every segment at time `t` [s] (read by a started viscoelastic cover only).
+    pub fn segments(&self, t: f64, a: &RollView, b: &RollView) -> Vec<SegmentState> {
         let nip = &self.nip;
-        self.rows
-            .iter()
-            .map(|(ra, rb)| {
-                let (ua, ub) = (times(ra, a.p), times(rb, b.p));
-                let va = a.rot * (times(ra, a.pd) + a.omega * s * ua);
-                let vb = b.rot * (times(rb, b.pd) + b.omega * s * ub);
-                let delta = n.dot(&(a.rot * ua - b.rot * ub)) - nip.gap;
-                let rate = n.dot(&(va - vb));
-                let (f, k) = law_force(&nip.law, nip.segment_length, delta);
+        let tracks = self
+            .covers
+            .as_ref()
+            .map(|c| c.lock().unwrap_or_else(|e| e.into_inner()));
+        let psi = match nip.law {
+            NipLaw::Viscoelastic { cover } => self.cover_angle(a, b, cover.on_b),
+            _ => 0.0,
+        };
+        self.penetrations(a, b)
+            .into_iter()
+            .enumerate()
+            .map(|(j, (delta, rate))| {
+                let (f, k) = match &tracks {
+                    Some(tr) => tr[j].force(t, psi, delta),
+                    None => law_force(&nip.law, nip.segment_length, delta),
+                };
                 let linear = matches!(nip.law, NipLaw::Linear { .. });
                 let c = if linear || delta > 0.0 {
                     nip.damping * nip.segment_length

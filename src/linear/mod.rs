@@ -43,6 +43,7 @@
 //! coordinates), exact for an axisymmetric rotor.
 
 pub mod barring;
+pub mod barring_machine;
 pub mod basis;
 pub mod campbell;
 pub mod critical_map;

@@ -108,7 +108,7 @@ pub const MACHINE_DOCS: &[KeyDoc] = &[
         units: "",
         default: "required",
         range: "linear, hertz, cover",
-        meaning: "Contact law per segment: `linear` force per length k δ (tension too, for closed forms); `hertz` steel on steel, the Roark line contact fitted to F = k δ^e as for the rollers, over 0.1–10 times the line load (1–100 kN/m without one); `cover` a Winkler layer k = E/((1−ν²)h), force per length (4√2/3) k √R δ^1.5, band 2√(2Rδ), R = R_a R_b/(R_a + R_b).",
+        meaning: "Contact law per segment: `linear` force per length k δ (tension too, for closed forms); `hertz` steel on steel, the Roark line contact fitted to F = k δ^e as for the rollers, over 0.1–10 times the line load (1–100 kN/m without one); `cover` a Winkler layer k = E/((1−ν²)h), force per length (4√2/3) k √R δ^1.5, band 2√(2Rδ), R = R_a R_b/(R_a + R_b); with `cover_unrelaxed_modulus_mpa` and `cover_relaxation_time_s` a viscoelastic (standard linear solid) cover with memory.",
     },
     KeyDoc {
         key: "nips[].stiffness_n_per_m2",
@@ -144,6 +144,27 @@ pub const MACHINE_DOCS: &[KeyDoc] = &[
         default: "required for law = cover",
         range: "0–0.499",
         meaning: "Cover Poisson's ratio ν.",
+    },
+    KeyDoc {
+        key: "nips[].cover_unrelaxed_modulus_mpa",
+        units: "MPa",
+        default: "none (an elastic cover)",
+        range: "> cover_modulus_mpa; with cover_relaxation_time_s",
+        meaning: "A viscoelastic cover (standard linear solid): its unrelaxed (instantaneous) modulus E_u; `cover_modulus_mpa` is then its relaxed (long-term) modulus E_r. Both enter as Winkler moduli E/((1−ν²)h). The cover is tracked at `cover_points` points round the covered roll per segment, each keeping its deformation after it leaves the nip (docs/machines.md).",
+    },
+    KeyDoc {
+        key: "nips[].cover_relaxation_time_s",
+        units: "s",
+        default: "none (an elastic cover)",
+        range: "> 0; with cover_unrelaxed_modulus_mpa",
+        meaning: "The viscoelastic cover's stress relaxation time τ at constant strain: a held compression relaxes as E_r + (E_u − E_r) e^(−t/τ); a free point recovers with τ E_u/E_r.",
+    },
+    KeyDoc {
+        key: "nips[].cover_points",
+        units: "",
+        default: "1024",
+        range: "16–1000000, viscoelastic covers only",
+        meaning: "Points round the covered roll per segment that carry the viscoelastic cover's state (spacing 2πR_c/N; the band 2√(2Rδ) should hold ten or more).",
     },
     KeyDoc {
         key: "nips[].damping_ns_per_m2",

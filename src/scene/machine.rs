@@ -21,7 +21,11 @@
 //!   rollers (`ContactGeometry`), over 0.1–10 times the nip's line load (1–100 kN/m without one);
 //! - `cover`: a Winkler layer on one roll, foundation modulus k = E/((1 − ν²) h) [N/m³]
 //!   (plane strain, thin layer); with R = R_a R_b/(R_a + R_b) the band is 2a, a = √(2Rδ), and
-//!   the force per length ∫k(δ − x²/2R)dx = (4√2/3) k √R δ^1.5.
+//!   the force per length ∫k(δ − x²/2R)dx = (4√2/3) k √R δ^1.5. With
+//!   `cover_unrelaxed_modulus_mpa` E_u and `cover_relaxation_time_s` τ the cover is a standard
+//!   linear solid (`cover_modulus_mpa` its relaxed modulus E_r < E_u; both as foundation
+//!   moduli as above), tracked at `cover_points` points round the covered roll per segment
+//!   (`dynamics/cover.rs`).
 //!
 //! `--set` on a machine: its own keys (`rolls[i].…`, `nips[i].…`); `simulation.*`, `solver.*`,
 //! `outputs.*` and `speed.*` go to the first roll's scene (after its `set`); any other key is an
@@ -39,7 +43,7 @@ use super::locate;
 use super::machine_file::{MachineFile, NipFile};
 use super::overrides::{override_error_key, parse_override, with_overrides};
 use super::source::Source;
-use super::types::{Machine, MachineRoll, Nip, NipLaw, Scene};
+use super::types::{CoverSpec, Machine, MachineRoll, Nip, NipLaw, Scene};
 use crate::error::InputError;
 use crate::rotor::fe::{RotorSpec, SectionSpec};
 
@@ -311,10 +315,26 @@ fn nip(
             } else {
                 rb += h;
             }
-            NipLaw::Cover {
-                foundation: e / ((1.0 - nu * nu) * h),
-                radius: ra * rb / (ra + rb),
-                thickness: h,
+            let foundation = e / ((1.0 - nu * nu) * h);
+            let radius = ra * rb / (ra + rb);
+            match viscoelastic(c, i, n, e)? {
+                None => NipLaw::Cover {
+                    foundation,
+                    radius,
+                    thickness: h,
+                },
+                Some((e_u, tau, points)) => NipLaw::Viscoelastic {
+                    cover: CoverSpec {
+                        relaxed: foundation,
+                        unrelaxed: e_u / ((1.0 - nu * nu) * h),
+                        relaxation_time: tau,
+                        radius,
+                        cover_radius: if r == a { ra } else { rb },
+                        thickness: h,
+                        on_b: r == b,
+                        points,
+                    },
+                },
             }
         }
         other => {
@@ -346,6 +366,67 @@ fn nip(
         )?,
         line_load,
     })
+}
+
+/// Cover points round the circumference per segment without `cover_points`: 1.07 mm apart on
+/// the shipped covered roll's 175 mm radius, 15 of them across its 16 mm band.
+pub const DEFAULT_COVER_POINTS: usize = 1024;
+
+/// The viscoelastic keys of a `cover` nip: `None` for an elastic cover (none of them given),
+/// else the unrelaxed modulus E_u [Pa] (above the relaxed `cover_modulus_mpa`, `e` [Pa]), the
+/// relaxation time τ [s] and the cover points per segment.
+fn viscoelastic(
+    c: &Check,
+    i: usize,
+    n: &NipFile,
+    e: f64,
+) -> Result<Option<(f64, f64, usize)>, InputError> {
+    let key = |k: &str| format!("nips[{i}].{k}");
+    let (e_u, tau) = match (n.cover_unrelaxed_modulus_mpa, n.cover_relaxation_time_s) {
+        (None, None) => {
+            return match n.cover_points {
+                None => Ok(None),
+                Some(_) => Err(c.err(
+                    &key("cover_points"),
+                    "only for a viscoelastic cover (with cover_unrelaxed_modulus_mpa and \
+                     cover_relaxation_time_s)",
+                )),
+            }
+        }
+        (Some(_), None) => {
+            return Err(c.err(
+                &key("cover_unrelaxed_modulus_mpa"),
+                "a viscoelastic cover needs cover_relaxation_time_s too",
+            ))
+        }
+        (None, Some(_)) => {
+            return Err(c.err(
+                &key("cover_relaxation_time_s"),
+                "a viscoelastic cover needs cover_unrelaxed_modulus_mpa too",
+            ))
+        }
+        (Some(e_u), Some(tau)) => (e_u, tau),
+    };
+    let e_u = 1e6 * c.positive(&key("cover_unrelaxed_modulus_mpa"), e_u)?;
+    if e_u <= e {
+        return Err(c.err(
+            &key("cover_unrelaxed_modulus_mpa"),
+            format!(
+                "the unrelaxed modulus ({} MPa) must exceed the relaxed cover_modulus_mpa ({} MPa)",
+                1e-6 * e_u,
+                1e-6 * e
+            ),
+        ));
+    }
+    let tau = c.positive(&key("cover_relaxation_time_s"), tau)?;
+    let points = n.cover_points.unwrap_or(DEFAULT_COVER_POINTS);
+    if !(16..=1_000_000).contains(&points) {
+        return Err(c.err(
+            &key("cover_points"),
+            format!("must lie in [16, 1000000], got {points}"),
+        ));
+    }
+    Ok(Some((e_u, tau, points)))
 }
 
 /// Rolls overlap when their axes are closer than their outer radii (at a nip: the nip's radii,

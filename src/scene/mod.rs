@@ -53,6 +53,6 @@ pub use overrides::{parse_override, replaces, set_path, with_overrides};
 pub use settings::{DampingBands, Outputs, SimulationSettings};
 pub use speed::{SpeedProfile, MAX_SPEED_HZ};
 pub use types::{
-    ContactLaw, Drive, Harmonic, LinearSupport, Machine, MachineRoll, Nip, NipLaw, Roller,
-    RollerPhase, RollerSupport, Scene, SpringDamper, Stand, Support, SupportModel,
+    ContactLaw, CoverSpec, Drive, Harmonic, LinearSupport, Machine, MachineRoll, Nip, NipLaw,
+    Roller, RollerPhase, RollerSupport, Scene, SpringDamper, Stand, Support, SupportModel,
 };

@@ -346,4 +346,31 @@ pub enum NipLaw {
         /// Layer thickness [m].
         thickness: f64,
     },
+    /// A viscoelastic (standard linear solid) Winkler cover whose points keep their state
+    /// round the covered roll (`dynamics/cover.rs`).
+    Viscoelastic {
+        /// The cover (moduli as foundation moduli, relaxation time, radii, points).
+        cover: CoverSpec,
+    },
+}
+
+/// A standard-linear-solid Winkler cover (`dynamics/cover.rs` gives the relations).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CoverSpec {
+    /// Relaxed foundation modulus k_r = E_r/((1 − ν²) h) [N/m³].
+    pub relaxed: f64,
+    /// Unrelaxed foundation modulus k_u = E_u/((1 − ν²) h) [N/m³], ≥ k_r.
+    pub unrelaxed: f64,
+    /// Stress relaxation time at constant strain τ [s].
+    pub relaxation_time: f64,
+    /// R_a R_b/(R_a + R_b) [m] (the interference x²/2R across the band).
+    pub radius: f64,
+    /// Outer radius of the covered roll [m].
+    pub cover_radius: f64,
+    /// Layer thickness [m].
+    pub thickness: f64,
+    /// Whether the cover is on roll_b (else on roll_a).
+    pub on_b: bool,
+    /// Cover points round the circumference, per segment.
+    pub points: usize,
 }

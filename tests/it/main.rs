@@ -63,3 +63,4 @@ mod stress_stiffening;
 mod study;
 mod study_errors;
 mod study_kill;
+mod visco;

@@ -162,6 +162,17 @@ fn machine(m: &Machine, model: bool) -> Result<(), CliError> {
                 1e3 * thickness,
                 1e3 * radius
             ),
+            NipLaw::Viscoelastic { cover } => println!(
+                "  law: viscoelastic cover {:.2} mm (standard linear solid), Winkler moduli \
+                 relaxed {:.4e}, unrelaxed {:.4e} N/m³, relaxation time {} s, R = {:.2} mm, \
+                 {} points round the covered roll per segment",
+                1e3 * cover.thickness,
+                cover.relaxed,
+                cover.unrelaxed,
+                cover.relaxation_time,
+                1e3 * cover.radius,
+                cover.points
+            ),
         }
     }
     Ok(())

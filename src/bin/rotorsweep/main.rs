@@ -12,6 +12,7 @@
 //! is the exit code ([`error`]); `main` maps them in one `match`.
 
 mod balance;
+mod barring;
 mod calibrate;
 mod campaign;
 mod check;
@@ -66,6 +67,9 @@ enum Command {
     /// Linear rotordynamics of a scene: damped modes vs speed, critical speeds, stability,
     /// unbalance response, Floquet, statics.
     Linear(linear::Args),
+    /// Barring stability map of a machine's viscoelastic nip over speed x nip load: growth
+    /// rate, polygon order, onset speed (JSON keys and HDF5 layout: docs/machines.md).
+    Barring(barring::Args),
     /// One time simulation of a scene: statistics, and results to HDF5 with -o.
     Simulate(simulate::Args),
     /// The jobs of a study, without running them: count, parameters, models, cost.
@@ -123,6 +127,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Modes(a) => modes::run(&a).map(|()| true),
         Command::Linear(a) => linear::run(&a).map(|()| true),
+        Command::Barring(a) => barring::run(&a).map(|()| true),
         Command::Simulate(a) => simulate::run(&a),
         Command::Plan(a) => campaign::plan(&a).map(|()| true),
         Command::Run(a) => campaign::run(&a),

@@ -1,0 +1,429 @@
+//! The barring stability map of a machine's viscoelastic nip, over speed × nip load.
+//!
+//! In: a [`Machine`] with a nip whose cover is viscoelastic (`cover_unrelaxed_modulus_mpa`,
+//! `cover_relaxation_time_s`), the first roll's [`Model`], a [`MapRequest`]: the nip's name
+//! (default: the first viscoelastic nip), the first roll's speeds [Hz] and the nip's line loads
+//! [kN/m] (default: the file's). Out: a [`BarringMap`]: per load the static nip force [N], the
+//! roll modes used (undamped frequency [Hz], damping ratio, share of the nip), and per speed the
+//! least stable root ([`MapPoint`]: growth rate Re λ [1/s] and per revolution, frequency [Hz],
+//! waves per revolution of the covered roll and the polygon order, the mode, its modal contact
+//! stiffness [N/m] and overlap μ) with the lowest unstable speed on the grid ([`Onset`]); as
+//! JSON (`serde`) and as HDF5 ([`write_h5`]).
+//!
+//! Method: per load the machine (its nip's line load set) is brought to its static equilibrium at
+//! standstill and linearised there as `rotorsweep linear` does ([`MachineSystem::at_rest`]); the
+//! nip's closed segments' tangent stiffness Jᵀ(dF/dδ)J is taken out of K, leaving the rolls on
+//! their supports (the nip's viscous damping stays in C). The undamped modes φ_i (mass
+//! normalised, ω_i > [`ZERO_RAD_S`]) of that system are ranked by their static share of the nip
+//! Σ_j (J_j φ_i)²/ω_i²; those within [`MODE_SHARE`] of the largest, at most [`MAX_MODES`], each
+//! become a one-mode barring roll (`linear/barring.rs`): m = 1, k = ω_i², c = φ_iᵀ C φ_i. The
+//! cover's rolling linearisation per closed segment j at its static penetration δ_j and the
+//! covered roll's revolution frequency f_c ([`rolling`], `dynamics/cover.rs`: the force change
+//! k_c,j after a step Δδ held for a revolution, and −μ_j k_c,j Δδ one revolution after it ends)
+//! is projected on the mode: K_c,i = Σ_j k_c,j (J_j φ_i)², μ_i = Σ_j μ_j k_c,j (J_j φ_i)²/K_c,i,
+//! so m η̈ + c η̇ + k η = −K_c,i [η(t) − μ_i η(t − 1/f_c)]; its rightmost root by Chebyshev
+//! collocation ([`rightmost`]). With μ_i ≤ 0 (no memory) the root is that of
+//! m λ² + c λ + k + K_c,i = 0. The point's root is the least stable over the modes; the polygon
+//! order is the nearest whole number of waves per revolution. Assumptions: the vibration is
+//! slow next to the dwell in the nip (k_c is the quasi-static rolling stiffness), one
+//! revolution's memory (the deeper revolutions' share is left out), the rolls at standstill in
+//! the linearisation (no gyroscopic terms; exact for axisymmetric rolls on speed-independent
+//! supports in the nip direction). Not confirmed by a time run: docs/machines.md gives a
+//! single-DOF time run that decayed where this linearisation predicts growth.
+
+use std::path::Path;
+
+use nalgebra::DVector;
+use serde::Serialize;
+
+use super::barring::{rightmost, BarringRoll, Root};
+use super::modes::ZERO_RAD_S;
+use crate::dynamics::bodies::{models, MachineSystem};
+use crate::dynamics::cover::rolling;
+use crate::dynamics::model::Model;
+use crate::numerics::eigen;
+use crate::scene::{CoverSpec, Machine, NipLaw};
+use crate::store;
+
+/// Modes kept: those whose static share of the nip is at least this part of the largest.
+pub const MODE_SHARE: f64 = 0.01;
+
+/// Most modes analysed per load.
+pub const MAX_MODES: usize = 6;
+
+const TAU: f64 = 2.0 * std::f64::consts::PI;
+
+/// What to map.
+#[derive(Debug, Clone, Default)]
+pub struct MapRequest {
+    /// The nip's name (`None`: the first viscoelastic nip).
+    pub nip: Option<String>,
+    /// The first roll's speeds [Hz].
+    pub speeds_hz: Vec<f64>,
+    /// Line loads [kN/m] (`None`: the nip's own).
+    pub loads_kn_per_m: Option<Vec<f64>>,
+}
+
+/// A roll mode used at one load.
+#[derive(Debug, Clone, Serialize)]
+pub struct MapMode {
+    /// Undamped frequency with the nip open [Hz].
+    pub freq_hz: f64,
+    /// φᵀCφ/(2ω) [-].
+    pub damping_ratio: f64,
+    /// Its static share of the nip, Σ_j (J_j φ)²/ω², per the largest [-].
+    pub nip_share: f64,
+}
+
+/// The least stable root at one speed and load.
+#[derive(Debug, Clone, Serialize)]
+pub struct MapPoint {
+    /// The first roll's speed [Hz].
+    pub speed_hz: f64,
+    /// The covered roll's revolution frequency [Hz].
+    pub cover_speed_hz: f64,
+    /// Re λ < 0.
+    pub stable: bool,
+    /// Re λ [1/s].
+    pub growth_per_s: f64,
+    /// Re λ per revolution of the covered roll [-].
+    pub growth_per_rev: f64,
+    /// Im λ/2π [Hz].
+    pub frequency_hz: f64,
+    /// Im λ/(2π f_c): waves round the cover [-].
+    pub waves_per_rev: f64,
+    /// The nearest whole number of waves: the polygon's sides.
+    pub polygon_order: u64,
+    /// Index of the mode in the load's `modes`.
+    pub mode: usize,
+    /// The mode's modal contact stiffness K_c [N/m per unit modal coordinate²].
+    pub contact_stiffness_n_per_m: f64,
+    /// The mode's overlap μ [-].
+    pub overlap: f64,
+}
+
+/// The lowest unstable speed on the grid at one load.
+#[derive(Debug, Clone, Serialize)]
+pub struct Onset {
+    /// The first roll's speed [Hz].
+    pub speed_hz: f64,
+    /// The highest stable speed below it on the grid [Hz] (`None`: the grid's first speed).
+    pub last_stable_hz: Option<f64>,
+    /// The covered roll's revolution frequency there [Hz].
+    pub cover_speed_hz: f64,
+    /// The polygon order there.
+    pub polygon_order: u64,
+    /// Waves per revolution there.
+    pub waves_per_rev: f64,
+    /// Re λ there [1/s].
+    pub growth_per_s: f64,
+}
+
+/// The map at one load.
+#[derive(Debug, Clone, Serialize)]
+pub struct LoadRow {
+    /// Line load [kN/m].
+    pub line_load_kn_per_m: f64,
+    /// Static nip force [N].
+    pub nip_force_n: f64,
+    /// Closed segments at the static equilibrium.
+    pub closed_segments: usize,
+    /// Largest static penetration [µm].
+    pub max_penetration_um: f64,
+    /// The modes used.
+    pub modes: Vec<MapMode>,
+    /// One per speed.
+    pub points: Vec<MapPoint>,
+    /// The lowest unstable speed (`None`: stable over the grid).
+    pub onset: Option<Onset>,
+}
+
+/// The barring map of one nip.
+#[derive(Debug, Clone, Serialize)]
+pub struct BarringMap {
+    /// The nip's name.
+    pub nip: String,
+    /// The covered roll's name.
+    pub covered_roll: String,
+    /// The covered roll's revolution frequency per first-roll speed [-].
+    pub cover_speed_per_speed: f64,
+    /// The first roll's speeds [Hz].
+    pub speeds_hz: Vec<f64>,
+    /// The line loads [kN/m].
+    pub loads_kn_per_m: Vec<f64>,
+    /// One per load.
+    pub loads: Vec<LoadRow>,
+}
+
+/// The nip's index and cover (module doc).
+fn find_nip(machine: &Machine, name: Option<&str>) -> Result<(usize, CoverSpec), String> {
+    let visco = |l: &NipLaw| match l {
+        NipLaw::Viscoelastic { cover } => Some(*cover),
+        _ => None,
+    };
+    match name {
+        Some(n) => {
+            let i = (machine.nips.iter().position(|x| x.name == n))
+                .ok_or_else(|| format!("no nip named `{n}`"))?;
+            let c = visco(&machine.nips[i].law).ok_or_else(|| {
+                format!(
+                    "nip `{n}` has no viscoelastic cover (cover_unrelaxed_modulus_mpa, \
+                     cover_relaxation_time_s)"
+                )
+            })?;
+            Ok((i, c))
+        }
+        None => (machine.nips.iter().enumerate())
+            .find_map(|(i, x)| visco(&x.law).map(|c| (i, c)))
+            .ok_or_else(|| {
+                "the machine has no nip with a viscoelastic cover (cover_unrelaxed_modulus_mpa, \
+                 cover_relaxation_time_s)"
+                    .to_string()
+            }),
+    }
+}
+
+/// The root of m λ² + c λ + k = 0 with the larger real part (no memory), as a [`Root`].
+fn memoryless(roll: &BarringRoll, kc: f64, period: f64) -> Root {
+    let (m, c, k) = (roll.mass_kg, roll.damping_ns_m, roll.stiffness_n_m + kc);
+    let disc = c * c - 4.0 * m * k;
+    let (re, im) = if disc >= 0.0 {
+        ((-c + disc.sqrt()) / (2.0 * m), 0.0)
+    } else {
+        (-c / (2.0 * m), (-disc).sqrt() / (2.0 * m))
+    };
+    let waves = im * period / TAU;
+    Root {
+        growth_per_s: re,
+        growth_per_rev: re * period,
+        frequency_hz: im / TAU,
+        waves_per_rev: waves,
+        lobe: waves.floor() as usize,
+        intervals: 0,
+    }
+}
+
+/// The barring map of `machine` (module doc); `first` is its first roll's model.
+pub fn barring_map(
+    machine: &Machine,
+    first: &Model,
+    req: &MapRequest,
+) -> Result<BarringMap, String> {
+    let (ni, cover) = find_nip(machine, req.nip.as_deref())?;
+    if req.speeds_hz.is_empty() || req.speeds_hz.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+        return Err("speeds must be positive".into());
+    }
+    let mut machine = machine.clone();
+    for r in &mut machine.rolls {
+        r.scene.simulation.static_start = true;
+    }
+    let nip = machine.nips[ni].clone();
+    let covered = if cover.on_b { nip.rolls.1 } else { nip.rolls.0 };
+    let first_factor = machine.rolls[0].speed_factor;
+    let cover_factor = (machine.rolls[covered].speed_factor / first_factor).abs();
+    let loads = (req.loads_kn_per_m.clone()).unwrap_or_else(|| vec![1e-3 * nip.line_load]);
+    if loads.is_empty() || loads.iter().any(|q| !(q.is_finite() && *q >= 0.0)) {
+        return Err("line loads must be zero or positive".into());
+    }
+    let models = models(&machine, first)?;
+    let mut rows = Vec::with_capacity(loads.len());
+    for &q in &loads {
+        machine.nips[ni].line_load = 1e3 * q;
+        let sys = MachineSystem::new(&machine, &models);
+        let q0 = sys.initial(&machine, &models, true)?;
+        let (m, k, c, states) = sys.at_rest(&q0);
+        let seg = &states[ni];
+        let jrows = sys.nip_rows_at_rest(ni, &q0);
+        let mut k_free = k;
+        for (s, j) in seg.iter().zip(&jrows) {
+            if s.stiffness != 0.0 {
+                k_free.ger(-s.stiffness, j, j, 1.0);
+            }
+        }
+        let k_sym = 0.5 * (&k_free + k_free.transpose());
+        let eig = eigen::generalized_symmetric(&k_sym, &m).map_err(|e| e.to_string())?;
+        let closed: Vec<usize> = (0..seg.len()).filter(|j| seg[*j].delta > 0.0).collect();
+        if closed.is_empty() {
+            return Err(format!(
+                "at {q} kN/m the nip `{}` is open at its static equilibrium",
+                nip.name
+            ));
+        }
+        // Candidate modes: (ω, φ, participations J_j φ of the closed segments).
+        let mut cand: Vec<(f64, DVector<f64>, Vec<f64>, f64)> = Vec::new();
+        for i in 0..eig.values.len() {
+            let w2 = eig.values[i];
+            if w2 <= ZERO_RAD_S * ZERO_RAD_S {
+                continue;
+            }
+            let phi = eig.vectors.column(i).into_owned();
+            let part: Vec<f64> = closed.iter().map(|j| jrows[*j].dot(&phi)).collect();
+            let share = part.iter().map(|p| p * p).sum::<f64>() / w2;
+            cand.push((w2.sqrt(), phi, part, share));
+        }
+        cand.sort_by(|a, b| b.3.total_cmp(&a.3));
+        let top = cand.first().map_or(0.0, |c| c.3);
+        cand.retain(|c| c.3 >= MODE_SHARE * top);
+        cand.truncate(MAX_MODES);
+        let modes: Vec<MapMode> = (cand.iter())
+            .map(|(w, phi, _, share)| MapMode {
+                freq_hz: w / TAU,
+                damping_ratio: phi.dot(&(&c * phi)) / (2.0 * w),
+                nip_share: share / top,
+            })
+            .collect();
+        let mut points = Vec::with_capacity(req.speeds_hz.len());
+        for &speed in &req.speeds_hz {
+            let fc = cover_factor * speed;
+            let period = 1.0 / fc;
+            let lin: Vec<(f64, f64)> = (closed.iter())
+                .map(|j| {
+                    rolling(&cover, seg[*j].delta, fc)
+                        .map(|r| (r.stiffness_n_per_m2 * nip.segment_length, r.overlap))
+                        .ok_or_else(|| {
+                            format!(
+                                "the cover's rolling state at {fc} Hz, segment {j}, not reached"
+                            )
+                        })
+                })
+                .collect::<Result<_, _>>()?;
+            let mut best: Option<MapPoint> = None;
+            for (i, (w, phi, part, _)) in cand.iter().enumerate() {
+                let kc: f64 = part.iter().zip(&lin).map(|(p, l)| l.0 * p * p).sum();
+                let mu = part
+                    .iter()
+                    .zip(&lin)
+                    .map(|(p, l)| l.1 * l.0 * p * p)
+                    .sum::<f64>()
+                    / kc;
+                let roll = BarringRoll {
+                    mass_kg: 1.0,
+                    damping_ns_m: phi.dot(&(&c * phi)),
+                    stiffness_n_m: w * w,
+                    overlap: mu.min(1.0),
+                };
+                let root = if mu > 0.0 {
+                    rightmost(&roll, kc, fc).map_err(|e| e.to_string())?
+                } else {
+                    memoryless(&roll, kc, period)
+                };
+                if best
+                    .as_ref()
+                    .is_some_and(|b| b.growth_per_s >= root.growth_per_s)
+                {
+                    continue;
+                }
+                best = Some(MapPoint {
+                    speed_hz: speed,
+                    cover_speed_hz: fc,
+                    stable: root.growth_per_s < 0.0,
+                    growth_per_s: root.growth_per_s,
+                    growth_per_rev: root.growth_per_rev,
+                    frequency_hz: root.frequency_hz,
+                    waves_per_rev: root.waves_per_rev,
+                    polygon_order: root.waves_per_rev.round() as u64,
+                    mode: i,
+                    contact_stiffness_n_per_m: kc,
+                    overlap: mu,
+                });
+            }
+            points.push(best.ok_or("no roll mode takes part in the nip")?);
+        }
+        let onset = points.iter().position(|p| !p.stable).map(|i| {
+            let p = &points[i];
+            Onset {
+                speed_hz: p.speed_hz,
+                last_stable_hz: i.checked_sub(1).map(|j| points[j].speed_hz),
+                cover_speed_hz: p.cover_speed_hz,
+                polygon_order: p.polygon_order,
+                waves_per_rev: p.waves_per_rev,
+                growth_per_s: p.growth_per_s,
+            }
+        });
+        rows.push(LoadRow {
+            line_load_kn_per_m: q,
+            nip_force_n: seg.iter().map(|s| s.force).sum(),
+            closed_segments: closed.len(),
+            max_penetration_um: 1e6 * seg.iter().map(|s| s.delta).fold(0.0, f64::max),
+            modes,
+            points,
+            onset,
+        });
+    }
+    Ok(BarringMap {
+        nip: nip.name.clone(),
+        covered_roll: machine.rolls[covered].name.clone(),
+        cover_speed_per_speed: cover_factor,
+        speeds_hz: req.speeds_hz.clone(),
+        loads_kn_per_m: loads,
+        loads: rows,
+    })
+}
+
+/// Writes the map into a new HDF5 file at `path` (its working name `path`.tmp, renamed at the
+/// end): group `barring/<nip>` with the axes `loads_kn_per_m` [kN/m] and `speeds_hz` [Hz] as
+/// dimension scales, the [loads × speeds] datasets `growth_per_s` [1/s], `growth_per_rev` [-],
+/// `frequency_hz` [Hz], `waves_per_rev` [-], `polygon_order` [-], `stable` [1 stable, 0 not],
+/// `contact_stiffness_n_per_m` [N/m], `overlap` [-], and per load `onset_speed_hz` [Hz] and
+/// `onset_polygon_order` [-] (NaN: stable over the grid); the JSON of the map as the group's
+/// `json` attribute.
+pub fn write_h5(
+    map: &BarringMap,
+    path: &Path,
+    command: &str,
+    scene_text: &str,
+) -> Result<(), String> {
+    let io = |e: hdf5::Error| format!("{}: {e}", path.display());
+    let (f, jobs) = store::create_file(path, command, scene_text).map_err(io)?;
+    let g = store::subgroup(&f, &format!("barring/{}", map.nip)).map_err(io)?;
+    store::attr_str(&g, "covered_roll", &map.covered_roll).map_err(io)?;
+    store::attr_f64(&g, "cover_speed_per_speed", map.cover_speed_per_speed).map_err(io)?;
+    let json = serde_json::to_string(map).map_err(|e| e.to_string())?;
+    store::attr_str(&g, "json", &json).map_err(io)?;
+    store::dataset(&g, "speeds_hz", &map.speeds_hz, "Hz").map_err(io)?;
+    store::dataset(&g, "loads_kn_per_m", &map.loads_kn_per_m, "kN/m").map_err(io)?;
+    let shape = (map.loads.len(), map.speeds_hz.len());
+    let grid = |f: &dyn Fn(&MapPoint) -> f64| -> Vec<f64> {
+        map.loads
+            .iter()
+            .flat_map(|l| l.points.iter().map(f))
+            .collect()
+    };
+    let fields: [(&str, &str, Vec<f64>); 8] = [
+        ("growth_per_s", "1/s", grid(&|p| p.growth_per_s)),
+        ("growth_per_rev", "1", grid(&|p| p.growth_per_rev)),
+        ("frequency_hz", "Hz", grid(&|p| p.frequency_hz)),
+        ("waves_per_rev", "1", grid(&|p| p.waves_per_rev)),
+        ("polygon_order", "1", grid(&|p| p.polygon_order as f64)),
+        ("stable", "1", grid(&|p| f64::from(u8::from(p.stable)))),
+        (
+            "contact_stiffness_n_per_m",
+            "N/m",
+            grid(&|p| p.contact_stiffness_n_per_m),
+        ),
+        ("overlap", "1", grid(&|p| p.overlap)),
+    ];
+    for (name, units, data) in &fields {
+        store::dataset_2d(&g, name, shape, data, units).map_err(io)?;
+    }
+    let onset = |f: &dyn Fn(&Onset) -> f64| -> Vec<f64> {
+        map.loads
+            .iter()
+            .map(|l| l.onset.as_ref().map_or(f64::NAN, f))
+            .collect()
+    };
+    store::dataset(&g, "onset_speed_hz", &onset(&|o| o.speed_hz), "Hz").map_err(io)?;
+    store::dataset(
+        &g,
+        "onset_polygon_order",
+        &onset(&|o| o.polygon_order as f64),
+        "1",
+    )
+    .map_err(io)?;
+    let names: Vec<&str> = fields.iter().map(|f| f.0).collect();
+    let mut with_onset = names.clone();
+    with_onset.extend(["onset_speed_hz", "onset_polygon_order"]);
+    store::scales::attach_axis(&g, "loads_kn_per_m", &with_onset, 0).map_err(io)?;
+    store::scales::attach_axis(&g, "speeds_hz", &names, 1).map_err(io)?;
+    store::finish_file(path, f, jobs).map_err(|e| format!("{}: {e}", path.display()))
+}
