@@ -2,7 +2,8 @@
 //! ([`request`], a study's `[analysis]` table), the post-analysis of every job and over the
 //! sweep ([`analyse`]), order tracking of run-ups ([`orders`]), a measured record brought in as
 //! a job ([`measured`]), the noise floor of a record's tracked orders ([`noise`]) and a linear
-//! analysis of one scene written as a results file ([`linear_file`]); a results file written
+//! analysis of one scene written as a results file ([`linear_file`]), a machine's barring map
+//! as a results file ([`barring_file`]); a results file written
 //! whole with its analysis and summary ([`write`]). (Balancing from trial-mass runs re-runs a
 //! study job, so it is part of the study stage: `study::balancing`.)
 //!
@@ -11,6 +12,7 @@
 //! (µm, Hz). Methods in each module's doc.
 
 pub mod analyse;
+pub mod barring_file;
 pub mod job_analysis;
 pub mod linear_file;
 pub mod measured;

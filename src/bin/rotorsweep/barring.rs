@@ -13,12 +13,13 @@
 //! `growth_per_s`, `growth_per_rev`, `frequency_hz`, `waves_per_rev`, `polygon_order`, `mode`,
 //! `contact_stiffness_n_per_m`, `overlap`}, `onset` {`speed_hz`, `last_stable_hz`,
 //! `cover_speed_hz`, `polygon_order`, `waves_per_rev`, `growth_per_s`} or null); `-o` the HDF5
-//! layout of [`rotorsweep::linear::barring_machine::write_h5`].
+//! layout of [`rotorsweep::results::barring_file::write_h5`].
 
 use std::path::PathBuf;
 
 use rotorsweep::dynamics::model::Model;
-use rotorsweep::linear::barring_machine::{barring_map, write_h5, BarringMap, MapRequest};
+use rotorsweep::linear::barring_machine::{barring_map, BarringMap, MapRequest};
+use rotorsweep::results::barring_file::write_h5;
 use rotorsweep::store;
 
 use crate::error::CliError;
