@@ -171,15 +171,21 @@ pub fn fe_body_files(scene: &Path) -> Result<(BodyFiles, BTreeMap<String, i64>),
         source: &source,
         overridden: &[],
     };
-    let table = source
+    let fe = fe_table(&c)?;
+    Ok((files_of(&c, &fe)?, fe.named))
+}
+
+/// The scene's `[fe]` table as written (an error names the scene and the key).
+fn fe_table(c: &Check) -> Result<FeFile, InputError> {
+    let table = c
+        .source
         .table
         .get("fe")
-        .ok_or_else(|| InputError::new(scene, "the scene has no [fe] body"))?;
-    let fe: FeFile = table
+        .ok_or_else(|| InputError::new(c.file, "the scene has no [fe] body"))?;
+    table
         .clone()
         .try_into()
-        .map_err(|e: toml::de::Error| c.err("fe", e.message().to_string()))?;
-    Ok((files_of(&c, &fe)?, fe.named))
+        .map_err(|e: toml::de::Error| c.err("fe", e.message().to_string()))
 }
 
 /// The ring attachments `[fe.rings]` of the scene file `scene` on the body's node table
@@ -196,14 +202,7 @@ pub fn fe_body_rings(
         source: &source,
         overridden: &[],
     };
-    let table = source
-        .table
-        .get("fe")
-        .ok_or_else(|| InputError::new(scene, "the scene has no [fe] body"))?;
-    let fe: FeFile = table
-        .clone()
-        .try_into()
-        .map_err(|e: toml::de::Error| c.err("fe", e.message().to_string()))?;
+    let fe = fe_table(&c)?;
     let mut out = BTreeMap::new();
     for (name, r) in &fe.rings {
         let key = format!("fe.rings.{name}");
