@@ -386,10 +386,7 @@ fn bad_machines_are_clear_errors_at_their_key_and_line() {
         );
         let text = std::fs::read_to_string(&path).unwrap();
         let e = Scene::load(&path, &[]).expect_err(key);
-        assert_eq!(e.file, path, "{e}");
-        assert_eq!(e.key.as_deref(), Some(key), "{e}");
-        assert_eq!(e.line, Some(support::line_number(&text, line)), "{e}");
-        assert!(e.reason.contains(reason), "{e}");
+        support::assert_error_at(&e, &path, &text, (key, line, reason));
     }
 }
 

@@ -212,10 +212,7 @@ fn bad_viscoelastic_covers_are_clear_errors_at_their_key_and_line() {
         let text = nip(extra);
         let path = support::write_file(&dir, "machine.toml", &text);
         let e = Scene::load(&path, &[]).expect_err(key);
-        assert_eq!(e.file, path, "{e}");
-        assert_eq!(e.key.as_deref(), Some(key), "{e}");
-        assert_eq!(e.line, Some(support::line_number(&text, line)), "{e}");
-        assert!(e.reason.contains(reason), "{e}");
+        support::assert_error_at(&e, &path, &text, (key, line, reason));
     }
 }
 

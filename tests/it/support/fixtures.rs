@@ -110,3 +110,17 @@ pub fn line_number(text: &str, line: &str) -> usize {
     assert_eq!(hits.len(), 1, "`{line}` must occur on exactly one line");
     hits[0]
 }
+
+/// Asserts that the input error `e` names the file `path`, the key `key`, the line of `text`
+/// that reads `line`, and a reason containing `reason`.
+pub fn assert_error_at(
+    e: &rotorsweep::error::InputError,
+    path: &std::path::Path,
+    text: &str,
+    (key, line, reason): (&str, &str, &str),
+) {
+    assert_eq!(e.file, path, "{e}");
+    assert_eq!(e.key.as_deref(), Some(key), "{e}");
+    assert_eq!(e.line, Some(line_number(text, line)), "{e}");
+    assert!(e.reason.contains(reason), "{e}");
+}
