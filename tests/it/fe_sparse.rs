@@ -118,12 +118,7 @@ fn reduce_command_gives_a_chains_closed_form_fixed_interface_frequencies() {
         "-o",
         out.to_str().unwrap(),
     ]);
-    let text = std::fs::read_to_string(out.join("frequencies.csv")).unwrap();
-    let fixed: Vec<f64> = text
-        .lines()
-        .filter_map(|l| l.strip_prefix("fixed-interface,"))
-        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
-        .collect();
+    let fixed = frequencies_of(&out, "fixed-interface");
     assert_eq!(fixed.len(), 12);
     for (i, f) in fixed.iter().enumerate() {
         let r = (i + 1) as f64;
@@ -163,12 +158,7 @@ fn reduce_free_gives_a_free_chains_closed_form_modes() {
         "-o",
         out.to_str().unwrap(),
     ]);
-    let text = std::fs::read_to_string(out.join("frequencies.csv")).unwrap();
-    let free: Vec<f64> = text
-        .lines()
-        .filter_map(|l| l.strip_prefix("free-body,"))
-        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
-        .collect();
+    let free = frequencies_of(&out, "free-body");
     assert_eq!(free.len(), 10);
     assert!(free[0] < 1e-3, "rigid mode {} Hz", free[0]);
     for (r, f) in free.iter().enumerate().skip(1) {
@@ -332,4 +322,15 @@ fn sparse_reader_names_the_file_and_line_of_bad_input() {
         short.contains("dofs.csv") && short.contains("row 2 of the 2 × 2 matrices has no line"),
         "{short}"
     );
+}
+
+/// The frequencies [Hz] of one set (`fixed-interface`, `free-body`) in `reduce`'s
+/// `frequencies.csv` in the folder `out`, in file order.
+fn frequencies_of(out: &std::path::Path, set: &str) -> Vec<f64> {
+    let text = std::fs::read_to_string(out.join("frequencies.csv")).unwrap();
+    let prefix = format!("{set},");
+    text.lines()
+        .filter_map(|l| l.strip_prefix(prefix.as_str()))
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect()
 }
