@@ -306,14 +306,7 @@ impl LinearSystem {
             let mut v = base_c.view_mut((0, 0), (nm, nm));
             v += cz * rr;
         }
-        let nodes = model.phi.nrows() / NDOF;
-        let mut lateral = DMatrix::zeros(2 * nodes, nm);
-        for i in 0..nodes {
-            lateral.row_mut(i).copy_from(&model.phi.row(NDOF * i));
-            lateral
-                .row_mut(nodes + i)
-                .copy_from(&model.phi.row(NDOF * i + 1));
-        }
+        let lateral = lateral_rows(&model.phi);
         let mut sys = Self {
             k: DMatrix::zeros(n, n),
             c: DMatrix::zeros(n, n),
@@ -538,6 +531,18 @@ pub fn modal_damping(model: &ReducedModel, bands: &DampingBands) -> DMatrix<f64>
         }
     }
     d_modal
+}
+
+/// The lateral rows of a basis Φ (NDOF rows per node): every node's x row, then every node's
+/// y row [2 nodes × modes].
+pub fn lateral_rows(phi: &DMatrix<f64>) -> DMatrix<f64> {
+    let nodes = phi.nrows() / NDOF;
+    let mut lateral = DMatrix::zeros(2 * nodes, phi.ncols());
+    for i in 0..nodes {
+        lateral.row_mut(i).copy_from(&phi.row(NDOF * i));
+        lateral.row_mut(nodes + i).copy_from(&phi.row(NDOF * i + 1));
+    }
+    lateral
 }
 
 /// Ŝ: the least-squares projection on the basis Φ of the rotation generator ẑ× acting on every

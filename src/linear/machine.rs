@@ -31,11 +31,10 @@ use serde_json::{json, Map, Value};
 
 use super::modes::{whirl_of_orbits, Kind, Whirl, LISTED_ZETA, UNSTABLE_ZETA, ZERO_RAD_S};
 use crate::dynamics::bodies::{models, MachineSystem};
-use crate::dynamics::linear_system::{modal_damping, rotation_generator};
+use crate::dynamics::linear_system::{lateral_rows, modal_damping, rotation_generator};
 use crate::dynamics::model::Model;
 use crate::dynamics::nip::SegmentState;
 use crate::numerics::eigen;
-use crate::rotor::fe::NDOF;
 use crate::scene::Machine;
 
 type C64 = Complex<f64>;
@@ -141,14 +140,7 @@ impl MachineLinear {
         for ((roll, model), (offset, nm)) in machine.rolls.iter().zip(&models).zip(sys.blocks()) {
             let red = &model.reduced;
             let ds = modal_damping(red, &roll.scene.damping) * rotation_generator(&red.phi);
-            let nodes = red.phi.nrows() / NDOF;
-            let mut lateral = DMatrix::zeros(2 * nodes, nm);
-            for i in 0..nodes {
-                lateral.row_mut(i).copy_from(&red.phi.row(NDOF * i));
-                lateral
-                    .row_mut(nodes + i)
-                    .copy_from(&red.phi.row(NDOF * i + 1));
-            }
+            let lateral = lateral_rows(&red.phi);
             let p = q.rows(offset, nm);
             for s in &roll.scene.sensors {
                 let u = red.node_rows(model.rotor.named[s]).rows(0, 2) * p;
