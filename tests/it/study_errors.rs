@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use rotorsweep::error::InputError;
 use rotorsweep::study::Study;
-use support::{repo, scratch, study_text, write_file};
+use support::{repo, rotorsweep_ok, scratch, study_text, write_file};
 
 /// 1-based line of the first line of `text` that contains `needle`.
 fn line_of(text: &str, needle: &str) -> usize {
@@ -307,4 +307,46 @@ fn plan_lists_numeric_values_in_numeric_order() {
         text.contains("speed.hz: 5.0, 6.0, 10.0, 12.5"),
         "as text 10.0 sorted before 5.0:\n{text}"
     );
+}
+
+#[test]
+fn plan_of_a_long_study_lists_its_ends_and_all_jobs_lists_every_one() {
+    let d = scratch("plan-long");
+    // 150 jobs: more than the 100 that `plan` lists whole, and 150 values of one parameter.
+    let p = write_file(
+        &d,
+        "s.toml",
+        &study_text(
+            "[[axes]]\nkey = \"speed.hz\"\nrange = { start = 5.0, stop = 6.495, step = 0.01 }\n",
+        ),
+    );
+    let plan = |extra: &[&str]| {
+        let args: Vec<&str> = ["plan", p.to_str().unwrap()]
+            .into_iter()
+            .chain(extra.iter().copied())
+            .collect();
+        String::from_utf8(rotorsweep_ok(&args)).unwrap()
+    };
+    let job_lines = |text: &str| {
+        text.lines()
+            .filter(|l| l.contains("speed.hz=") && l.trim_start().starts_with(char::is_numeric))
+            .count()
+    };
+    let short = plan(&[]);
+    assert!(short.starts_with("study "), "{short}");
+    assert!(short.contains("150 jobs"), "{short}");
+    assert!(
+        short.contains(
+            "speed.hz: 5.0, 5.01, 5.02, 5.03, 5.04, …, 6.45, 6.46, 6.47, 6.48, 6.49 (150 values)"
+        ),
+        "{short}"
+    );
+    assert_eq!(job_lines(&short), 20, "{short}");
+    assert!(
+        short.contains("130 jobs not listed (--all-jobs lists every one)"),
+        "{short}"
+    );
+    let all = plan(&["--all-jobs"]);
+    assert_eq!(job_lines(&all), 150, "{all}");
+    assert!(!all.contains('…'), "{all}");
 }

@@ -15,6 +15,33 @@ pub struct PlanArgs {
     /// Threads the cost estimate assumes.
     #[arg(long, default_value_t = 2)]
     threads: usize,
+    /// List every job and every value of each varying parameter (by default a study of more
+    /// than 100 jobs lists its first and last 10, and a parameter of more than 20 values its
+    /// first and last 5).
+    #[arg(long)]
+    all_jobs: bool,
+}
+
+/// Jobs listed by `plan` without `--all-jobs`: all up to `LIST_ALL`, else `LIST_ENDS` at each end.
+const LIST_ALL: usize = 100;
+const LIST_ENDS: usize = 10;
+/// Values of a varying parameter listed without `--all-jobs`: all up to `VALUES_ALL`, else
+/// `VALUES_ENDS` at each end.
+const VALUES_ALL: usize = 20;
+const VALUES_ENDS: usize = 5;
+
+/// The indices of `n` items to list: all when `all` or `n <= up_to`, else `ends` at each end
+/// (the gap between them is where `None` stands).
+fn listed(n: usize, all: bool, up_to: usize, ends: usize) -> Vec<Option<usize>> {
+    if all || n <= up_to {
+        (0..n).map(Some).collect()
+    } else {
+        (0..ends)
+            .map(Some)
+            .chain(std::iter::once(None))
+            .chain((n - ends..n).map(Some))
+            .collect()
+    }
 }
 
 /// Arguments of `rotorsweep run`.
@@ -78,7 +105,16 @@ pub fn plan(a: &PlanArgs) -> Result<(), crate::error::CliError> {
     }
     println!("varying parameters:");
     for (k, vals) in &plan.varying {
-        println!("  {k}: {}", vals.join(", "));
+        let shown: Vec<&str> = listed(vals.len(), a.all_jobs, VALUES_ALL, VALUES_ENDS)
+            .into_iter()
+            .map(|i| i.map_or("…", |i| vals[i].as_str()))
+            .collect();
+        let count = if shown.len() < vals.len() {
+            format!(" ({} values)", vals.len())
+        } else {
+            String::new()
+        };
+        println!("  {k}: {}{count}", shown.join(", "));
     }
     println!(
         "distinct reduced models: {} (pruning pilots: {})",
@@ -120,7 +156,15 @@ pub fn plan(a: &PlanArgs) -> Result<(), crate::error::CliError> {
         size(plan.disk_bytes)
     );
     println!("\n  job  id                 overrides");
-    for j in &st.jobs {
+    for i in listed(st.jobs.len(), a.all_jobs, LIST_ALL, LIST_ENDS) {
+        let Some(i) = i else {
+            println!(
+                "  …  {} jobs not listed (--all-jobs lists every one)",
+                st.jobs.len() - 2 * LIST_ENDS
+            );
+            continue;
+        };
+        let j = &st.jobs[i];
         let over: Vec<String> = st
             .varying
             .iter()
