@@ -452,10 +452,12 @@ fn bad_sample_tables_name_file_key_and_line() {
     );
     assert!(msg.contains("positive definite"), "{msg}");
 
-    let (key, _, msg, _) = error_of(&format!(
+    // [sample] beside grid axes: refused (one sampled study per grid point), at the table.
+    let (key, at, msg, text) = error_of(&format!(
         "[[axes]]\nkey = \"solver.hmax\"\nvalues = [1e-3]\n{head}distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n"
     ));
     assert_eq!(key.as_deref(), Some("sample"));
+    assert_eq!(at, line(&text, "[sample]"));
     assert!(msg.contains("[[axes]]"), "{msg}");
 
     // A sampled key that would replace a [set] key inside it (dropping it silently).
