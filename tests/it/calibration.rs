@@ -205,7 +205,14 @@ fn a_noisy_run_up_gives_back_the_parameters_it_was_made_with() {
     ]);
     let (sim, ids) = run_truth(&run_up(&d, "truth.toml", &set));
     assert_eq!(ids.len(), 1);
-    noisy_record(&sim, &ids[0], 20.0, 24, &[1.0], &d.join("record.h5"));
+    noisy_record(
+        &sim,
+        &ids[0],
+        (20.0, 24),
+        &[1.0],
+        "disk",
+        &d.join("record.h5"),
+    );
     // The calibration from a start off in every parameter.
     run_up(&d, "experiment.toml", "");
     let text = format!(
@@ -239,6 +246,20 @@ fn a_noisy_run_up_gives_back_the_parameters_it_was_made_with() {
     assert!(e.to_string().contains("`disk/axial`"), "{e}");
     // The ramp's blocks only (the ramp reaches 49 Hz at 9.5 s).
     let text = text + "speed_max_hz = 48.9\n";
+    // A record of a sensor the scene does not have (the same ramp named `rim`): an error at
+    // the record's file, naming the sensor and the scene's sensors.
+    noisy_record(&sim, &ids[0], (20.0, 24), &[1.0], "rim", &d.join("rim.h5"));
+    let rim = text.replace("\"record.h5\"", "\"rim.h5\"");
+    let e = Calibration::load(&write_file(&d, "rim.toml", &rim)).unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("records[0].file"), "{e}");
+    assert_eq!(
+        e.line,
+        Some(support::line_number(&rim, "file = \"rim.h5\"")),
+        "{e}"
+    );
+    let msg = e.to_string();
+    assert!(msg.contains("sensor `rim` is not in the scene"), "{msg}");
+    assert!(msg.contains("(its sensors: disk)"), "{msg}");
     // 2 directions × 49 ramp blocks × 2 parts.
     fit_recovers(&d, &text, 196, &truth);
 }
@@ -319,14 +340,15 @@ fn fit_recovers(dir: &std::path::Path, text: &str, rows: usize, truth: &[f64]) {
 
 /// A measured record made from the model: the time, roll angle and both disk channels of job
 /// `id` of the results file `sim`, each channel plus seeded white noise of `sigma` µm per
-/// sample, written as a CSV record and brought in with `rotorsweep import`'s own reader and
-/// writer (`results::measured`, the given orders) as `out`.
+/// sample, written as a CSV record (its channels named by the sensor `as_sensor`) and brought
+/// in with `rotorsweep import`'s own reader and writer (`results::measured`, the given orders)
+/// as `out`.
 fn noisy_record(
     sim: &std::path::Path,
     id: &str,
-    sigma: f64,
-    seed: u64,
+    (sigma, seed): (f64, u64),
     orders: &[f64],
+    as_sensor: &str,
     out: &std::path::Path,
 ) {
     use rotorsweep::numerics::rng::SplitMix64;
@@ -342,8 +364,9 @@ fn noisy_record(
         (read("time"), read("speed/roll_angle"), chans)
     };
     let mut rng = SplitMix64::new(seed);
-    let mut csv =
-        String::from("time_s,roll_angle_rad,runout/disk/vertical,runout/disk/horizontal\n");
+    let mut csv = format!(
+        "time_s,roll_angle_rad,runout/{as_sensor}/vertical,runout/{as_sensor}/horizontal\n"
+    );
     for i in 0..time.len() {
         let v = channels[0][i] + sigma * rng.normal();
         let h = channels[1][i] + sigma * rng.normal();
@@ -420,13 +443,21 @@ fn a_noisy_run_up_gives_back_stand_damping_modal_damping_and_asymmetry() {
     ]);
     let (sim, ids) = run_truth(&two_run_ups(&d, "truth.toml", &set));
     assert_eq!(ids.len(), 2);
-    noisy_record(&sim, &ids[0], 5.0, 241, &[1.0, 2.0], &d.join("half.h5"));
+    let orders = [1.0, 2.0];
+    noisy_record(
+        &sim,
+        &ids[0],
+        (5.0, 241),
+        &orders,
+        "disk",
+        &d.join("half.h5"),
+    );
     noisy_record(
         &sim,
         &ids[1],
-        20.0,
-        242,
-        &[1.0, 2.0],
+        (20.0, 242),
+        &orders,
+        "disk",
         &d.join("critical.h5"),
     );
     two_run_ups(&d, "experiment.toml", "");
