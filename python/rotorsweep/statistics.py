@@ -7,7 +7,9 @@
 
 In: a results file of ``rotorsweep run`` on a sampled study. Out: the ``statistics`` and
 ``sensitivity`` tables of ``rotorsweep report FILE --table NAME --format json`` (docs/statistics.md)
-as DataFrames, one column per table column, numbers as float (a missing value NaN), ``n`` as int;
+as DataFrames, one column per table column, numbers as float (a missing value NaN), ``n`` as int
+(of a study with grid axes, one block of rows per grid point, led by a column per swept key: its
+value as float, or as text for a key of text values);
 ``df.attrs["title"]`` and ``df.attrs["legend"]`` say what the columns hold. The binary computes
 them (one implementation of the estimators); it is found as :func:`rotorsweep.find_binary` does.
 A file without the table (not a sampled study; ``sensitivity`` needs ``method = "saltelli"``)
@@ -37,10 +39,13 @@ def _table(path: PathLike, name: str, timeout: float | None, binary: PathLike | 
     for c in df.columns:
         if c == "n":
             df[c] = df[c].astype("int64")
-        elif c not in ("output", "parameter", "job_id", "label"):
-            df[c] = df[c].astype(float).fillna(np.nan)
-        else:
+        elif c in ("output", "parameter", "job_id", "label"):
             df[c] = df[c].astype(str)
+        else:
+            try:
+                df[c] = df[c].astype(float).fillna(np.nan)
+            except (TypeError, ValueError):  # a swept key of text values
+                df[c] = df[c].astype(str)
     df.attrs["title"] = table["title"]
     df.attrs["legend"] = table["legend"]
     return df

@@ -244,7 +244,7 @@ fn wall(sc: &Scene, table: &toml::Value) -> Option<Wall> {
                 .segments
                 .iter()
                 .filter_map(|s| match s.section {
-                    SectionSpec::Tube { outer, inner } => Some((outer * 1e3, inner * 1e3)),
+                    SectionSpec::Tube { outer, inner, .. } => Some((outer * 1e3, inner * 1e3)),
                     SectionSpec::Mapped { .. } => None,
                 })
                 .collect(),

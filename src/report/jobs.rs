@@ -19,6 +19,7 @@ use crate::text::number_text;
 pub(crate) const INTEGRATOR_KEY: &str = "solver.integrator";
 
 /// One job as the tables see it.
+#[derive(Clone)]
 pub(crate) struct Job {
     pub(crate) id: String,
     /// The job's label (its labelled axes' labels), "" without.

@@ -16,9 +16,9 @@ use hdf5::File;
 use super::jobs::{read_jobs, Job, INTEGRATOR_KEY};
 use super::table::{position_or_push, Report};
 use super::tables::{
-    balancing_tables, linear_table, order_resonance_table, orders_table, resonance_table,
-    samples_table, sensitivity_table, solver_table, stability_table, statistics_table,
-    trial_mass_table,
+    balancing_tables, linear_table, order_resonance_table, orders_table, per_grid_point,
+    resonance_table, samples_table, sensitivity_table, solver_table, stability_table,
+    statistics_table, trial_mass_table, Builder,
 };
 use crate::error::InputError;
 use crate::results::request::{analysis_of_text, StudyAnalysis};
@@ -114,8 +114,9 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
         tables.push(stability_table(&jobs, &varying));
     }
     tables.extend(linear_table(&f).map_err(failed)?);
-    tables.extend(statistics_table(&f, &jobs, &text).map_err(failed)?);
-    tables.extend(sensitivity_table(&f, &jobs, &text).map_err(failed)?);
+    for build in [statistics_table as Builder, sensitivity_table] {
+        tables.extend(per_grid_point(&f, &jobs, &text, &varying, build).map_err(failed)?);
+    }
     tables.extend(samples_table(&f, &jobs, &text).map_err(failed)?);
     Ok(Report {
         file: path.to_path_buf(),

@@ -387,6 +387,8 @@ pub(super) struct SegmentFile {
     pub outer_diameter_mm: f64,
     #[serde(default)]
     pub inner_diameter_mm: f64,
+    #[serde(default)]
+    pub bending_asymmetry: f64,
     pub elements: usize,
     pub material: String,
 }

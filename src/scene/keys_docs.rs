@@ -505,6 +505,13 @@ pub const DOCS: &[KeyDoc] = &[
         meaning: "Bore diameter (0: solid).",
     },
     KeyDoc {
+        key: "rotor.segments[].bending_asymmetry",
+        units: "",
+        default: "0",
+        range: "−0.9 … 0.9",
+        meaning: "Bending asymmetry a = (I_x − I_y)/(I_x + I_y): the second moments about the body x and y axes are I(1 + a) and I(1 − a), I the round section's (a shaft with flats, a keyway or a slot; under gravity a 2× excitation and the half-critical resonance). Area, mass and torsion stay the round section's.",
+    },
+    KeyDoc {
         key: "rotor.segments[].elements",
         units: "",
         default: "required",

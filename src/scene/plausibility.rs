@@ -38,7 +38,7 @@ pub fn warnings(
     for (i, s) in segments.iter().enumerate() {
         let (outer, thinnest, key) = match &s.section {
             SectionSpec::Tube { inner, .. } if *inner <= 0.0 => continue,
-            SectionSpec::Tube { outer, inner } => {
+            SectionSpec::Tube { outer, inner, .. } => {
                 let key = if roll {
                     "roll.shell.wall_thickness_mm".to_string()
                 } else {
@@ -89,7 +89,7 @@ pub fn warnings(
 /// A segment's mass [kg]: its mean cross-section (a map's mean wall) × length × density.
 fn mass(s: &SegmentSpec) -> f64 {
     let area = match &s.section {
-        SectionSpec::Tube { outer, inner } => 0.25 * PI * (outer * outer - inner * inner),
+        SectionSpec::Tube { outer, inner, .. } => 0.25 * PI * (outer * outer - inner * inner),
         SectionSpec::Mapped { outer, map, .. } => {
             let t = map.stats().mean_m;
             PI * (outer - t) * t

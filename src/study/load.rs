@@ -70,13 +70,7 @@ impl Study {
         job_count(&c, &rows, raw.jobs.len())?;
         let mut grid = Grid::new(&c, &raw.axes, rows, &raw.jobs)?;
         let sampled = match &raw.sample {
-            Some(s) => Some(sample::into_grid(
-                &c,
-                s,
-                !raw.axes.is_empty(),
-                !raw.jobs.is_empty(),
-                &mut grid,
-            )?),
+            Some(s) => Some(sample::into_grid(&c, s, !raw.jobs.is_empty(), &mut grid)?),
             None => None,
         };
         let mut references = References::new(&c, &source, &raw.reference)?;

@@ -1,5 +1,8 @@
-//! `rotorsweep calibrate` (src/calibration/): the bad inputs of issue 24 (file, key and line)
-//! and a parameter that moves nothing (a warning naming its file, key and line).
+//! `rotorsweep calibrate` (src/calibration/): the bad inputs of issue 24 (file, key and line),
+//! a parameter that moves nothing (a warning naming its file, key and line), and known
+//! parameters recovered from noisy run-ups made by the model (Young's modulus, ground damping
+//! and unbalance from a 1× record; ground damping, modal damping and a bending asymmetry from a
+//! 2× and a 1× record).
 
 use crate::support;
 use rotorsweep::calibration::{self, Calibration, Options};
@@ -9,19 +12,15 @@ use support::{scratch, write_file};
 /// around its first critical (44.5 Hz), 4 s to settle, the 1× over the last second; its linear
 /// systems with their static sag.
 fn study(dir: &std::path::Path) -> std::path::PathBuf {
-    let scene = support::repo().join("studies/scenes/jeffcott.toml");
-    write_file(
+    jeffcott_study(
         dir,
         "experiment.toml",
-        &format!(
-            "name = \"jeffcott-near-critical\"\nscene = {:?}\n[set]\n\
-             \"simulation.settle_s\" = 4.0\n\"simulation.t_end_s\" = 5.0\n\
-             \"simulation.sample_rate_hz\" = 500.0\n\"damping.schedule\" = \"custom\"\n\
-             \"damping.bands\" = [{{ below_hz = 250.0, ratio = 0.04 }}, {{ below_hz = 1070.0, ratio = 0.01 }}]\n\
-             [[axes]]\nkey = \"speed.hz\"\nvalues = [42.0, 43.5, 44.5, 45.5]\n\
-             [analysis]\norders = [1.0]\n[linear]\nstatic = true\n",
-            scene.display().to_string()
-        ),
+        "name = \"jeffcott-near-critical\"\n[set]\n\
+         \"simulation.settle_s\" = 4.0\n\"simulation.t_end_s\" = 5.0\n\
+         \"simulation.sample_rate_hz\" = 500.0\n\"damping.schedule\" = \"custom\"\n\
+         \"damping.bands\" = [{ below_hz = 250.0, ratio = 0.04 }, { below_hz = 1070.0, ratio = 0.01 }]\n\
+         [[axes]]\nkey = \"speed.hz\"\nvalues = [42.0, 43.5, 44.5, 45.5]\n\
+         [analysis]\norders = [1.0]\n[linear]\nstatic = true\n",
     )
 }
 
@@ -32,6 +31,17 @@ fn options(out: &std::path::Path) -> Options {
         overwrite: false,
         command: "test".into(),
     }
+}
+
+/// Writes `body` (a study without its scene) as `file` in `dir` with the Jeffcott scene
+/// (studies/scenes/jeffcott.toml) as its scene.
+fn jeffcott_study(dir: &std::path::Path, file: &str, body: &str) -> std::path::PathBuf {
+    let scene = support::repo().join("studies/scenes/jeffcott.toml");
+    write_file(
+        dir,
+        file,
+        &format!("scene = {:?}\n{body}", scene.display().to_string()),
+    )
 }
 
 /// A calibration file around the experiment for the error tests.
@@ -152,17 +162,15 @@ fn a_parameter_that_moves_nothing_is_a_warning() {
 /// (55 blocks of 8 revolutions per direction, half overlapping, 49 of them on the ramp below
 /// 48.9 Hz). `set` adds `[set]` lines (the truth's values).
 fn run_up(dir: &std::path::Path, name: &str, set: &str) -> std::path::PathBuf {
-    let scene = support::repo().join("studies/scenes/jeffcott.toml");
-    write_file(
+    jeffcott_study(
         dir,
         name,
         &format!(
-            "name = \"jeffcott-runup\"\nscene = {:?}\n[set]\n\"speed.profile\" = \"ramp\"\n\
+            "name = \"jeffcott-runup\"\n[set]\n\"speed.profile\" = \"ramp\"\n\
              \"speed.from_hz\" = 40.0\n\"speed.to_hz\" = 49.0\n\"speed.ramp_start_s\" = 5.0\n\
              \"speed.rate_hz_per_s\" = 2.0\n\"simulation.settle_s\" = 5.0\n\
              \"simulation.t_end_s\" = 10.0\n\"simulation.sample_rate_hz\" = 1000.0\n{set}\
-             [analysis]\norders = [1.0]\n",
-            scene.display().to_string()
+             [analysis]\norders = [1.0]\n"
         ),
     )
 }
@@ -188,55 +196,25 @@ fn run_up(dir: &std::path::Path, name: &str, set: &str) -> std::path::PathBuf {
 /// error and 0.2 % of the truth), reduced χ² 0.90, 11 steps, 66 evaluations.
 #[test]
 fn a_noisy_run_up_gives_back_the_parameters_it_was_made_with() {
-    use rotorsweep::numerics::rng::SplitMix64;
-    use rotorsweep::results::measured;
     let d = scratch("calibration-recovery");
-    let dampers = [
-        "supports[0].ground.cx_ns_per_m",
-        "supports[0].ground.cy_ns_per_m",
-        "supports[1].ground.cx_ns_per_m",
-        "supports[1].ground.cy_ns_per_m",
-    ];
     let truth = [210.0, 5000.0, 2.0];
-    let mut set = format!(
-        "\"materials.steel.youngs_modulus_gpa\" = {:?}\n\"rotor.masses[0].mass_g\" = {:?}\n",
-        truth[0], truth[2]
+    let set = set_lines(&[
+        (&["materials.steel.youngs_modulus_gpa"], truth[0]),
+        (&DAMPERS, truth[1]),
+        (&["rotor.masses[0].mass_g"], truth[2]),
+    ]);
+    let (sim, ids) = run_truth(&run_up(&d, "truth.toml", &set));
+    assert_eq!(ids.len(), 1);
+    noisy_record(
+        &sim,
+        &ids[0],
+        (20.0, 24),
+        &[1.0],
+        "disk",
+        &d.join("record.h5"),
     );
-    for k in dampers {
-        set += &format!("\"{k}\" = {:?}\n", truth[1]);
-    }
-    let truth_study = rotorsweep::study::Study::load(&run_up(&d, "truth.toml", &set)).unwrap();
-    let sim = d.join("truth.h5");
-    rotorsweep::study::run::run(&truth_study, &support::run_options(&sim)).unwrap();
-    // The record: time, roll angle and both channels of the one job, plus seeded noise.
-    let (time, angle, channels) = {
-        let f = hdf5::File::open(&sim).unwrap();
-        let jobs = f.group("jobs").unwrap();
-        let names = jobs.member_names().unwrap();
-        assert_eq!(names.len(), 1, "{names:?}");
-        let g = jobs.group(&names[0]).unwrap();
-        let read = |n: &str| -> Vec<f64> { g.dataset(n).unwrap().read_raw().unwrap() };
-        let chans: Vec<Vec<f64>> = ["vertical", "horizontal"]
-            .iter()
-            .map(|dir| read(&format!("runout/disk/{dir}")))
-            .collect();
-        (read("time"), read("speed/roll_angle"), chans)
-    };
-    let sigma = 20.0;
-    let mut rng = SplitMix64::new(24);
-    let mut csv =
-        String::from("time_s,roll_angle_rad,runout/disk/vertical,runout/disk/horizontal\n");
-    for i in 0..time.len() {
-        let v = channels[0][i] + sigma * rng.normal();
-        let h = channels[1][i] + sigma * rng.normal();
-        csv += &format!("{:?},{:?},{v:?},{h:?}\n", time[i], angle[i]);
-    }
-    let csv_path = write_file(&d, "record.csv", &csv);
-    let record = measured::read(&csv_path).unwrap();
-    measured::write(&d.join("record.h5"), "record", &record, &[1.0], "test").unwrap();
     // The calibration from a start off in every parameter.
     run_up(&d, "experiment.toml", "");
-    let keys: Vec<String> = dampers.iter().map(|k| format!("{k:?}")).collect();
     let text = format!(
         "study = \"experiment.toml\"\n[fit]\nmax_iterations = 30\nstep = 0.002\n\
          [[parameters]]\nname = \"E\"\nkey = \"materials.steel.youngs_modulus_gpa\"\n\
@@ -246,7 +224,7 @@ fn a_noisy_run_up_gives_back_the_parameters_it_was_made_with() {
          [[parameters]]\nname = \"unbalance\"\nkey = \"rotor.masses[0].mass_g\"\n\
          lower = 0.5\nupper = 10.0\ninitial = 2.3\n\
          [[records]]\nfile = \"record.h5\"\namplitude_std_um = 2.6\n",
-        keys.join(", ")
+        quoted(&DAMPERS)
     );
     // The whole record holds the last 0.5 s at 49 Hz, whose blocks share a speed: an error
     // naming the file, the table and its line; so is a channel the record does not have.
@@ -268,27 +246,88 @@ fn a_noisy_run_up_gives_back_the_parameters_it_was_made_with() {
     assert!(e.to_string().contains("`disk/axial`"), "{e}");
     // The ramp's blocks only (the ramp reaches 49 Hz at 9.5 s).
     let text = text + "speed_max_hz = 48.9\n";
-    let p = write_file(&d, "recover.toml", &text);
-    let cal = Calibration::load(&p).unwrap_or_else(|e| panic!("{e}"));
+    // A record of a sensor the scene does not have (the same ramp named `rim`): an error at
+    // the record's file, naming the sensor and the scene's sensors.
+    noisy_record(&sim, &ids[0], (20.0, 24), &[1.0], "rim", &d.join("rim.h5"));
+    let rim = text.replace("\"record.h5\"", "\"rim.h5\"");
+    let e = Calibration::load(&write_file(&d, "rim.toml", &rim)).unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("records[0].file"), "{e}");
     assert_eq!(
-        cal.rows.len(),
-        196,
-        "2 directions × 49 ramp blocks × 2 parts"
+        e.line,
+        Some(support::line_number(&rim, "file = \"rim.h5\"")),
+        "{e}"
     );
-    let o = calibration::calibrate(&cal, &options(&d.join("recover.h5"))).unwrap();
+    let msg = e.to_string();
+    assert!(msg.contains("sensor `rim` is not in the scene"), "{msg}");
+    assert!(msg.contains("(its sensors: disk)"), "{msg}");
+    // 2 directions × 49 ramp blocks × 2 parts.
+    fit_recovers(&d, &text, 196, &truth);
+}
+
+/// The four ground dampers of the Jeffcott scene (both supports, both directions).
+const DAMPERS: [&str; 4] = [
+    "supports[0].ground.cx_ns_per_m",
+    "supports[0].ground.cy_ns_per_m",
+    "supports[1].ground.cx_ns_per_m",
+    "supports[1].ground.cy_ns_per_m",
+];
+
+/// `[set]` lines: every key of each group at the group's value.
+fn set_lines(groups: &[(&[&str], f64)]) -> String {
+    let mut set = String::new();
+    for (keys, v) in groups {
+        for k in *keys {
+            set += &format!("\"{k}\" = {v:?}\n");
+        }
+    }
+    set
+}
+
+/// The keys as a TOML array's items: `"a", "b"`.
+fn quoted(keys: &[&str]) -> String {
+    let q: Vec<String> = keys.iter().map(|k| format!("{k:?}")).collect();
+    q.join(", ")
+}
+
+/// Runs the truth's study (next to it, as `truth.h5`): the results file and the job ids in the
+/// study's order.
+fn run_truth(study: &std::path::Path) -> (std::path::PathBuf, Vec<String>) {
+    let truth = rotorsweep::study::Study::load(study).unwrap();
+    let sim = study.with_file_name("truth.h5");
+    rotorsweep::study::run::run(&truth, &support::run_options(&sim)).unwrap();
+    (sim, truth.jobs.iter().map(|j| j.id.clone()).collect())
+}
+
+/// Writes the calibration `text` as `recover.toml` in `dir`, checks its row count, calibrates it
+/// into `recover.h5` and asserts the recovery (the issue's bound): the fit converged, its
+/// reduced χ² below 3, each fitted value within 2 % of its truth and each standard error below
+/// 2 % of it (so the bound is not met by a wide error). Prints the fit.
+fn fit_recovers(dir: &std::path::Path, text: &str, rows: usize, truth: &[f64]) {
+    let cal =
+        Calibration::load(&write_file(dir, "recover.toml", text)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(cal.rows.len(), rows);
+    let o = calibration::calibrate(&cal, &options(&dir.join("recover.h5"))).unwrap();
     let report: Vec<String> = o
         .parameters
         .iter()
         .map(|p| format!("{} {} ± {}", p.name, p.value, p.std_error))
         .collect();
     let summary = format!(
-        "{report:?}, stop {}, {} steps, {} evaluations, reduced χ² {}, cpu {} s",
-        o.stop, o.iterations, o.evaluations, o.reduced_chi_square, o.cpu_s
+        "{report:?}, {} rows, stop {}, {} steps, {} evaluations, reduced χ² {}, cpu {} s, \
+         correlation {:?}",
+        cal.rows.len(),
+        o.stop,
+        o.iterations,
+        o.evaluations,
+        o.reduced_chi_square,
+        o.cpu_s,
+        o.correlation
     );
     println!("{summary}");
     assert_eq!(o.stop, "converged", "{summary}");
     assert!(o.reduced_chi_square < 3.0, "{summary}");
-    for (p, t) in o.parameters.iter().zip(truth) {
+    assert_eq!(o.parameters.len(), truth.len());
+    for (p, &t) in o.parameters.iter().zip(truth) {
         assert!(
             (p.value / t - 1.0).abs() < 0.02,
             "{} {} against {t}: {summary}",
@@ -297,4 +336,144 @@ fn a_noisy_run_up_gives_back_the_parameters_it_was_made_with() {
         );
         assert!(p.std_error < 0.02 * t, "{}: {summary}", p.name);
     }
+}
+
+/// A measured record made from the model: the time, roll angle and both disk channels of job
+/// `id` of the results file `sim`, each channel plus seeded white noise of `sigma` µm per
+/// sample, written as a CSV record (its channels named by the sensor `as_sensor`) and brought
+/// in with `rotorsweep import`'s own reader and writer (`results::measured`, the given orders)
+/// as `out`.
+fn noisy_record(
+    sim: &std::path::Path,
+    id: &str,
+    (sigma, seed): (f64, u64),
+    orders: &[f64],
+    as_sensor: &str,
+    out: &std::path::Path,
+) {
+    use rotorsweep::numerics::rng::SplitMix64;
+    use rotorsweep::results::measured;
+    let (time, angle, channels) = {
+        let f = hdf5::File::open(sim).unwrap();
+        let g = f.group(&format!("jobs/{id}")).unwrap();
+        let read = |n: &str| -> Vec<f64> { g.dataset(n).unwrap().read_raw().unwrap() };
+        let chans: Vec<Vec<f64>> = ["vertical", "horizontal"]
+            .iter()
+            .map(|dir| read(&format!("runout/disk/{dir}")))
+            .collect();
+        (read("time"), read("speed/roll_angle"), chans)
+    };
+    let mut rng = SplitMix64::new(seed);
+    let mut csv = format!(
+        "time_s,roll_angle_rad,runout/{as_sensor}/vertical,runout/{as_sensor}/horizontal\n"
+    );
+    for i in 0..time.len() {
+        let v = channels[0][i] + sigma * rng.normal();
+        let h = channels[1][i] + sigma * rng.normal();
+        csv += &format!("{:?},{:?},{v:?},{h:?}\n", time[i], angle[i]);
+    }
+    let csv_path = out.with_extension("csv");
+    std::fs::write(&csv_path, csv).unwrap();
+    let record = measured::read(&csv_path).unwrap();
+    measured::write(out, "record", &record, orders, "test").unwrap();
+}
+
+/// The experiment of the damping and asymmetry recovery: the Jeffcott rotor
+/// (studies/scenes/jeffcott.toml, critical speeds 44.4 Hz horizontal and 44.6 Hz vertical) with
+/// custom modal damping (0.5 % below 250 Hz, 1 % below 1070 Hz) as two run-ups, recorded at
+/// 1 kHz from the ramp's start at 0.5 s to its end: job 0 through the half-critical, 21 → 23.5
+/// Hz at 0.5 Hz/s (its 2×, from gravity on the asymmetric shaft, passes 44.4–44.6 Hz), job 1
+/// through the critical, 42 → 47 Hz at 2 Hz/s (its 1×, from the 2 g unbalance). Orders 1 and 2
+/// tracked. `set` adds `[set]` lines (the truth's values).
+fn two_run_ups(dir: &std::path::Path, name: &str, set: &str) -> std::path::PathBuf {
+    jeffcott_study(
+        dir,
+        name,
+        &format!(
+            "name = \"jeffcott-two-runups\"\n[set]\n\"speed.profile\" = \"ramp\"\n\
+             \"speed.ramp_start_s\" = 0.5\n\"simulation.settle_s\" = 0.5\n\
+             \"simulation.sample_rate_hz\" = 1000.0\n\"damping.schedule\" = \"custom\"\n\
+             \"damping.bands\" = [{{ below_hz = 250.0, ratio = 0.005 }}, {{ below_hz = 1070.0, ratio = 0.01 }}]\n\
+             {set}[[axes]]\n\
+             keys = [\"speed.from_hz\", \"speed.to_hz\", \"speed.rate_hz_per_s\", \"simulation.t_end_s\"]\n\
+             values = [[21.0, 23.5, 0.5, 5.5], [42.0, 47.0, 2.0, 3.0]]\n\
+             labels = [\"half-critical\", \"critical\"]\n[analysis]\norders = [1.0, 2.0]\n"
+        ),
+    )
+}
+
+/// Issue 24's must-show in the issue's own words: stand damping, modal damping and an asymmetry
+/// amplitude recovered from a noisy run-up made by the model itself, each within 2 % or its
+/// reported standard error. The truth (the values put in): the four ground dampers 5000 N s/m,
+/// modal damping 0.5 % below 250 Hz and the shaft's bending asymmetry
+/// (`rotor.segments[].bending_asymmetry`, (I_x − I_y)/(I_x + I_y)) 0.01; the unbalance stays
+/// the scene's 2 g, known. The experiment ([`two_run_ups`]) at the truth, plus seeded white
+/// noise per sample of σ = 5 µm on the half-critical job's channels and 20 µm on the critical
+/// job's, brought in through `rotorsweep import`'s reader and writer; the calibration fits the
+/// three from (4000 N s/m, 0.8 %, 0.013) to the half-critical run-up's 2× and the critical
+/// run-up's 1× (real and imaginary part of every block of both channels). The σ of a part is
+/// √(3/M) × the sample noise (docs/runups-and-balancing.md, the noise floor), M = 8 revolutions
+/// × 1000 Hz / speed: 5 µm × √(3/360) = 0.46 µm at 22.25 Hz and 20 µm × √(3/178) = 2.6 µm at
+/// 44.5 Hz.
+///
+/// Why two run-ups: modal damping acts in the rotating frame, which a synchronous forward whirl
+/// (the 1×) does not move, so the 1× through the critical sees the ground dampers alone; the
+/// 2× through the half-critical whirls at 2Ω, once Ω in the rotating frame, and sees both.
+/// Measured (docs/calibration.md): the 2× alone also separates them (correlation −0.56), with
+/// twice the ground dampers' standard error (93 against 42 N s/m).
+///
+/// Asserted ([`fit_recovers`]): the fit converged, its reduced χ² below 3, each fitted value
+/// within 2 % of its truth and each standard error below 2 % of it (the issue asks 2 % or the
+/// standard error; with the error below 2 % the first is the bound). Measured 2026-12-03: ground dampers 4973 ± 42 N s/m (0.55 %,
+/// 0.65 σ), modal damping 0.49869 % ± 0.00274 % (0.26 %, 0.5 σ), asymmetry 0.0099869 ±
+/// 0.0000093 (0.13 %, 1.4 σ); 208 rows, converged after 4 steps, 25 evaluations (50 run-ups),
+/// reduced χ² 0.85, CPU 17 s.
+#[test]
+fn a_noisy_run_up_gives_back_stand_damping_modal_damping_and_asymmetry() {
+    let d = scratch("calibration-damping-asymmetry");
+    let asymmetry = [
+        "rotor.segments[0].bending_asymmetry",
+        "rotor.segments[1].bending_asymmetry",
+    ];
+    let truth = [5000.0, 0.005, 0.01];
+    let set = set_lines(&[
+        (&DAMPERS, truth[0]),
+        (&["damping.bands[0].ratio"], truth[1]),
+        (&asymmetry, truth[2]),
+    ]);
+    let (sim, ids) = run_truth(&two_run_ups(&d, "truth.toml", &set));
+    assert_eq!(ids.len(), 2);
+    let orders = [1.0, 2.0];
+    noisy_record(
+        &sim,
+        &ids[0],
+        (5.0, 241),
+        &orders,
+        "disk",
+        &d.join("half.h5"),
+    );
+    noisy_record(
+        &sim,
+        &ids[1],
+        (20.0, 242),
+        &orders,
+        "disk",
+        &d.join("critical.h5"),
+    );
+    two_run_ups(&d, "experiment.toml", "");
+    let text = format!(
+        "study = \"experiment.toml\"\n[fit]\nmax_iterations = 30\nstep = 0.002\n\
+         [[parameters]]\nname = \"ground damping\"\nkeys = [{}]\n\
+         lower = 500.0\nupper = 20000.0\ninitial = 4000.0\nscale = \"log\"\n\
+         [[parameters]]\nname = \"modal damping\"\nkey = \"damping.bands[0].ratio\"\n\
+         lower = 0.001\nupper = 0.05\ninitial = 0.008\nscale = \"log\"\n\
+         [[parameters]]\nname = \"asymmetry\"\nkeys = [{}]\n\
+         lower = 0.001\nupper = 0.1\ninitial = 0.013\n\
+         [[records]]\nfile = \"half.h5\"\njob = 0\norders = [2.0]\namplitude_std_um = 0.46\n\
+         [[records]]\nfile = \"critical.h5\"\njob = 1\norders = [1.0]\namplitude_std_um = 2.6\n",
+        quoted(&DAMPERS),
+        quoted(&asymmetry)
+    );
+    // 2 records × 2 directions × 26 blocks × 2 parts.
+    fit_recovers(&d, &text, 208, &truth);
 }

@@ -19,7 +19,11 @@ use support::{inverse_state_matrix, state_matrix, STEEL};
 fn rotor_spec() -> RotorSpec {
     let seg = |length, outer, inner, elements| SegmentSpec {
         length,
-        section: SectionSpec::Tube { outer, inner },
+        section: SectionSpec::Tube {
+            outer,
+            inner,
+            asymmetry: 0.0,
+        },
         elements,
         material: STEEL,
     };

@@ -6,7 +6,8 @@
 //! studies/sensitivity-jeffcott.toml), the mean and standard deviation of a linear output (the
 //! static sag, linear in the density) under a normal input, identical bytes at 1 and 2 threads
 //! and through shards, Morris elementary effects of a linear output (Morris 1991; Campolongo et
-//! al. 2007), and bad `[sample]` tables named by file, key and line.
+//! al. 2007), a sampled study on a grid axis (statistics and indices per grid point), and bad
+//! `[sample]` tables named by file, key and line.
 
 use crate::support;
 
@@ -452,11 +453,13 @@ fn bad_sample_tables_name_file_key_and_line() {
     );
     assert!(msg.contains("positive definite"), "{msg}");
 
-    let (key, _, msg, _) = error_of(&format!(
-        "[[axes]]\nkey = \"solver.hmax\"\nvalues = [1e-3]\n{head}distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n"
+    // [sample] beside explicit jobs: refused, at the table.
+    let (key, at, msg, text) = error_of(&format!(
+        "[[jobs]]\n\"solver.hmax\" = 1e-3\n{head}distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n"
     ));
     assert_eq!(key.as_deref(), Some("sample"));
-    assert!(msg.contains("[[axes]]"), "{msg}");
+    assert_eq!(at, line(&text, "[sample]"));
+    assert!(msg.contains("[[jobs]]"), "{msg}");
 
     // A sampled key that would replace a [set] key inside it (dropping it silently).
     let replacing = format!(
@@ -550,4 +553,106 @@ fn a_morris_grid_needs_even_levels_and_its_method() {
         assert_eq!(at, line(&text, levels));
         assert!(msg.contains(says), "{msg}");
     }
+}
+
+/// `[sample]` beside a grid axis: n × grid jobs, the same draws at every grid point, and the
+/// statistics and Sobol' indices per grid point. The static sag of the rigid Jeffcott rotor,
+/// s = ρ V g/(2k) ([`mean_and_std_of_the_static_sag_under_a_normal_density`] derives it), on
+/// the axis `simulation.gravity_m_s2` = 9.81 and 4.905 m/s², under ρ ~ N(7850, 392.5²) and a
+/// speed uniform on 5 … 10 Hz (which moves no static sag): a Saltelli design of n = 32
+/// (n (d + 2) = 128 jobs per point, 256 in all; the statistics use A and B, 64 draws); the
+/// second point's job ids those of the plain sampled study at its gravity. Per point: the closed form's mean and standard deviation (g's share) within the table's 95 %
+/// intervals; the half-gravity point's mean and standard deviation exactly half the other's
+/// (the same draws, an output linear in g: to 1e-9); S_ρ and S_T,ρ = 1 within their intervals,
+/// the speed's indices exactly 0. A key both swept and sampled is an error at its
+/// `[[sample.parameters]]` entry.
+#[test]
+fn a_sampled_study_on_a_grid_axis_runs_every_sample_at_every_point() {
+    let d = scratch("sample-grid");
+    let n = 32;
+    let sample = format!(
+        "[sample]\nmethod = \"saltelli\"\nn = {n}\nseed = 5\n\
+         [[sample.parameters]]\nkey = \"materials.steel.density_kg_m3\"\ndistribution = \"normal\"\nmean = 7850.0\nstd = 392.5\n\
+         [[sample.parameters]]\nkey = \"speed.hz\"\ndistribution = \"uniform\"\nlower = 5.0\nupper = 10.0\n"
+    );
+    let axis = "[[axes]]\nkey = \"simulation.gravity_m_s2\"\nvalues = [9.81, 4.905]\n";
+    let text = jeffcott_study(&format!(
+        "[linear]\nspeeds = \"0:1:2\"\nstatic = true\n{axis}{sample}"
+    ));
+    let st = Study::load(&write_file(&d, "s.toml", &text)).unwrap();
+    assert_eq!(st.jobs.len(), 2 * n * 4);
+    // The same draws at both points: job i of the second half has job i's density.
+    let rho = values(&st, "materials.steel.density_kg_m3");
+    assert_eq!(rho[..n * 4], rho[n * 4..]);
+    // Ids from the scenes: the second point's jobs are those of the plain sampled study at
+    // that gravity (so adding or removing a grid point, a resume or a shard keeps them).
+    let plain = jeffcott_study(&format!(
+        "[linear]\nspeeds = \"0:1:2\"\nstatic = true\n[set]\n\"simulation.gravity_m_s2\" = 4.905\n{sample}"
+    ));
+    let plain = Study::load(&write_file(&d, "plain.toml", &plain)).unwrap();
+    let ids = |jobs: &[rotorsweep::study::Job]| -> Vec<String> {
+        jobs.iter().map(|j| j.id.clone()).collect()
+    };
+    assert_eq!(ids(&st.jobs[n * 4..]), ids(&plain.jobs));
+    let out = d.join("s.h5");
+    campaign::run(&st, &support::run_options(&out)).unwrap();
+    let sag_rows = |table: &str| -> Vec<_> {
+        rows(&report_table(&out, table))
+            .into_iter()
+            .filter(|r| r["output"] == "sag_vertical_um:centre")
+            .collect()
+    };
+    let stats = sag_rows("statistics");
+    assert_eq!(stats.len(), 2, "one row per grid point");
+    let mut means = Vec::new();
+    for (row, g) in stats.iter().zip([9.81, 4.905]) {
+        assert_eq!(num(row, "simulation.gravity_m_s2"), g);
+        assert_eq!(num(row, "n"), (2 * n) as f64);
+        let per_rho = PI * 0.01 * 0.4 * g / 2e5 * 1e6; // µm per kg/m³
+        for (col, exact) in [("mean", -7850.0 * per_rho), ("std", 392.5 * per_rho)] {
+            let (lo, hi) = (
+                num(row, &format!("{col}_low")),
+                num(row, &format!("{col}_high")),
+            );
+            assert!(
+                lo <= exact && exact <= hi,
+                "g {g} {col}: [{lo}, {hi}], exact {exact}"
+            );
+        }
+        means.push((num(row, "mean"), num(row, "std")));
+    }
+    assert!((means[1].0 / means[0].0 - 0.5).abs() < 1e-9, "{means:?}");
+    assert!((means[1].1 / means[0].1 - 0.5).abs() < 1e-9, "{means:?}");
+    let indices = sag_rows("sensitivity");
+    assert_eq!(indices.len(), 4, "2 grid points × 2 parameters");
+    for row in &indices {
+        let g = num(row, "simulation.gravity_m_s2");
+        assert!(g == 9.81 || g == 4.905, "{row:?}");
+        let want = if row["parameter"] == "speed.hz" {
+            0.0
+        } else {
+            1.0
+        };
+        for col in ["first_order", "total"] {
+            let (lo, hi) = (
+                num(row, &format!("{col}_low")),
+                num(row, &format!("{col}_high")),
+            );
+            let tol = if want == 0.0 { 1e-12 } else { 0.0 };
+            assert!(lo - tol <= want && want <= hi + tol, "{row:?}");
+        }
+    }
+    // A key both swept and sampled.
+    let both = jeffcott_study(&format!(
+        "[[axes]]\nkey = \"speed.hz\"\nvalues = [5.0, 6.0]\n{sample}"
+    ));
+    let e = Study::load(&write_file(&d, "both.toml", &both)).unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("sample.parameters[1].key"), "{e}");
+    let lines: Vec<&str> = both.lines().collect();
+    let at = lines.iter().rposition(|l| *l == "key = \"speed.hz\"");
+    assert_eq!(e.line, at.map(|i| i + 1), "{e}");
+    assert!(
+        e.to_string().contains("swept on axes[0] and sampled"),
+        "{e}"
+    );
 }

@@ -938,3 +938,25 @@ fn cvode_without_the_feature() {
         },
     );
 }
+
+#[test]
+fn bending_asymmetry_out_of_range() {
+    // The Jeffcott scene's first segment given a = 1.5: I(1 − a) would be negative.
+    let text = std::fs::read_to_string(root().join("studies/scenes/jeffcott.toml")).unwrap();
+    let text = text.replacen(
+        "outer_diameter_mm = 30.0\n",
+        "outer_diameter_mm = 30.0\nbending_asymmetry = 1.5\n",
+        1,
+    );
+    let line = support::line_number(&text, "bending_asymmetry = 1.5");
+    case(
+        "bending-asymmetry",
+        &text,
+        Expect {
+            file: "scene.toml",
+            line: Some(line),
+            key: Some("rotor.segments[0].bending_asymmetry"),
+            says: &["0.9"],
+        },
+    );
+}

@@ -22,6 +22,9 @@ wall's, then the rest. The histograms count the independent draws only (of a Sal
 the rows of A and B, as the statistics table); the scatter shows every job. The inputs of the scatter: the sampled
 parameters, except a random field's seed (a key ending in ``.seed``: a seed is no quantity),
 whose realised statistics (the outputs ``wall_…_mm``) take its place. Units are in the names.
+On grid axes (``[sample]`` beside ``[[axes]]``, whose tables lead with the swept keys) the
+histograms pool the grid points and draw no mean or quantile lines, and each sensitivity bar
+pair names its grid point.
 """
 
 from __future__ import annotations
@@ -94,7 +97,10 @@ def histograms(samples: pd.DataFrame, outputs: list[str], statistics: pd.DataFra
     rows, cols = _grid(len(outputs))
     fig = figure(figsize=(4.2 * cols, 3.0 * rows + 0.5))
     axes = fig.subplots(rows, cols, squeeze=False).ravel()
-    stats = None if statistics is None else statistics.set_index("output")
+    # Of a sampled study on grid axes the statistics hold a row per output and grid point
+    # (columns before ``output``): the histogram pools the points and draws no point's lines.
+    pooled = statistics is not None and list(statistics.columns).index("output") > 0
+    stats = None if statistics is None or pooled else statistics.set_index("output")
     for ax, name in zip(axes, outputs):
         v = pd.to_numeric(samples[name], errors="coerce").to_numpy(dtype=float)
         v = v[np.isfinite(v)]
@@ -157,6 +163,13 @@ def sensitivity(indices: pd.DataFrame | None, outputs: list[str], study: str) ->
     axes = fig.subplots(rows, cols, squeeze=False).ravel()
     for ax, name in zip(axes, names):
         t = indices[indices["output"] == name]
+        # On grid axes a bar pair per parameter and grid point (the swept keys lead the table).
+        swept = list(indices.columns)[:list(indices.columns).index("output")]
+        ticks = [p.split(".")[-1] if len(p) > 18 else p for p in t["parameter"]]
+        if swept:
+            ticks = [f"{tick} @ " + ", ".join(f"{k.split('.')[-1]}={r[k]:.4g}" if isinstance(r[k], float)
+                                              else f"{k.split('.')[-1]}={r[k]}" for k in swept)
+                     for tick, (_, r) in zip(ticks, t.iterrows())]
         x = np.arange(len(t))
         width = 0.38
         for k, (col, label) in enumerate(bars):
@@ -167,8 +180,7 @@ def sensitivity(indices: pd.DataFrame | None, outputs: list[str], study: str) ->
             ax.bar(x + (k - 0.5) * width, v, width, yerr=err, capsize=3, label=label,
                    color=("#1565c0", "#ef6c00")[k])
         ax.set_xticks(x)
-        ax.set_xticklabels([p.split(".")[-1] if len(p) > 18 else p for p in t["parameter"]],
-                           fontsize=7, rotation=20, ha="right")
+        ax.set_xticklabels(ticks, fontsize=7, rotation=20, ha="right")
         ax.set_title(name, fontsize=8)
         ax.axhline(0.0, color="k", lw=0.5)
         if not morris:
@@ -194,7 +206,8 @@ def sampled_figures(doc: dict, channel: str, study: str) -> list[tuple[str, Figu
     inputs = [p for p in parameters if not p.endswith(".seed")]
     inputs += [o for o in outputs if o.startswith(WALL_PREFIX)]
     return [
-        ("histograms.png", histograms(samples[~samples["label"].str.startswith("AB_")], outputs,
+        ("histograms.png", histograms(samples[~samples["label"].str.split(", ").str[-1].str.startswith("AB_")],
+                                      outputs,
                                       table(doc, "statistics"), study)),
         ("scatter.png", scatter(samples, inputs,
                                 [o for o in outputs if not o.startswith(WALL_PREFIX)], study)),

@@ -315,7 +315,11 @@ impl Rotor {
 /// tubes as the mean of the sections at the element's three Gauss–Legendre points.
 fn element_section(spec: &SectionSpec, za: f64, zb: f64, nu: f64) -> Section {
     match spec {
-        SectionSpec::Tube { outer, inner } => Section::tube(*outer, *inner, nu),
+        SectionSpec::Tube {
+            outer,
+            inner,
+            asymmetry,
+        } => Section::tube(*outer, *inner, nu).with_asymmetry(*asymmetry),
         SectionSpec::Mapped { outer, map, map_z0 } => {
             let ro = 0.5 * outer;
             // Gauss–Legendre points and weights on [0, 1].

@@ -36,6 +36,9 @@ pub enum SectionSpec {
         outer: f64,
         /// Inner diameter [m] (0 for a solid shaft).
         inner: f64,
+        /// Bending asymmetry a = (I_x − I_y)/(I_x + I_y) [-]: the second moments about the body
+        /// axes are I(1 + a) and I(1 − a), I the round tube's (0: axisymmetric).
+        asymmetry: f64,
     },
     /// A tube of outer diameter `outer` whose wall thickness follows a map; `map_z0` is the
     /// rotor z [m] of the map's z = 0 (the tending end of the shell).

@@ -48,7 +48,7 @@ pub(super) fn in_material(
         let z1 = z0 + s.length;
         if z >= z0 - SLACK_M && z <= z1 + SLACK_M {
             spans.push(match &s.section {
-                SectionSpec::Tube { outer, inner } => (0.5 * inner, 0.5 * outer),
+                SectionSpec::Tube { outer, inner, .. } => (0.5 * inner, 0.5 * outer),
                 SectionSpec::Mapped { outer, map, map_z0 } => {
                     let t = match phi {
                         Some(p) => map.thickness(p, z - map_z0),

@@ -133,7 +133,11 @@ impl Ends {
         let journal = shaft(c, "roll.journal", &roll.journal, outer, mat)?;
         let head = SegmentSpec {
             length: head_t,
-            section: SectionSpec::Tube { outer, inner: 0.0 },
+            section: SectionSpec::Tube {
+                outer,
+                inner: 0.0,
+                asymmetry: 0.0,
+            },
             elements: head_el,
             material: head_mat,
         };
@@ -270,6 +274,7 @@ fn shaft(
         section: SectionSpec::Tube {
             outer: d,
             inner: 0.0,
+            asymmetry: 0.0,
         },
         elements: c.count(&format!("{key}.elements"), s.elements, 1, 1000)?,
         material: mat,

@@ -37,7 +37,16 @@ pub(crate) fn build_rotor(
         }
         segments.push(SegmentSpec {
             length: 1e-3 * c.size_mm(&format!("{k}.length_mm"), s.length_mm)?,
-            section: SectionSpec::Tube { outer, inner },
+            section: SectionSpec::Tube {
+                outer,
+                inner,
+                asymmetry: c.range(
+                    &format!("{k}.bending_asymmetry"),
+                    s.bending_asymmetry,
+                    -0.9,
+                    0.9,
+                )?,
+            },
             elements: c.count(&format!("{k}.elements"), s.elements, 1, 2000)?,
             material: materials.get(c, &format!("{k}.material"), &s.material)?,
         });

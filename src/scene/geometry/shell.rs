@@ -178,6 +178,7 @@ pub(super) fn shell_section(
         (None, Some(w)) => SectionSpec::Tube {
             outer,
             inner: outer - 2.0 * w,
+            asymmetry: 0.0,
         },
         (None, None) => {
             return Err(c.err(

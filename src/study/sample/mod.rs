@@ -9,8 +9,9 @@
 //! like any varying key) and its label the design row (`sample 12`; `A 12`, `B 12`, `AB_1 12`
 //! for Saltelli), which the report's sensitivity table reads back. The values are a pure
 //! function of the table, so job ids are stable under resume, shards and thread counts.
-//! Errors: those of [`spec`], and a `[sample]` beside `[[axes]]` or `[[jobs]]` (a sampled study
-//! has only its samples).
+//! Beside `[[axes]]`, every design row runs at every grid point (grid point outer, the same
+//! draws at each: n × grid jobs), its labels the axes' then the design row's.
+//! Errors: those of [`spec`], a `[sample]` beside `[[jobs]]`, and a key both swept and sampled.
 //!
 //! The files: `spec` (the table and its check), `distribution` (quantile functions), `design`
 //! (the unit points and the Saltelli matrices), `copula` (correlation).
@@ -79,29 +80,60 @@ pub(crate) fn spec_of_text(text: &str) -> Option<Spec> {
     view.sample?.check(&c).ok()
 }
 
-/// Replaces the grid by the samples of `sample` (module doc); refused beside axes or explicit
-/// jobs.
+/// Replaces the grid by the samples of `sample` (module doc): beside axes, every sample at
+/// every grid point (the grid point outer, the sample inner; the same design at each point);
+/// refused beside explicit jobs, for a key both swept and sampled and past [`MAX_JOBS`](crate::study::MAX_JOBS) jobs.
 pub(super) fn into_grid(
     c: &Ctx,
     sample: &SampleFile,
-    has_axes: bool,
     has_jobs: bool,
     grid: &mut Grid,
 ) -> Result<Spec, InputError> {
-    if has_axes || has_jobs {
+    if has_jobs {
         return Err(c.err(
             "sample",
-            "a sampled study has only its samples: leave out [[axes]] and [[jobs]] (run one \
-             sampled study per setting of the other keys)",
+            "a sampled study has no [[jobs]]: its jobs are its samples (at every point of its \
+             [[axes]], if any)",
         ));
     }
     let spec = sample.check(c)?;
-    grid.varying = spec.keys();
-    grid.combos = spec
-        .combos()
-        .into_iter()
-        .map(|(o, label)| (o, vec![(LABEL_KEY.to_string(), label)]))
-        .collect();
+    for (i, p) in spec.parameters.iter().enumerate() {
+        if let Some(k) = p.keys.iter().find(|k| grid.axis_of_key.contains_key(*k)) {
+            return Err(c.err(
+                &format!("sample.parameters[{i}].{}", p.written),
+                format!(
+                    "`{k}` is swept on axes[{}] and sampled here: sample it or sweep it",
+                    grid.axis_of_key[k]
+                ),
+            ));
+        }
+    }
+    let samples = spec.combos();
+    let total = grid.combos.len() as u128 * samples.len() as u128;
+    if total > crate::study::MAX_JOBS as u128 {
+        return Err(c.err(
+            "sample",
+            format!(
+                "{} design rows at each of the {} grid points make {total} jobs, more than the \
+                 limit of {}",
+                samples.len(),
+                grid.combos.len(),
+                crate::study::MAX_JOBS
+            ),
+        ));
+    }
+    let mut combos = Vec::with_capacity(grid.combos.len() * samples.len());
+    for (point, labels) in &grid.combos {
+        for (o, label) in &samples {
+            let mut overrides = point.clone();
+            overrides.extend(o.iter().cloned());
+            let mut all = labels.clone();
+            all.push((LABEL_KEY.to_string(), label.clone()));
+            combos.push((overrides, all));
+        }
+    }
+    grid.varying.extend(spec.keys());
+    grid.combos = combos;
     grid.axis_combos = grid.combos.len();
     Ok(spec)
 }

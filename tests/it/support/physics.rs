@@ -18,7 +18,11 @@ pub fn tube(length: f64, outer: f64, inner: f64, n: usize) -> RotorSpec {
         z_start: 0.0,
         segments: vec![SegmentSpec {
             length,
-            section: SectionSpec::Tube { outer, inner },
+            section: SectionSpec::Tube {
+                outer,
+                inner,
+                asymmetry: 0.0,
+            },
             elements: n,
             material: STEEL,
         }],
