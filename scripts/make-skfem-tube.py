@@ -16,6 +16,11 @@ Out, SI units (kg, m, N, s):
   given by position (`z`, `radius`), for `rotorsweep reduce`;
 - `journals.toml`: the same body with the two journal rings only (its fixed-interface modes
   are the body on its journals with every DOF of their rings fixed);
+- `supported.toml`: a scene on the body (`extends = "scene.toml"`): linear supports of
+  SUPPORT_N_PER_M in x and y on the two journal rings' reference points (the RBE3 mean of
+  each ring), the drive's axial spring of the same stiffness on `journal_tending`, the sensor
+  `centre` (the centre ring's mean lateral displacement), and every mode of the Craig–Bampton
+  set (40 normal modes + all interface DOFs), for `rotorsweep check|modes|linear|simulate`;
 - `beam.toml`: rotorsweep's own beam model ([rotor] segments) of the same geometry on stiff
   linear supports at the journals' mid-length;
 - `eigen.json` (unless --no-eigen): scipy's eigenvalues: `free_hz` (free-free, the rigid-body
@@ -157,6 +162,24 @@ def beam_scene(g):
     return "\n".join(text) + "\n"
 
 
+SUPPORT_N_PER_M = 1.0e9
+
+
+def supported_scene(interface):
+    """The tube on linear supports at its journal rings (module doc); `interface`: the number of
+    interface DOFs (every DOF of the three rings' nodes), all kept as static modes."""
+    text = ['name = "skfem-tube-supported"', 'extends = "scene.toml"',
+            'description = "the scikit-fem tube on linear supports at its journal rings"',
+            "[materials.steel]", f"youngs_modulus_gpa = {E / 1e9}", f"poisson = {NU}",
+            f"density_kg_m3 = {RHO}", "[fe]", 'sensors = ["centre"]']
+    for name in ["journal_tending", "journal_drive"]:
+        text += ["[[supports]]", f'node = "{name}"', 'type = "linear"',
+                 f"spring = {{ kx_n_per_m = {SUPPORT_N_PER_M}, ky_n_per_m = {SUPPORT_N_PER_M} }}"]
+    text += ["[drive]", 'node = "journal_tending"', f"axial_stiffness_n_per_m = {SUPPORT_N_PER_M}",
+             "[reduction]", f'modes = "40n+{interface}st"']
+    return "\n".join(text) + "\n"
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("-o", "--output", type=Path, required=True, help="new folder")
@@ -219,6 +242,8 @@ def main():
             journals += ring_text
     (a.output / "scene.toml").write_text("\n".join(scene) + "\n")
     (a.output / "journals.toml").write_text("\n".join(journals) + "\n")
+    interface = 3 * sum(len(nodes) for nodes in ring_nodes.values())
+    (a.output / "supported.toml").write_text(supported_scene(interface))
     (a.output / "beam.toml").write_text(beam_scene(g))
     info = {"dofs": n, "nodes": len(xyz), "elements": int(m2.t.shape[1]),
             "n_theta": a.n_theta, "n_z": a.n_z, "n_radial": a.n_radial,

@@ -1,6 +1,8 @@
-"""scripts/check-plant.py: the exported linear plant (.h5 and .npz) read by python-control and
-scipy.signal has the frequency response of `rotorsweep linear`'s unbalance response at the
-plant's speed (relative difference <= 1e-6), and a tolerance it misses fails the script.
+"""scripts/check-plant.py: the exported linear plant (.h5, .npz and MATLAB .mat) read by
+python-control and scipy.signal has the frequency response of `rotorsweep linear`'s unbalance
+response at the plant's speed (relative difference <= 1e-6), the .npz and .mat plants equal the
+.h5 one bit for bit (scipy.io.loadmat reads the .mat), and a tolerance it misses fails the
+script.
 
 The binary is $ROTORSWEEP_BIN (scripts/python-test sets it), else target/release/rotorsweep.
 """
@@ -28,8 +30,9 @@ def test_plant_matches_the_unbalance_response_in_python_control_and_scipy():
     p = check()
     assert p.returncode == 0, p.stdout + p.stderr
     lines = p.stdout.splitlines()
-    # 2 files x 2 tools x 3 sensors x 2 directions, then the summary.
-    assert sum(", linear " in l for l in lines) == 24
+    # 3 files x 2 tools x 3 sensors x 2 directions, then the summary.
+    assert sum(", linear " in l for l in lines) == 36
+    assert sum("equal the .h5 plant's bit for bit" in l for l in lines) == 2
     worst = float(lines[-1].split()[3])
     assert worst <= 1e-6
 

@@ -323,7 +323,10 @@ impl LinearSystem {
             ks: model.ks.clone(),
             base_k,
             base_c,
-            s_hat: rotation_generator(&model.phi),
+            s_hat: model
+                .rotation
+                .clone()
+                .unwrap_or_else(|| rotation_generator(&model.phi)),
             d_modal,
             stages: sys_stages,
             family_mass: model.family_mass.clone(),

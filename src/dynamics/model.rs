@@ -14,6 +14,7 @@ use std::time::Instant;
 use crate::error::InputError;
 use crate::rotor::fe::{MeshError, Rotor};
 use crate::rotor::reduction::{craig_bampton, ModeSelection, ReducedModel, ReductionError};
+use crate::rotor::solid_reduction;
 use crate::scene::Scene;
 
 /// Why a scene's model could not be built: the scene file, the scene key to blame where there is
@@ -95,13 +96,21 @@ impl Model {
             Some(body) => Rotor::from_body(body.clone()),
             None => Rotor::mesh(&scene.rotor).map_err(|e| fail(e.into()))?,
         };
-        let fe = rotor.assemble();
-        let boundary: Vec<usize> = scene.boundary.iter().map(|b| rotor.named[b]).collect();
         let n_normal = match sel.normal_needed() {
             Some(n) => n,
             None => ModeSelection::default_normal(),
         };
-        let full = craig_bampton(&rotor, &fe, &boundary, n_normal).map_err(|e| fail(e.into()))?;
+        let solid = scene.body.as_ref().and_then(|b| b.solid.as_ref());
+        let full = match solid {
+            // A solid or shell body: reduced sparse at every attachment.
+            Some(s) => solid_reduction::reduce(s, n_normal),
+            None => {
+                let fe = rotor.assemble();
+                let boundary: Vec<usize> = scene.boundary.iter().map(|b| rotor.named[b]).collect();
+                craig_bampton(&rotor, &fe, &boundary, n_normal)
+            }
+        }
+        .map_err(|e| fail(e.into()))?;
         let reduced = full.select(sel).map_err(|e| fail(e.into()))?;
         Ok(Model {
             rotor,

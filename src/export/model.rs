@@ -60,6 +60,14 @@ pub enum ExportError {
     /// The scene table cannot be written as TOML.
     #[error("scene.toml: {0}")]
     Toml(#[from] toml::ser::Error),
+    /// `--model` of a solid or shell body (its own files are the full model; the reduced
+    /// model's Φ holds only its attachment points).
+    #[error(
+        "{0}: the body is a solid or shell body (fe.rings): its own files are the full model; \
+         `--model` exports beam and axis bodies (use `rotorsweep reduce` for its reduced \
+         matrices, `--state-space` for the plant)"
+    )]
+    Solid(std::path::PathBuf),
 }
 
 const MASS_UNITS: &str = "SI: kg (translations), kg m (translation-rotation), kg m2 (rotations)";
@@ -229,6 +237,9 @@ pub fn write_model(
     which: Which,
     dir: &Path,
 ) -> Result<Written, ExportError> {
+    if scene.body.as_ref().is_some_and(|b| b.solid.is_some()) {
+        return Err(ExportError::Solid(scene.source.clone()));
+    }
     std::fs::create_dir_all(dir).map_err(|e| ExportError::Io(dir.to_path_buf(), e))?;
     let full = model.rotor.assemble();
     let red = &model.reduced;

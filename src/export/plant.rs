@@ -1,4 +1,4 @@
-//! The linear plant of a scene at one speed as a state-space model, to HDF5 or `.npz`.
+//! The linear plant of a scene at one speed as a state-space model, to HDF5, `.npz` or `.mat`.
 //!
 //! In: the scene's [`LinearSystem`] (the reduced rotor on its linearised supports, stationary
 //! frame) and a spin speed Ω [rad/s]. Out: a [`Plant`] ẋ = A x + B u, y = C x + D u with the
@@ -25,6 +25,7 @@ use std::path::Path;
 
 use nalgebra::{DMatrix, DVector};
 
+use super::mat::{mat_file, Var};
 use crate::dynamics::{LinearError, LinearSystem};
 use crate::store;
 
@@ -158,6 +159,25 @@ impl Plant {
         store::string_dataset(&root, "inputs", &self.inputs)?;
         store::string_dataset(&root, "outputs", &self.outputs)?;
         store::string_dataset(&root, "states", &self.states)
+    }
+
+    /// Writes the plant as a MATLAB Level 5 `.mat` file ([`super::mat`]): `A`, `B`, `C`, `D`
+    /// (double), `speed_hz` (1 × 1) and `inputs`, `outputs`, `states` (n × 1 cell arrays of
+    /// strings).
+    pub fn write_mat(&self, path: &Path) -> std::io::Result<()> {
+        let speed = [self.speed_hz];
+        let mut vars: Vec<(&str, Var)> = self
+            .arrays()
+            .into_iter()
+            .map(|(name, m)| (name, Var::Matrix(m.nrows(), m.ncols(), m.as_slice())))
+            .collect();
+        vars.push(("speed_hz", Var::Matrix(1, 1, &speed)));
+        vars.push(("inputs", Var::Strings(&self.inputs)));
+        vars.push(("outputs", Var::Strings(&self.outputs)));
+        vars.push(("states", Var::Strings(&self.states)));
+        let text = "MATLAB 5.0 MAT-file, rotorsweep linear plant 1 (docs/export.md): \
+                    dx/dt = A x + B u, y = C x + D u; SI";
+        std::fs::write(path, mat_file(text, &vars))
     }
 
     /// Writes the plant as `.npz` (module doc).

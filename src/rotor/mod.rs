@@ -10,5 +10,6 @@ pub mod fe;
 pub mod import;
 pub mod reduction;
 pub mod section;
+pub mod solid_reduction;
 pub mod sparse_reduction;
 pub mod wall;

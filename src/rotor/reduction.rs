@@ -217,8 +217,12 @@ pub struct ReducedModel {
     pub gx: DVector<f64>,
     /// Φᵀg_y.
     pub gy: DVector<f64>,
-    /// Node z [m] of the mesh the basis lives on.
+    /// Node z [m] of the mesh the basis lives on (a solid body's: its attachment points').
     pub node_z: Vec<f64>,
+    /// Ŝ, the rotation generator ẑ× in modal coordinates, where Φ's rows are not every DOF of
+    /// the body (a solid body's Φ holds its attachment points only): ΦᵀMS̄Φ over the body's
+    /// DOFs (ΦᵀMΦ = I). `None`: the least-squares projection from Φ's own rows.
+    pub rotation: Option<DMatrix<f64>>,
     /// Number of normal modes in the Craig–Bampton basis this set came from.
     pub cb_normal: usize,
     /// The selection that made this set, "Nn+Mst" or "list of K modes".
@@ -277,26 +281,56 @@ pub fn craig_bampton(
     let mh = t.transpose() * &fe.m * &t;
     let kh = 0.5 * (&kh + kh.transpose());
     let mh = 0.5 * (&mh + mh.transpose());
-    let red = eigen::generalized_symmetric(&kh, &mh)?;
+    // Explicit rigid modes in CB coordinates: boundary rows of the rigid motions.
+    let rigid_phys = rotor.rigid_body_modes();
+    let rigid_b = DMatrix::from_fn(nb, 6, |j, col| rigid_phys[(b[j], col)]);
+    let o = orthogonalise(&kh, &mh, &rigid_b, n_normal)?;
+    let phi = &t * &o.v;
+    let mut model = project(fe, phi, rotor.node_z.clone());
+    o.finish(&mut model, n_normal);
+    Ok(model)
+}
+
+/// The orthogonalised set of a Craig–Bampton model (module doc): the coordinates V of each mode
+/// in the Craig–Bampton basis (columns), their frequencies [Hz] and labels.
+pub(crate) struct Orthogonal {
+    /// Modes in Craig–Bampton coordinates (interface, then normal modes), M̂-orthonormal.
+    pub v: DMatrix<f64>,
+    freq: Vec<f64>,
+    labels: Vec<ModeLabel>,
+    nb: usize,
+}
+
+/// The orthogonalised modes of the Craig–Bampton matrices K̂, M̂ (interface coordinates first,
+/// `n_normal` normal modes last), the interface rows of the six rigid motions `rigid_b`
+/// (|B| × 6: translations x, y, z, rotations about x, y, z) replacing the reduced problem's six
+/// zero-frequency modes (module doc).
+pub(crate) fn orthogonalise(
+    kh: &DMatrix<f64>,
+    mh: &DMatrix<f64>,
+    rigid_b: &DMatrix<f64>,
+    n_normal: usize,
+) -> Result<Orthogonal, ReductionError> {
+    let ncb = kh.nrows();
+    let nb = rigid_b.nrows();
+    let red = eigen::generalized_symmetric(kh, mh)?;
     if ncb > 6 {
         let ratio = red.values[5].abs() / red.values[6];
         if ratio > 1e-6 {
             return Err(ReductionError::RigidModes(ratio));
         }
     }
-    // Explicit rigid modes in CB coordinates: boundary rows of the rigid motions, zero normal part.
-    let rigid_phys = rotor.rigid_body_modes();
     let mut basis: Vec<DVector<f64>> = Vec::new();
     for col in 0..5 {
         let mut v = DVector::zeros(ncb);
-        for (j, &bj) in b.iter().enumerate() {
-            v[j] = rigid_phys[(bj, col)];
+        for j in 0..nb {
+            v[j] = rigid_b[(j, col)];
         }
         for u in &basis {
-            let proj = (u.transpose() * &mh * &v)[0];
+            let proj = (u.transpose() * mh * &v)[0];
             v -= proj * u;
         }
-        let norm = (v.transpose() * &mh * &v)[0].sqrt();
+        let norm = (v.transpose() * mh * &v)[0].sqrt();
         basis.push(v / norm);
     }
     let mut freq = vec![0.0; 5];
@@ -316,28 +350,38 @@ pub fn craig_bampton(
     for &i in order.iter().take(n_normal) {
         labels[i] = ModeLabel::Normal;
     }
-    let phi = &t * &v;
-    let mut model = project(fe, phi, rotor.node_z.clone());
-    let kinds = (0..nm)
-        .map(|i| {
-            if i < 5 {
-                ModeKind::Rigid
-            } else {
-                classify(std::array::from_fn(|f| model.family_mass[f][(i, i)]))
-            }
-        })
-        .collect();
-    model.index = (0..nm).collect();
-    model.freq_hz = freq;
-    model.labels = labels;
-    model.kinds = kinds;
-    model.cb_normal = n_normal;
-    model.selection = format!("{n_normal}n+{nb}st");
-    Ok(model)
+    Ok(Orthogonal {
+        v,
+        freq,
+        labels,
+        nb,
+    })
+}
+
+impl Orthogonal {
+    /// Completes `model` (the projection on this set's modes): indices, frequencies, labels,
+    /// kinds from its family masses, and the selection "Nn+Mst".
+    pub(crate) fn finish(self, model: &mut ReducedModel, n_normal: usize) {
+        let nm = self.v.ncols();
+        model.kinds = (0..nm)
+            .map(|i| {
+                if i < 5 {
+                    ModeKind::Rigid
+                } else {
+                    classify(std::array::from_fn(|f| model.family_mass[f][(i, i)]))
+                }
+            })
+            .collect();
+        model.index = (0..nm).collect();
+        model.freq_hz = self.freq;
+        model.labels = self.labels;
+        model.cb_normal = n_normal;
+        model.selection = format!("{n_normal}n+{}st", self.nb);
+    }
 }
 
 /// DOF family of a physical DOF: 0 bending-x (u_x, θ_y), 1 bending-y (u_y, θ_x), 2 axial, 3 torsion.
-fn family(dof: usize) -> usize {
+pub(crate) fn family(dof: usize) -> usize {
     match dof % NDOF {
         0 | 4 => 0,
         1 | 3 => 1,
@@ -398,6 +442,7 @@ fn project(fe: &FeMatrices, phi: DMatrix<f64>, node_z: Vec<f64>) -> ReducedModel
         gy: &pt * &fe.gy,
         phi,
         node_z,
+        rotation: None,
         cb_normal: 0,
         selection: String::new(),
     }
@@ -511,6 +556,7 @@ impl ReducedModel {
             gx: vec(&self.gx),
             gy: vec(&self.gy),
             node_z: self.node_z.clone(),
+            rotation: self.rotation.as_ref().map(sq),
             cb_normal: self.cb_normal,
             selection: self.selection.clone(),
         }

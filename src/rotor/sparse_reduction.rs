@@ -42,6 +42,9 @@ pub struct SparseReduction {
     /// Seconds spent: blocks, factorisation, constraint modes, normal modes, projection,
     /// reduced eigenproblem.
     pub seconds: [f64; 6],
+    /// With `keep_basis`: the interior DOFs I (ascending) and T_I = [Ψ Φ] (|I| × (|B| + n)),
+    /// the interior rows of the Craig–Bampton basis.
+    pub basis: Option<(Vec<usize>, Mat<f64>)>,
 }
 
 fn hz(lambda: f64) -> f64 {
@@ -96,12 +99,13 @@ pub fn body_modes(
 }
 
 /// The Craig–Bampton reduction of (K, M) at `boundary` with `n_normal` normal modes (module
-/// doc).
+/// doc); with `keep_basis` it also returns the basis' interior rows.
 pub fn craig_bampton(
     k: &Sparse,
     m: &Sparse,
     boundary: &[usize],
     n_normal: usize,
+    keep_basis: bool,
 ) -> Result<SparseReduction, ReductionError> {
     let mut seconds = [0.0; 6];
     let mut clock = Instant::now();
@@ -160,5 +164,6 @@ pub fn craig_bampton(
         k: kh,
         m: mh,
         seconds,
+        basis: keep_basis.then_some((int, t_i)),
     })
 }

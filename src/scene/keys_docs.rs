@@ -760,7 +760,7 @@ pub const DOCS: &[KeyDoc] = &[
         key: "fe.sensors",
         units: "",
         default: "empty",
-        range: "names in fe.named",
+        range: "names in fe.named or fe.rings",
         meaning: "Sensor planes.",
     },
     KeyDoc {
@@ -768,7 +768,7 @@ pub const DOCS: &[KeyDoc] = &[
         units: "",
         default: "empty",
         range: "a table",
-        meaning: "Ring attachments of a solid or shell body (an interpolation element like RBE3): a reference point whose motion is the weighted mean of a ring of nodes (rotations: the least-squares rigid fit); a force on it is spread over the ring. Read by `rotorsweep reduce` (its nodes join the interface; attachments.mtx gives the reference motion); a scene attaches axis bodies by fe.named only.",
+        meaning: "Ring attachments of a solid or shell body (an interpolation element like RBE3): a reference point whose motion is the weighted mean of a ring of nodes (rotations: the least-squares rigid fit); a force on it is spread over the ring. Read by `rotorsweep reduce` (its nodes join the interface; attachments.mtx gives the reference motion); with rings a scene attaches the body as a solid or shell body, its supports, sensors and drive naming rings (docs/export.md).",
     },
     KeyDoc {
         key: "fe.rings.<name>",

@@ -45,7 +45,14 @@ fn sparse_craig_bampton_gives_the_dense_frequencies() {
         .filter(|&r| journals.contains(&body.dofs[r].node))
         .collect();
     assert_eq!(boundary.len(), 12);
-    let r = craig_bampton(&body.stiffness, &body.mass, &boundary, model.full.cb_normal).unwrap();
+    let r = craig_bampton(
+        &body.stiffness,
+        &body.mass,
+        &boundary,
+        model.full.cb_normal,
+        false,
+    )
+    .unwrap();
     // Dense: five rigid modes (the spin dropped), then the elastic ones; sparse: six near zero.
     let dense = &model.full.freq_hz[5..];
     let sparse = &r.free_hz[6..];

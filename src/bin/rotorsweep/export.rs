@@ -1,5 +1,5 @@
 //! `rotorsweep export SCENE --model full|reduced -o DIR`: a scene's model to files, and
-//! `rotorsweep export SCENE --state-space --speed-hz F -o PLANT.h5|.npz`: its linear plant.
+//! `rotorsweep export SCENE --state-space --speed-hz F -o PLANT.h5|.npz|.mat`: its linear plant.
 //!
 //! In: a scene (and `--set`, `--modes`). Out: the files of [`rotorsweep::export::model`] in a
 //! new folder DIR (with `--model full` also `DIR/scene.toml`, a scene on the exported body), or
@@ -35,7 +35,7 @@ pub struct Args {
     /// Spin speed of the plant [Hz].
     #[arg(long)]
     speed_hz: Option<f64>,
-    /// Output: a folder for `--model`, a `.h5` or `.npz` file for `--state-space`.
+    /// Output: a folder for `--model`, a `.h5`, `.npz` or `.mat` file for `--state-space`.
     #[arg(short, long)]
     output: PathBuf,
     /// Modes to keep, "30n+12st" or a list "0-4,7" (default: the scene's).
@@ -54,13 +54,13 @@ pub fn run(a: &Args) -> Result<(), CliError> {
             a.output.display()
         )));
     }
-    let npz = match a.output.extension().and_then(|e| e.to_str()) {
-        _ if !a.state_space => false,
-        Some("h5") => false,
-        Some("npz") => true,
+    let ext = a.output.extension().and_then(|e| e.to_str());
+    match ext {
+        _ if !a.state_space => {}
+        Some("h5" | "npz" | "mat") => {}
         _ => {
             return Err(CliError::usage(format!(
-                "{}: the plant's file must end in .h5 or .npz",
+                "{}: the plant's file must end in .h5, .npz or .mat",
                 a.output.display()
             )))
         }
@@ -71,12 +71,11 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         let hz = speeds::hz("speed-hz", a.speed_hz.unwrap_or(0.0)).map_err(CliError::input)?;
         let sys = scene_system(&scene, &model)?;
         let p = plant(&sys, hz * std::f64::consts::TAU).map_err(in_scene(&scene))?;
-        if npz {
-            p.write_npz(&a.output)
-                .map_err(|e| CliError::Io(format!("{}: {e}", a.output.display()).into()))?;
-        } else {
-            p.write_h5(&a.output)
-                .map_err(|e| CliError::Io(format!("{}: {e}", a.output.display()).into()))?;
+        let io = |e: String| CliError::Io(format!("{}: {e}", a.output.display()).into());
+        match ext {
+            Some("npz") => p.write_npz(&a.output).map_err(|e| io(e.to_string()))?,
+            Some("mat") => p.write_mat(&a.output).map_err(|e| io(e.to_string()))?,
+            _ => p.write_h5(&a.output).map_err(|e| io(e.to_string()))?,
         }
         println!(
             "{}: plant at {hz} Hz, {} states, {} inputs, {} outputs -> {} in {:.3} s",

@@ -95,7 +95,7 @@ enum Command {
     Import(import::Args),
     /// A scene's model to Matrix Market, CSV and HDF5 with a scene on the exported body
     /// (--model full|reduced), or its linear plant at a speed as a state-space model
-    /// (--state-space --speed-hz F, .h5 or .npz).
+    /// (--state-space --speed-hz F, .h5, .npz or .mat).
     Export(export::Args),
     /// The sparse Craig–Bampton reduction of a large [fe] body at its named nodes (no dense
     /// n × n matrix): reduced matrices and frequencies to a folder.

@@ -18,15 +18,15 @@
 //! An existing output is refused (exit 64); a bad body is an input error naming its file and
 //! line (exit 65).
 
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use rotorsweep::error::InputError;
 use rotorsweep::rotor::import::matrix_market::{format, format_array, Symmetry};
-use rotorsweep::rotor::import::rings::Ring;
-use rotorsweep::rotor::import::sparse_body::{self, SparseBody};
+use rotorsweep::rotor::import::solid::{self, SolidBody};
+use rotorsweep::rotor::import::sparse_body;
 use rotorsweep::rotor::import::tables::DOF_NAMES;
 use rotorsweep::rotor::sparse_reduction::{body_modes, craig_bampton};
 use rotorsweep::scene::{fe_body_files, fe_body_rings};
@@ -87,44 +87,18 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         .with_key("fe.named")
         .into());
     }
-    let mut ids: Vec<i64> = named.values().copied().collect();
-    ids.extend(rings.values().flat_map(|r| r.nodes.iter().copied()));
-    let row_of = |id: i64, dof: usize| body.dofs.iter().position(|d| d.node == id && d.dof == dof);
-    for (name, r) in &rings {
-        for &id in &r.nodes {
-            if let Some(d) = (0..3).find(|&d| row_of(id, d).is_none()) {
-                return Err(InputError::new(
-                    &a.scene,
-                    format!(
-                        "ring node {id} has no {} row in the DOF table {}",
-                        DOF_NAMES[d],
-                        files.dofs.as_deref().unwrap_or(&files.mass).display()
-                    ),
-                )
-                .with_key(format!("fe.rings.{name}"))
-                .into());
-            }
-        }
-    }
-    let ids: BTreeSet<i64> = ids.into_iter().collect();
-    let boundary: Vec<usize> = (0..n)
-        .filter(|&r| ids.contains(&body.dofs[r].node))
-        .collect();
-    for (name, id) in &named {
-        if !body.dofs.iter().any(|d| d.node == *id) {
-            return Err(InputError::new(
-                &a.scene,
-                format!(
-                    "node {id} has no row in the DOF table {}",
-                    files.dofs.as_deref().unwrap_or(&files.mass).display()
-                ),
-            )
-            .with_key(format!("fe.named.{name}"))
-            .into());
-        }
-    }
-    let r = craig_bampton(&body.stiffness, &body.mass, &boundary, a.normal as usize)
-        .map_err(|e| CliError::input(format!("{}: {e}", a.scene.display())))?;
+    let solid = solid::attach(body, &named, &rings, &files.dofs_file())
+        .map_err(|(key, reason)| InputError::new(&a.scene, reason).with_key(key))?;
+    let body = &solid.body;
+    let boundary = &solid.interface;
+    let r = craig_bampton(
+        &body.stiffness,
+        &body.mass,
+        boundary,
+        a.normal as usize,
+        false,
+    )
+    .map_err(|e| CliError::input(format!("{}: {e}", a.scene.display())))?;
     let steps = [
         "blocks",
         "factorisation",
@@ -201,7 +175,7 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         )?;
     }
     write("frequencies.csv", f)?;
-    let (table, rows) = attachments(&body, &named, &rings, &boundary);
+    let (table, rows) = attachments(&solid);
     write("attachments.csv", table)?;
     write(
         "attachments.mtx",
@@ -242,61 +216,35 @@ const FREE_SHIFT_HZ: f64 = 1.0;
 /// One row of an attachment matrix: reduced coordinate → coefficient.
 type Row = HashMap<usize, f64>;
 
-/// attachments.csv's text and attachments.mtx's rows: each named node's DOFs (its interface
-/// coordinate, coefficient 1), then each ring's reference point's six DOFs (its interpolation
-/// matrix over the ring nodes' translation coordinates).
-fn attachments(
-    body: &SparseBody,
-    named: &BTreeMap<String, i64>,
-    rings: &BTreeMap<String, Ring>,
-    boundary: &[usize],
-) -> (String, Vec<Row>) {
-    let coordinate = |id: i64, dof: usize| {
-        boundary
-            .iter()
-            .position(|&r| body.dofs[r].node == id && body.dofs[r].dof == dof)
-    };
+/// attachments.csv's text and attachments.mtx's rows: each attachment's rows
+/// ([`solid::Attachment`]: a named node's own DOFs, a ring's six reference DOFs) over the
+/// reduced coordinates (the interface coordinate of each body DOF row it names).
+fn attachments(solid: &SolidBody) -> (String, Vec<Row>) {
+    let coordinate: HashMap<usize, usize> = solid
+        .interface
+        .iter()
+        .enumerate()
+        .map(|(c, &r)| (r, c))
+        .collect();
     let mut text = String::from("row,name,dof,x,y,z\n");
     let mut rows = Vec::new();
-    for (name, &id) in named {
-        let x = body
-            .nodes
-            .iter()
-            .find(|nd| nd.id == id)
-            .map_or([f64::NAN; 3], |nd| nd.x);
+    for at in &solid.attachments {
         for (dof, dof_name) in DOF_NAMES.iter().enumerate() {
-            if let Some(c) = coordinate(id, dof) {
-                rows.push(Row::from([(c, 1.0)]));
-                let _ = writeln!(
-                    text,
-                    "{},{name},{dof_name},{:e},{:e},{:e}",
-                    rows.len(),
-                    x[0],
-                    x[1],
-                    x[2]
-                );
+            if !at.ring && at.rows[dof].is_empty() {
+                continue;
             }
-        }
-    }
-    for (name, ring) in rings {
-        let cols: Vec<usize> = ring
-            .nodes
-            .iter()
-            .flat_map(|&id| (0..3).map(move |d| (id, d)))
-            .map(|(id, d)| coordinate(id, d).expect("ring DOFs checked in the interface"))
-            .collect();
-        for (dof, dof_name) in DOF_NAMES.iter().enumerate() {
             rows.push(
-                cols.iter()
-                    .enumerate()
-                    .map(|(k, &c)| (c, ring.matrix[(dof, k)]))
+                at.rows[dof]
+                    .iter()
+                    .map(|&(r, x)| (coordinate[&r], x))
                     .collect(),
             );
-            let c = ring.centre;
+            let c = at.centre;
             let _ = writeln!(
                 text,
-                "{},{name},{dof_name},{:e},{:e},{:e}",
+                "{},{},{dof_name},{:e},{:e},{:e}",
                 rows.len(),
+                at.name,
                 c[0],
                 c[1],
                 c[2]

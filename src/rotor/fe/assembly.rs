@@ -43,6 +43,27 @@ pub struct FeMatrices {
     pub ks: Option<DMatrix<f64>>,
 }
 
+impl FeMatrices {
+    /// No matrices (0 × 0): a solid body's, which is reduced sparse from its own files.
+    pub fn empty() -> Self {
+        let z = || DMatrix::zeros(0, 0);
+        let v = || DVector::zeros(0);
+        Self {
+            m: z(),
+            k: z(),
+            gc: z(),
+            e: z(),
+            c: z(),
+            gs: z(),
+            fc: v(),
+            ft: v(),
+            gx: v(),
+            gy: v(),
+            ks: None,
+        }
+    }
+}
+
 impl Rotor {
     /// Assembles the body-frame matrices (the `fe` module doc).
     pub fn assemble(&self) -> FeMatrices {

@@ -254,8 +254,11 @@ impl Rotor {
         }
     }
 
-    /// Number of physical DOFs.
+    /// Number of physical DOFs (a solid body's: its matrices' size).
     pub fn ndof(&self) -> usize {
+        if let Some(s) = self.imported.as_ref().and_then(|b| b.solid.as_ref()) {
+            return s.body.dofs.len();
+        }
         NDOF * self.node_z.len()
     }
 

@@ -24,85 +24,16 @@
 //! general rotating terms of [`super::invariants::rotating_terms`].
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
+pub use super::files::{BodyFiles, Format, RotatingFiles, StressFiles, StressKind};
 use super::invariants::{invariants, rigid_modes, rotating_terms, Invariants};
 use super::matrix_market;
 use super::tables::{self, Dof, Node, Units, DOF_NAMES};
 use crate::error::InputError;
 use crate::rotor::fe::{FeMatrices, NDOF};
-
-/// The file format of an FE body's matrices.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Format {
-    /// Matrix Market coordinate files with a DOF table.
-    MatrixMarket,
-    /// Abaqus `*MATRIX OUTPUT, FORMAT=COORDINATE` files (node, dof, node, dof, value).
-    Abaqus,
-}
-
-/// The files of the rotating terms (module doc), all Matrix Market but the loads (`index,fc,
-/// ft,gx,gy`, one line per matrix row).
-#[derive(Debug, Clone, PartialEq)]
-pub struct RotatingFiles {
-    /// G_c.
-    pub coriolis: PathBuf,
-    /// E.
-    pub spin_softening: PathBuf,
-    /// C.
-    pub angular_acceleration: PathBuf,
-    /// G_s.
-    pub gyroscopic: PathBuf,
-    /// f_c, f_t, g_x, g_y.
-    pub loads: PathBuf,
-}
-
-/// What a stress-stiffness file holds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StressKind {
-    /// The stiffness change ΔK at the reference speed (the geometric stiffness of the
-    /// centrifugal prestress).
-    Increment,
-    /// The whole stiffness at the reference speed, K + ΔK (what an FE code exports after a
-    /// prestressed step); ΔK is it less the body's stiffness.
-    Total,
-}
-
-/// A stiffness exported at a reference speed (stress stiffening): K(Ω) = K + (Ω/Ω_ref)² ΔK.
-/// The file must not contain spin softening (an FE code's "spin softening" option): the engine
-/// adds that itself from the mass matrix (or `[fe.rotating]`'s E).
-#[derive(Debug, Clone, PartialEq)]
-pub struct StressFiles {
-    /// The matrix file, in the format and units of the mass and stiffness.
-    pub stiffness: PathBuf,
-    /// What it holds.
-    pub kind: StressKind,
-    /// The reference speed Ω_ref [Hz] (> 0) at which it was computed.
-    pub reference_hz: f64,
-}
-
-/// Where an FE body is and in which units (module doc).
-#[derive(Debug, Clone, PartialEq)]
-pub struct BodyFiles {
-    /// The matrices' format.
-    pub format: Format,
-    /// Mass matrix.
-    pub mass: PathBuf,
-    /// Stiffness matrix.
-    pub stiffness: PathBuf,
-    /// Node table.
-    pub nodes: PathBuf,
-    /// DOF table (Matrix Market only; an Abaqus file names its DOFs).
-    pub dofs: Option<PathBuf>,
-    /// Unit system of every file.
-    pub units: Units,
-    /// The rotating terms, if the files carry them.
-    pub rotating: Option<RotatingFiles>,
-    /// The stress stiffening, if the body has it (none by default).
-    pub stress: Option<StressFiles>,
-}
 
 /// An imported body (module doc).
 #[derive(Debug, Clone)]
@@ -120,6 +51,10 @@ pub struct ImportedBody {
     /// Whether M, K, the rotating terms and the stress stiffening are unchanged by a quarter
     /// turn about z and the body has no unbalance (to [`AXISYMMETRY_TOLERANCE`]).
     pub axisymmetric: bool,
+    /// A solid or shell body ([`super::solid`]), reduced sparse
+    /// ([`crate::rotor::solid_reduction`]): then `matrices` are empty (0 × 0), `node_ids` and
+    /// `node_z` are its attachment points (ids 1, 2, … in ascending z) and `named` indexes them.
+    pub solid: Option<std::sync::Arc<super::solid::SolidBody>>,
 }
 
 /// Relative tolerance of [`ImportedBody::axisymmetric`] (the beam rotor's own test's).
@@ -415,7 +350,7 @@ pub fn load(f: &BodyFiles) -> Result<ImportedBody, InputError> {
                 format!(
                     "node {} lies off the rotor axis (x = {:e} m, y = {:e} m): a scene attaches \
                      bodies whose nodes lie on the axis (beam-like models); solid and shell \
-                     bodies are not attached yet",
+                     bodies attach through rings (fe.rings)",
                     p.id, p.x[0], p.x[1]
                 ),
             ));
@@ -512,6 +447,7 @@ pub fn load(f: &BodyFiles) -> Result<ImportedBody, InputError> {
         matrices: t,
         invariants: inv,
         axisymmetric,
+        solid: None,
     })
 }
 

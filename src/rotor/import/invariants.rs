@@ -59,7 +59,12 @@ pub fn rigid_modes(dofs: &[Dof], pos: &[Vector3<f64>]) -> DMatrix<f64> {
 
 /// The invariants of mass matrix `m` whose rigid motions are `rigid` ([`rigid_modes`]).
 pub fn invariants(m: &DMatrix<f64>, rigid: &DMatrix<f64>) -> Invariants {
-    let r = rigid.transpose() * m * rigid;
+    invariants_of(&(rigid.transpose() * m * rigid))
+}
+
+/// The invariants of a body whose 6 × 6 rigid mass matrix RᵀMR is `r` ([`rigid_modes`]'s
+/// order).
+pub fn invariants_of(r: &DMatrix<f64>) -> Invariants {
     let mass = r[(0, 0)];
     // The translation–rotation block is −[h]ₓ: (e_a × h)_k = R[k, 3 + a].
     let h = Vector3::new(-r[(2, 4)], r[(2, 3)], r[(0, 4)]);
@@ -79,7 +84,7 @@ pub fn invariants(m: &DMatrix<f64>, rigid: &DMatrix<f64>) -> Invariants {
 /// S̄ = ẑ× on every translation and rotation triple of `dofs`, as one entry per row: row i of
 /// S̄ is ±1 in column j (x rows take −y, y rows take +x; z rows and a triple's missing partner
 /// none). A triple must be complete for this to be the rotation of its vector.
-fn spin_operator(dofs: &[Dof]) -> Vec<Option<(usize, f64)>> {
+pub(crate) fn spin_operator(dofs: &[Dof]) -> Vec<Option<(usize, f64)>> {
     let index: BTreeMap<(i64, usize), usize> = dofs
         .iter()
         .enumerate()

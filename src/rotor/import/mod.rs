@@ -14,8 +14,10 @@
 
 pub mod abaqus;
 pub mod body;
+pub mod files;
 pub mod invariants;
 pub mod matrix_market;
 pub mod rings;
+pub mod solid;
 pub mod sparse_body;
 pub mod tables;

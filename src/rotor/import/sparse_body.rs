@@ -17,7 +17,7 @@
 
 use std::path::Path;
 
-use super::body::{BodyFiles, Format};
+use super::files::{BodyFiles, Format};
 use super::matrix_market::{self, Symmetry};
 use super::tables::{self, Dof, Node, Units, DOF_NAMES};
 use crate::error::InputError;

@@ -1,18 +1,21 @@
 //! The FE body builder: `[fe]` → a rotor that is an FE body imported from files, with its
-//! named nodes and sensors given by node id.
+//! named nodes, rings and sensors.
 //!
 //! In: the `[fe]` table: the matrices' `format` (`matrix-market` or `abaqus`), the files
 //! `mass`, `stiffness`, `nodes`, `dofs` (Matrix Market) and optionally the `[fe.rotating]`
 //! terms, paths relative to the scene file; `units` (`SI` or `mm-t-s`); optionally a stress
 //! stiffness `stress_stiffness` (a file in the matrices' format), `stress_stiffness_kind`
 //! (`increment`: ΔK, or `total`: K + ΔK) and `stress_reference_hz` (the speed [Hz] it was
-//! computed at), all three or none; `named` nodes (name → node id) and `sensors` (names among
-//! them); `rings` (ring attachments, read only by [`fe_body_rings`] for `rotorsweep reduce`: a
-//! scene with rings is refused here, as it cannot attach a solid or shell body). Out: a
-//! [`Geometry`] whose rotor spec has no
-//! segments, only the named points at their nodes' z [m], and the [`ImportedBody`]; no
-//! default boundary (the supports' nodes are); or an [`InputError`] at the key, or naming the
-//! body's file and line ([`crate::rotor::import::body`]).
+//! computed at), all three or none; `named` nodes (name → node id), `rings` (ring attachments,
+//! [`crate::rotor::import::rings`]) and `sensors` (names among them).
+//! Out: a [`Geometry`] whose rotor spec has no segments, only the named points at their z [m],
+//! and the [`ImportedBody`]; no default boundary (the supports' nodes are); or an
+//! [`InputError`] at the key, or naming the body's file and line
+//! ([`crate::rotor::import::body`]). Without rings the body is an axis body (every node on the
+//! axis with six DOFs), its points its named nodes; with rings it is a solid or shell body
+//! ([`crate::rotor::import::solid`], read sparse, reduced by
+//! [`crate::rotor::solid_reduction`]), its points the rings' reference points and the named
+//! nodes, in ascending z.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -22,12 +25,14 @@ use serde::Deserialize;
 
 use super::built::Geometry;
 use crate::error::InputError;
-use crate::rotor::fe::RotorSpec;
+use crate::rotor::fe::{FeMatrices, RotorSpec};
 use crate::rotor::import::body::{
     self, BodyFiles, Format, ImportedBody, RotatingFiles, StressFiles, StressKind,
 };
 use crate::rotor::import::rings::{self, Ring, RingSpec};
 use crate::rotor::import::tables::{Node, Units};
+use crate::rotor::import::{solid, sparse_body};
+use crate::rotor::solid_reduction::attachment_order;
 use crate::scene::check::Check;
 use crate::scene::source::Source;
 
@@ -203,6 +208,16 @@ pub fn fe_body_rings(
         overridden: &[],
     };
     let fe = fe_table(&c)?;
+    rings_of(&c, &fe, nodes, units)
+}
+
+/// The rings of `fe` on the node table `nodes` (SI), lengths in `units` ([`fe_body_rings`]).
+fn rings_of(
+    c: &Check,
+    fe: &FeFile,
+    nodes: &[Node],
+    units: Units,
+) -> Result<BTreeMap<String, Ring>, InputError> {
     let mut out = BTreeMap::new();
     for (name, r) in &fe.rings {
         let key = format!("fe.rings.{name}");
@@ -225,14 +240,10 @@ pub fn fe_body_rings(
 
 /// The body of `[fe]` (module doc).
 pub(crate) fn build_fe(c: &Check, fe: &FeFile) -> Result<Geometry, InputError> {
-    if !fe.rings.is_empty() {
-        return Err(c.err(
-            "fe.rings",
-            "ring attachments are read by `rotorsweep reduce` (solid and shell bodies); a scene \
-             attaches an axis body by the nodes of fe.named",
-        ));
-    }
     let files = files_of(c, fe)?;
+    if !fe.rings.is_empty() {
+        return build_solid(c, fe, &files);
+    }
     let mut body: ImportedBody = body::load(&files)?;
     let mut named_points = Vec::new();
     for (name, id) in &fe.named {
@@ -247,17 +258,17 @@ pub(crate) fn build_fe(c: &Check, fe: &FeFile) -> Result<Geometry, InputError> {
         named_points.push((name.clone(), body.node_z[at]));
         body.named.insert(name.clone(), at);
     }
-    let mut sensors = Vec::new();
-    for (i, s) in fe.sensors.iter().enumerate() {
-        if !fe.named.contains_key(s) {
-            return Err(c.err(
-                &format!("fe.sensors[{i}]"),
-                format!("`{s}` is not a node named in fe.named"),
-            ));
-        }
-        sensors.push(s.clone());
-    }
-    Ok(Geometry {
+    Ok(geometry(named_points, sensors_of(c, fe)?, body))
+}
+
+/// The geometry of an FE body: a rotor spec with no segments, only the named points [m], from
+/// the body's first point; no default boundary.
+fn geometry(
+    named_points: Vec<(String, f64)>,
+    sensors: Vec<String>,
+    body: ImportedBody,
+) -> Geometry {
+    Geometry {
         rotor: RotorSpec {
             z_start: body.node_z[0],
             segments: Vec::new(),
@@ -271,5 +282,66 @@ pub(crate) fn build_fe(c: &Check, fe: &FeFile) -> Result<Geometry, InputError> {
         sensors,
         boundary: Vec::new(),
         body: Some(Arc::new(body)),
-    })
+    }
+}
+
+/// `fe.sensors`, each a name of `fe.named` or `fe.rings`.
+fn sensors_of(c: &Check, fe: &FeFile) -> Result<Vec<String>, InputError> {
+    let mut sensors = Vec::new();
+    for (i, s) in fe.sensors.iter().enumerate() {
+        if !fe.named.contains_key(s) && !fe.rings.contains_key(s) {
+            return Err(c.err(
+                &format!("fe.sensors[{i}]"),
+                format!("`{s}` is not a node named in fe.named nor a ring of fe.rings"),
+            ));
+        }
+        sensors.push(s.clone());
+    }
+    Ok(sensors)
+}
+
+/// A solid or shell body (`[fe.rings]` given): read sparse, attached at its named nodes and
+/// rings ([`crate::rotor::import::solid`]), the rotor's points the attachments' reference
+/// points in ascending z (module doc).
+fn build_solid(c: &Check, fe: &FeFile, files: &BodyFiles) -> Result<Geometry, InputError> {
+    if let Some(s) = &files.stress {
+        return Err(c.err(
+            "fe.stress_stiffness",
+            format!(
+                "{}: a solid or shell body (fe.rings) is reduced sparse, which does not take a \
+                 stress stiffness yet",
+                s.stiffness.display()
+            ),
+        ));
+    }
+    if files.rotating.is_some() {
+        return Err(c.err(
+            "fe.rotating",
+            "a solid or shell body (fe.rings) has its rotating terms from its mass matrix and \
+             node coordinates",
+        ));
+    }
+    let read = sparse_body::load(files)?;
+    let rings = rings_of(c, fe, &read.nodes, files.units)?;
+    let solid = solid::attach(read, &fe.named, &rings, &files.dofs_file())
+        .map_err(|(key, reason)| c.err(&key, reason))?;
+    let order = attachment_order(&solid);
+    let z: Vec<f64> = order
+        .iter()
+        .map(|(name, _)| {
+            let a = solid.attachments.iter().find(|a| &a.name == name);
+            a.expect("an attachment").centre[2]
+        })
+        .collect();
+    let body = ImportedBody {
+        node_ids: (1..=order.len() as i64).collect(),
+        node_z: z.clone(),
+        named: order.iter().cloned().collect(),
+        matrices: FeMatrices::empty(),
+        invariants: solid.invariants.clone(),
+        axisymmetric: false,
+        solid: Some(Arc::new(solid)),
+    };
+    let named_points = order.iter().map(|(n, p)| (n.clone(), z[*p])).collect();
+    Ok(geometry(named_points, sensors_of(c, fe)?, body))
 }

@@ -1,0 +1,91 @@
+//! Where an FE body's files are and what they hold: the matrices' format, the unit system, the
+//! optional rotating terms and stress stiffness ([`BodyFiles`]), as a scene's `[fe]` names them.
+//!
+//! In: nothing read yet (paths). Out: the descriptions the readers take
+//! ([`super::body::load`], [`super::sparse_body::load`]). Method: plain data.
+
+use std::path::PathBuf;
+
+use super::tables::Units;
+
+/// The file format of an FE body's matrices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Matrix Market coordinate files with a DOF table.
+    MatrixMarket,
+    /// Abaqus `*MATRIX OUTPUT, FORMAT=COORDINATE` files (node, dof, node, dof, value).
+    Abaqus,
+}
+
+/// The files of the rotating terms (module doc), all Matrix Market but the loads (`index,fc,
+/// ft,gx,gy`, one line per matrix row).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RotatingFiles {
+    /// G_c.
+    pub coriolis: PathBuf,
+    /// E.
+    pub spin_softening: PathBuf,
+    /// C.
+    pub angular_acceleration: PathBuf,
+    /// G_s.
+    pub gyroscopic: PathBuf,
+    /// f_c, f_t, g_x, g_y.
+    pub loads: PathBuf,
+}
+
+/// What a stress-stiffness file holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StressKind {
+    /// The stiffness change ΔK at the reference speed (the geometric stiffness of the
+    /// centrifugal prestress).
+    Increment,
+    /// The whole stiffness at the reference speed, K + ΔK (what an FE code exports after a
+    /// prestressed step); ΔK is it less the body's stiffness.
+    Total,
+}
+
+/// A stiffness exported at a reference speed (stress stiffening): K(Ω) = K + (Ω/Ω_ref)² ΔK.
+/// The file must not contain spin softening (an FE code's "spin softening" option): the engine
+/// adds that itself from the mass matrix (or `[fe.rotating]`'s E).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StressFiles {
+    /// The matrix file, in the format and units of the mass and stiffness.
+    pub stiffness: PathBuf,
+    /// What it holds.
+    pub kind: StressKind,
+    /// The reference speed Ω_ref [Hz] (> 0) at which it was computed.
+    pub reference_hz: f64,
+}
+
+/// Where an FE body is and in which units (module doc).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyFiles {
+    /// The matrices' format.
+    pub format: Format,
+    /// Mass matrix.
+    pub mass: PathBuf,
+    /// Stiffness matrix.
+    pub stiffness: PathBuf,
+    /// Node table.
+    pub nodes: PathBuf,
+    /// DOF table (Matrix Market only; an Abaqus file names its DOFs).
+    pub dofs: Option<PathBuf>,
+    /// Unit system of every file.
+    pub units: Units,
+    /// The rotating terms, if the files carry them.
+    pub rotating: Option<RotatingFiles>,
+    /// The stress stiffening, if the body has it (none by default).
+    pub stress: Option<StressFiles>,
+}
+
+impl BodyFiles {
+    /// The file that says which DOF each matrix row is, as an error names it: the DOF table, or
+    /// for an Abaqus body the mass matrix.
+    pub fn dofs_file(&self) -> String {
+        self.dofs
+            .as_deref()
+            .unwrap_or(&self.mass)
+            .display()
+            .to_string()
+    }
+}
