@@ -51,6 +51,7 @@ mod reduction;
 mod report;
 mod report_html;
 mod report_linear;
+mod report_nips;
 mod rotating_frame;
 mod run_log;
 mod runup;
