@@ -109,3 +109,49 @@ def test_a_study_sweeps_the_line_load(tmp_path: Path) -> None:
     # 5 kN/m more over 4 m: 20 kN more through the nip (the housings' 1e5 N/m vertical springs
     # take a little of it).
     assert totals[10.0] - totals[5.0] == pytest.approx(20e3, rel=0.02)
+
+
+def test_nip_profile_figure_of_a_simulate_file(nip_file: Path, tmp_path: Path) -> None:
+    """One job: the profile is drawn, the map over speed is not (one speed); the machine's
+    channels (roll.sensor) need no --channel."""
+    from rotorsweep.figures.run import render
+
+    written = [p.name for p in render(nip_file, tmp_path / "plots")]
+    assert "nip_profile.png" in written
+    assert "nip_orders.png" not in written
+
+
+def test_nip_orders_draws_the_tables_amplitudes() -> None:
+    """The spectral map draws the report's amplitudes of the summed force as they are: a panel per
+    setting, a curve per order over speed (invented numbers, two loads x two speeds)."""
+    import pandas as pd
+
+    from rotorsweep.figures.nips import nip_orders, nip_profile
+
+    cols = ["job_id", "nip", "segment", "z_mm", "length_mm", "static_n", "line_load_kn_per_m",
+            "width_mm", "amplitude_1x_n", "amplitude_2x_n"]
+    rows = []
+    amps = {"a": (1.0, 20.0), "b": (2.0, 30.0), "c": (3.0, 40.0), "d": (4.0, 50.0)}
+    for job, (a1, a2) in amps.items():
+        rows.append([job, "press", "total", None, 400.0, 100.0, 0.25, 10.0, a1, a2])
+        for s in range(2):
+            rows.append([job, "press", s + 1, 100.0 + 200.0 * s, 200.0, 50.0, 0.25, 10.0,
+                         a1 / 2, a2 / 2])
+    doc = {"tables": [{"name": "nips", "columns": cols, "rows": rows}]}
+    speeds = pd.Series({"a": 5.0, "b": 10.0, "c": 5.0, "d": 10.0})
+    settings = pd.Series({"a": "5 kN/m", "b": "5 kN/m", "c": "10 kN/m", "d": "10 kN/m"})
+    fig = nip_orders(doc, speeds, settings, "test")
+    axes = [ax for ax in fig.axes if ax.get_title()]
+    assert [ax.get_title() for ax in axes] == ["nip press, 5 kN/m", "nip press, 10 kN/m"]
+    for ax, (lo, hi) in zip(axes, [("a", "b"), ("c", "d")]):
+        lines = {ln.get_label(): ln for ln in ax.get_lines()}
+        assert list(lines["1×"].get_xdata()) == [5.0, 10.0]
+        assert list(lines["1×"].get_ydata()) == [amps[lo][0], amps[hi][0]]
+        assert list(lines["2×"].get_ydata()) == [amps[lo][1], amps[hi][1]]
+    # The profile: amplitudes per length, a1/2 N over 0.2 m of job b (the largest line of the
+    # 5 kN/m panel) is 2.5 a1 N/m.
+    prof = nip_profile(doc, speeds, settings, "test")
+    bottom = prof.axes[2]
+    one = next(ln for ln in bottom.get_lines() if ln.get_label() == "1×")
+    assert list(one.get_ydata()) == pytest.approx([2.5 * amps["b"][0] / 1e3] * 2)
+    assert nip_orders({"tables": []}, speeds, settings, "test") is None

@@ -237,6 +237,9 @@ pub struct Rolling {
     pub overlap: f64,
     /// Time a point spends in the band [s].
     pub dwell_s: f64,
+    /// Time a point spends in contact (pressure > 0) [s]: from where the overlap exceeds its
+    /// dent to where it lifts off, within the band (`dynamics/cover_response.rs`).
+    pub contact_s: f64,
 }
 
 /// Steps a point takes across the band in [`rolling`].
@@ -247,8 +250,8 @@ pub const ROLLING_REVOLUTIONS: usize = 10_000;
 
 /// One pass of a point through the band |x| < a = √(2Rδ) at overlap δ − x²/2R, surface speed
 /// `v` [m/s], entering with the internal compression `wv` [m] (free); the internal compression at
-/// the exit and ∫p dx [N/m] (trapezoid).
-fn pass(sls: &Sls, radius: f64, delta: f64, v: f64, wv: f64) -> (f64, f64) {
+/// the exit, ∫p dx [N/m] (trapezoid) and the time the point is in contact (p > 0) [s].
+fn pass(sls: &Sls, radius: f64, delta: f64, v: f64, wv: f64) -> (f64, f64, f64) {
     let a = (2.0 * radius * delta).sqrt();
     let dx = 2.0 * a / ROLLING_STEPS as f64;
     let mut q = CoverPoint {
@@ -256,15 +259,16 @@ fn pass(sls: &Sls, radius: f64, delta: f64, v: f64, wv: f64) -> (f64, f64) {
         w: sls.k1 / sls.ku * wv,
         t: 0.0,
     };
-    let (mut last, mut sum) = (0.0, 0.0);
+    let (mut last, mut sum, mut contact) = (0.0, 0.0, 0usize);
     for s in 1..=ROLLING_STEPS {
         let x = -a + s as f64 * dx;
         let g = delta - x * x / (2.0 * radius);
         let (next, pr, _) = sls.step(q, q.t + dx / v, g);
         sum += 0.5 * (last + pr) * dx;
+        contact += usize::from(pr > 0.0);
         (q, last) = (next, pr);
     }
-    (q.wv, sum)
+    (q.wv, sum, contact as f64 * dx / v)
 }
 
 /// Free decay of the internal compression `wv` over `dt` [s] (negative: back in time).
@@ -310,7 +314,7 @@ pub fn rolling(c: &CoverSpec, delta: f64, speed_hz: f64) -> Option<Rolling> {
     let half = |d: f64| (2.0 * c.radius * d).sqrt();
     let a = half(delta);
     let entry = steady_entry(&sls, c.radius, delta, v, period)?;
-    let (_, force) = pass(&sls, c.radius, delta, v, entry);
+    let (_, force, contact) = pass(&sls, c.radius, delta, v, entry);
     // A step Δδ held for a revolution: every point in the band entered after it with the
     // steady history; the band edge moves with δ, so the point's free decay to the new edge
     // is shifted by (a − a')/v. Central difference.
@@ -325,19 +329,20 @@ pub fn rolling(c: &CoverSpec, delta: f64, speed_hz: f64) -> Option<Rolling> {
             decay(&sls, entry, (a - a2) / v),
         )
     };
-    let (up_exit, up) = shifted(d);
-    let (_, down) = shifted(-d);
+    let (up_exit, up, _) = shifted(d);
+    let (_, down, _) = shifted(-d);
     let stiffness = (up - down) / (2.0 * d);
     // One revolution later, back at δ: the points of the raised pass come in with their dent
     // (free from the exit at a' to the entry at −a: T − (a + a')/v).
     let a_up = half(delta + d);
     let back = decay(&sls, up_exit, period - (a + a_up) / v);
-    let (_, after) = pass(&sls, c.radius, delta, v, back);
+    let (_, after, _) = pass(&sls, c.radius, delta, v, back);
     let overlap = -(after - force) / (stiffness * d);
     Some(Rolling {
         force_n_per_m: force,
         stiffness_n_per_m2: stiffness,
         overlap,
         dwell_s: 2.0 * a / v,
+        contact_s: contact,
     })
 }

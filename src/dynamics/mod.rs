@@ -6,12 +6,14 @@
 //! start), the nonlinear roll system with contacts for the integrators ([`system`]) and one time
 //! simulation ([`simulation`]: static equilibrium, then time integration, sampled outputs; what
 //! a job gives and how it records, `job`); several rolls coupled by nips ([`bodies`], the
-//! nips' segment contacts [`nip`], a viscoelastic cover's points [`cover`]). SI
+//! nips' segment contacts [`nip`], a viscoelastic cover's points [`cover`] and its rolling
+//! response [`cover_response`]). SI
 //! units throughout, except for the readers' accounts: the model's [`summary`] and what a scene
 //! asks for, [`derived`] (mm, g, Hz: what `modes` and `check` print).
 
 pub mod bodies;
 pub mod cover;
+pub mod cover_response;
 pub mod derived;
 mod job;
 pub mod linear_system;

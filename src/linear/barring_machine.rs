@@ -22,22 +22,27 @@
 //! k_c,j after a step Δδ held for a revolution, and −μ_j k_c,j Δδ one revolution after it ends)
 //! is projected on the mode: K_c,i = Σ_j k_c,j (J_j φ_i)², μ_i = Σ_j μ_j k_c,j (J_j φ_i)²/K_c,i,
 //! so m η̈ + c η̇ + k η = −K_c,i [η(t) − μ_i η(t − 1/f_c)]; its rightmost root by Chebyshev
-//! collocation ([`rightmost`]). With μ_i ≤ 0 (no memory) the root is that of
-//! m λ² + c λ + k + K_c,i = 0. The point's root is the least stable over the modes; the polygon
-//! order is the nearest whole number of waves per revolution. Assumptions: the vibration is
-//! slow next to the dwell in the nip (k_c is the quasi-static rolling stiffness), one
-//! revolution's memory (the deeper revolutions' share is left out), the rolls at standstill in
-//! the linearisation (no gyroscopic terms; exact for axisymmetric rolls on speed-independent
-//! supports in the nip direction). Not confirmed by a time run: docs/machines.md gives a
-//! single-DOF time run that decayed where this linearisation predicts growth.
+//! collocation ([`rightmost`]; with μ_i ≤ 0 that of m λ² + c λ + k + K_c,i = 0). That
+//! quasi-static root is only the start: the point's root is that of the exact characteristic
+//! equation m λ² + c λ + k + Σ_j L_j (J_j φ_i)² H_j(λ) = 0 ([`exact_root`], Newton's method from
+//! the quasi-static root and its neighbours), H_j the cover's response at the vibration's own
+//! rate with the memory of every revolution (`dynamics/cover_response.rs`). The point's root is
+//! the least stable over the modes; the polygon order is the nearest whole number of waves per
+//! revolution. Confirmed by time runs of a single-DOF roll on the cover's points
+//! (tests/it/barring_time.rs: growth and decay rates within 3 %). Assumptions: the linearisation
+//! about the steady rolling state at the static penetration (small vibration), the rolls at
+//! standstill in the linearisation (no gyroscopic terms; exact for axisymmetric rolls on
+//! speed-independent supports in the nip direction), a rightmost root among those Newton's
+//! method reaches from its starts.
 
-use nalgebra::DVector;
+use nalgebra::{Complex, DVector};
 use serde::Serialize;
 
 use super::barring::{rightmost, BarringRoll, Root};
 use super::modes::ZERO_RAD_S;
 use crate::dynamics::bodies::{models, MachineSystem};
-use crate::dynamics::cover::rolling;
+use crate::dynamics::cover::{rolling, Rolling};
+use crate::dynamics::cover_response::response;
 use crate::dynamics::model::Model;
 use crate::numerics::eigen;
 use crate::scene::{CoverSpec, Machine, NipLaw};
@@ -180,6 +185,19 @@ fn find_nip(machine: &Machine, name: Option<&str>) -> Result<(usize, CoverSpec),
     }
 }
 
+/// The root λ = re + i·im as a [`Root`] at the revolution period `period` [s].
+fn root_at(re: f64, im: f64, period: f64, intervals: usize) -> Root {
+    let waves = im * period / TAU;
+    Root {
+        growth_per_s: re,
+        growth_per_rev: re * period,
+        frequency_hz: im / TAU,
+        waves_per_rev: waves,
+        lobe: waves.floor() as usize,
+        intervals,
+    }
+}
+
 /// The root of m λ² + c λ + k = 0 with the larger real part (no memory), as a [`Root`].
 fn memoryless(roll: &BarringRoll, kc: f64, period: f64) -> Root {
     let (m, c, k) = (roll.mass_kg, roll.damping_ns_m, roll.stiffness_n_m + kc);
@@ -189,15 +207,61 @@ fn memoryless(roll: &BarringRoll, kc: f64, period: f64) -> Root {
     } else {
         (-c / (2.0 * m), (-disc).sqrt() / (2.0 * m))
     };
-    let waves = im * period / TAU;
-    Root {
-        growth_per_s: re,
-        growth_per_rev: re * period,
-        frequency_hz: im / TAU,
-        waves_per_rev: waves,
-        lobe: waves.floor() as usize,
-        intervals: 0,
+    root_at(re, im, period, 0)
+}
+
+/// Newton iterations of [`exact_root`] from each start.
+pub const NEWTON_ITERATIONS: usize = 60;
+
+/// One mode of a roll in a viscoelastic nip: m η̈ + c η̇ + k η = −Σ_j L_j p_j² ΔF_j/L_j with
+/// p_j the mode's displacement at segment j along the nip direction (J_j φ).
+#[derive(Debug, Clone)]
+pub struct NipMode<'a> {
+    /// Modal mass m [kg], damping c [N s/m] and stiffness k [N/m] (the roll without the nip).
+    pub roll: BarringRoll,
+    /// Per closed segment: its length L [m], p_j, and the cover's steady rolling state there.
+    pub segments: Vec<(f64, f64, &'a Rolling)>,
+}
+
+/// Where [`exact_root`] starts Newton's method: the quasi-static root `near` shifted in
+/// frequency by 0, ±½ and ±1 times the covered roll's revolution frequency `cover_hz` (the
+/// delay's roots lie about a revolution frequency apart).
+pub const START_SHIFTS: [f64; 5] = [-1.0, -0.5, 0.0, 0.5, 1.0];
+
+/// The root of the mode's exact characteristic equation
+/// m λ² + c λ + k + Σ_j L_j p_j² H_j(λ) = 0 (H of `dynamics/cover_response.rs`) found by
+/// Newton's method (derivative by a central difference, the function is analytic) from
+/// [`START_SHIFTS`] about the quasi-static root `near`; of those that converge (to 1e-10
+/// relative) with a positive frequency, the one with the largest real part. `None` when none
+/// converges.
+pub fn exact_root(mode: &NipMode, cover: &CoverSpec, cover_hz: f64, near: &Root) -> Option<Root> {
+    let l0 = Complex::new(near.growth_per_s, TAU * near.frequency_hz);
+    let starts = START_SHIFTS.map(|n| l0 + Complex::new(0.0, n * TAU * cover_hz));
+    let r = &mode.roll;
+    let f = |l: Complex<f64>| {
+        let nip: Complex<f64> = (mode.segments.iter())
+            .map(|(len, p, roll)| response(cover, roll, cover_hz, l) * (len * p * p))
+            .sum();
+        l * l * r.mass_kg + l * r.damping_ns_m + r.stiffness_n_m + nip
+    };
+    let mut best: Option<Complex<f64>> = None;
+    for start in starts {
+        let mut l = start;
+        for _ in 0..NEWTON_ITERATIONS {
+            let h = 1e-7 * l.norm().max(1.0);
+            let slope = (f(l + h) - f(l - h)) / (2.0 * h);
+            let next = l - f(l) / slope;
+            let done = (next - l).norm() <= 1e-10 * next.norm();
+            l = next;
+            if done {
+                if l.im > 0.0 && l.re.is_finite() && best.is_none_or(|b| l.re > b.re) {
+                    best = Some(l);
+                }
+                break;
+            }
+        }
     }
+    best.map(|l| root_at(l.re, l.im, 1.0 / cover_hz, 0))
 }
 
 /// The barring map of `machine` (module doc); `first` is its first roll's model.
@@ -273,17 +337,16 @@ pub fn barring_map(
         for &speed in &req.speeds_hz {
             let fc = cover_factor * speed;
             let period = 1.0 / fc;
-            let lin: Vec<(f64, f64)> = (closed.iter())
+            let states: Vec<Rolling> = (closed.iter())
                 .map(|j| {
-                    rolling(&cover, seg[*j].delta, fc)
-                        .map(|r| (r.stiffness_n_per_m2 * nip.segment_length, r.overlap))
-                        .ok_or_else(|| {
-                            format!(
-                                "the cover's rolling state at {fc} Hz, segment {j}, not reached"
-                            )
-                        })
+                    rolling(&cover, seg[*j].delta, fc).ok_or_else(|| {
+                        format!("the cover's rolling state at {fc} Hz, segment {j}, not reached")
+                    })
                 })
                 .collect::<Result<_, _>>()?;
+            let lin: Vec<(f64, f64)> = (states.iter())
+                .map(|r| (r.stiffness_n_per_m2 * nip.segment_length, r.overlap))
+                .collect();
             let mut best: Option<MapPoint> = None;
             for (i, (w, phi, part, _)) in cand.iter().enumerate() {
                 let kc: f64 = part.iter().zip(&lin).map(|(p, l)| l.0 * p * p).sum();
@@ -299,11 +362,20 @@ pub fn barring_map(
                     stiffness_n_m: w * w,
                     overlap: mu.min(1.0),
                 };
-                let root = if mu > 0.0 {
+                let quasi = if mu > 0.0 {
                     rightmost(&roll, kc, fc).map_err(|e| e.to_string())?
                 } else {
                     memoryless(&roll, kc, period)
                 };
+                let mode = NipMode {
+                    roll,
+                    segments: (part.iter().zip(&states))
+                        .map(|(p, r)| (nip.segment_length, *p, r))
+                        .collect(),
+                };
+                let root = exact_root(&mode, &cover, fc, &quasi).ok_or_else(|| {
+                    format!("the exact barring root at {fc} Hz (mode {i}) did not converge")
+                })?;
                 if best
                     .as_ref()
                     .is_some_and(|b| b.growth_per_s >= root.growth_per_s)

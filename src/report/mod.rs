@@ -35,6 +35,9 @@
 //! - `balancing`, `balancing_residual`: for trial-mass runs on a masses axis, the influence
 //!   coefficients' correction masses and the model-based ("ideal") reference, and the 1×
 //!   predicted after each (`tables/balancing.rs`).
+//! - `nips`: per job and nip of a machine's run, the static nip load [N, kN/m], its amplitude
+//!   at the study's orders [N] and the band width [mm], for the whole nip and per segment (the
+//!   cross-machine profile; `tables/nips.rs`);
 //! - `statistics` (a study with `[sample]`): per output, the mean, standard deviation,
 //!   quantiles, min and max over the samples, with bootstrap intervals (`tables/statistics.rs`);
 //! - `sensitivity` (a Saltelli design): per output and parameter, the first-order and total

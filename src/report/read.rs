@@ -1,6 +1,7 @@
 //! Reading a results file into a [`Report`]: which kind of file it is, its jobs, and every
 //! table it holds data for, in the report's order (`solver`, `resonances`, `trial_mass`,
-//! `balancing` and `balancing_residual`, `orders`, `order_resonances`, `stability`, `linear`,
+//! `balancing` and `balancing_residual`, `orders`, `order_resonances`, `stability`, `nips`,
+//! `linear`,
 //! and of a sampled study `statistics`, `sensitivity` and `samples`).
 //!
 //! In: an assembled results file of `rotorsweep run` or `merge` (attribute `study_name`, group
@@ -16,9 +17,9 @@ use hdf5::File;
 use super::jobs::{read_jobs, Job, INTEGRATOR_KEY};
 use super::table::{position_or_push, Report};
 use super::tables::{
-    balancing_tables, linear_table, order_resonance_table, orders_table, per_grid_point,
-    resonance_table, samples_table, sensitivity_table, solver_table, stability_table,
-    statistics_table, trial_mass_table, Builder,
+    balancing_tables, linear_table, nips_table, order_resonance_table, orders_table,
+    per_grid_point, resonance_table, samples_table, sensitivity_table, solver_table,
+    stability_table, statistics_table, trial_mass_table, Builder,
 };
 use crate::error::InputError;
 use crate::results::request::{analysis_of_text, StudyAnalysis};
@@ -113,6 +114,7 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
     if varying.iter().any(|k| k == INTEGRATOR_KEY) && varying.len() >= 2 {
         tables.push(stability_table(&jobs, &varying));
     }
+    tables.extend(nips_table(&f, &jobs, &varying, &spec.orders).map_err(failed)?);
     tables.extend(linear_table(&f).map_err(failed)?);
     for build in [statistics_table as Builder, sensitivity_table] {
         tables.extend(per_grid_point(&f, &jobs, &text, &varying, build).map_err(failed)?);

@@ -46,6 +46,17 @@ pub struct Grid {
     pub classes: Vec<Vec<String>>,
 }
 
+impl Grid {
+    /// A grid of `columns` and `rows` that HTML does not colour.
+    pub(crate) fn plain(columns: Vec<String>, rows: Vec<Vec<String>>) -> Self {
+        Self {
+            columns,
+            rows,
+            classes: Vec::new(),
+        }
+    }
+}
+
 /// A table: named columns (units in the names), rows of cells.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Table {

@@ -160,6 +160,20 @@ pub const MACHINE_DOCS: &[KeyDoc] = &[
         meaning: "The viscoelastic cover's stress relaxation time τ at constant strain: a held compression relaxes as E_r + (E_u − E_r) e^(−t/τ); a free point recovers with τ E_u/E_r.",
     },
     KeyDoc {
+        key: "nips[].cover_loss_factor",
+        units: "",
+        default: "none",
+        range: "> 0 and < 1/(2π f τ); with cover_loss_frequency_hz and cover_relaxation_time_s, not with cover_unrelaxed_modulus_mpa",
+        meaning: "The viscoelastic cover given by its loss factor η = E″/E′ at `cover_loss_frequency_hz` f instead of its unrelaxed modulus: with x = 2π f τ, E_u = E_r (x + η)/(x (1 − η x)) (the standard linear solid's E′ = (E_r + E_u x²)/(1 + x²), E″ = (E_u − E_r) x/(1 + x²)).",
+    },
+    KeyDoc {
+        key: "nips[].cover_loss_frequency_hz",
+        units: "Hz",
+        default: "none",
+        range: "> 0; with cover_loss_factor",
+        meaning: "The frequency at which `cover_loss_factor` is given.",
+    },
+    KeyDoc {
         key: "nips[].cover_points",
         units: "",
         default: "1024",

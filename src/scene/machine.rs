@@ -22,7 +22,8 @@
 //! - `cover`: a Winkler layer on one roll, foundation modulus k = E/((1 − ν²) h) [N/m³]
 //!   (plane strain, thin layer); with R = R_a R_b/(R_a + R_b) the band is 2a, a = √(2Rδ), and
 //!   the force per length ∫k(δ − x²/2R)dx = (4√2/3) k √R δ^1.5. With
-//!   `cover_unrelaxed_modulus_mpa` E_u and `cover_relaxation_time_s` τ the cover is a standard
+//!   `cover_unrelaxed_modulus_mpa` E_u (or `cover_loss_factor` η at `cover_loss_frequency_hz`,
+//!   mapped to E_u by [`sls_ratio`]) and `cover_relaxation_time_s` τ the cover is a standard
 //!   linear solid (`cover_modulus_mpa` its relaxed modulus E_r < E_u; both as foundation
 //!   moduli as above), tracked at `cover_points` points round the covered roll per segment
 //!   (`dynamics/cover.rs`).
@@ -382,30 +383,21 @@ fn viscoelastic(
     e: f64,
 ) -> Result<Option<(f64, f64, usize)>, InputError> {
     let key = |k: &str| format!("nips[{i}].{k}");
-    let (e_u, tau) = match (n.cover_unrelaxed_modulus_mpa, n.cover_relaxation_time_s) {
-        (None, None) => {
-            return match n.cover_points {
-                None => Ok(None),
-                Some(_) => Err(c.err(
-                    &key("cover_points"),
-                    "only for a viscoelastic cover (with cover_unrelaxed_modulus_mpa and \
-                     cover_relaxation_time_s)",
-                )),
-            }
-        }
-        (Some(_), None) => {
-            return Err(c.err(
-                &key("cover_unrelaxed_modulus_mpa"),
-                "a viscoelastic cover needs cover_relaxation_time_s too",
-            ))
-        }
-        (None, Some(_)) => {
-            return Err(c.err(
-                &key("cover_relaxation_time_s"),
-                "a viscoelastic cover needs cover_unrelaxed_modulus_mpa too",
-            ))
-        }
-        (Some(e_u), Some(tau)) => (e_u, tau),
+    let loss = (n.cover_loss_factor, n.cover_loss_frequency_hz);
+    let unrelaxed = match pair(c, i, ("cover_loss_factor", "cover_loss_frequency_hz"), loss)? {
+        None => n.cover_unrelaxed_modulus_mpa,
+        Some((eta, f)) => Some(1e-6 * e * sls_ratio(c, i, n, eta, f)?),
+    };
+    let keys = ("cover_unrelaxed_modulus_mpa", "cover_relaxation_time_s");
+    let Some((e_u, tau)) = pair(c, i, keys, (unrelaxed, n.cover_relaxation_time_s))? else {
+        return match n.cover_points {
+            None => Ok(None),
+            Some(_) => Err(c.err(
+                &key("cover_points"),
+                "only for a viscoelastic cover (with cover_unrelaxed_modulus_mpa and \
+                 cover_relaxation_time_s)",
+            )),
+        };
     };
     let e_u = 1e6 * c.positive(&key("cover_unrelaxed_modulus_mpa"), e_u)?;
     if e_u <= e {
@@ -427,6 +419,65 @@ fn viscoelastic(
         ));
     }
     Ok(Some((e_u, tau, points)))
+}
+
+/// Two keys of nip `i` that go together: both values, neither (`None`), or an error at the one
+/// given alone saying that it needs the other.
+fn pair(
+    c: &Check,
+    i: usize,
+    (ka, kb): (&str, &str),
+    values: (Option<f64>, Option<f64>),
+) -> Result<Option<(f64, f64)>, InputError> {
+    let alone = |k: &str, other: &str| {
+        c.err(
+            &format!("nips[{i}].{k}"),
+            format!("a viscoelastic cover: it needs {other} too"),
+        )
+    };
+    match values {
+        (None, None) => Ok(None),
+        (Some(_), None) => Err(alone(ka, kb)),
+        (None, Some(_)) => Err(alone(kb, ka)),
+        (Some(a), Some(b)) => Ok(Some((a, b))),
+    }
+}
+
+/// E_u/E_r of the standard linear solid whose loss factor E″/E′ at `f` [Hz] is `eta`, with the
+/// nip's relaxation time τ: E′ = (E_r + E_u x²)/(1 + x²), E″ = (E_u − E_r) x/(1 + x²), x = 2πfτ
+/// (Zener 1948), so E_u/E_r = (x + η)/(x (1 − η x)); it exists for η < 1/x (the loss factor
+/// of E_u → ∞). Errors name the key: the unrelaxed modulus given too, no relaxation time, η or
+/// f not positive, or η ≥ 1/x.
+fn sls_ratio(c: &Check, i: usize, n: &NipFile, eta: f64, f: f64) -> Result<f64, InputError> {
+    let key = |k: &str| format!("nips[{i}].{k}");
+    if n.cover_unrelaxed_modulus_mpa.is_some() {
+        return Err(c.err(
+            &key("cover_loss_factor"),
+            "give either cover_unrelaxed_modulus_mpa or cover_loss_factor with \
+             cover_loss_frequency_hz, not both",
+        ));
+    }
+    let Some(tau) = n.cover_relaxation_time_s else {
+        return Err(c.err(
+            &key("cover_loss_factor"),
+            "a viscoelastic cover needs cover_relaxation_time_s too",
+        ));
+    };
+    let eta = c.positive(&key("cover_loss_factor"), eta)?;
+    let f = c.positive(&key("cover_loss_frequency_hz"), f)?;
+    let tau = c.positive(&key("cover_relaxation_time_s"), tau)?;
+    let x = 2.0 * std::f64::consts::PI * f * tau;
+    if eta * x >= 1.0 {
+        return Err(c.err(
+            &key("cover_loss_factor"),
+            format!(
+                "a standard linear solid of relaxation time {tau} s has a loss factor below \
+                 1/(2π f τ) = {} at {f} Hz, got {eta}",
+                1.0 / x
+            ),
+        ));
+    }
+    Ok((x + eta) / (x * (1.0 - eta * x)))
 }
 
 /// Rolls overlap when their axes are closer than their outer radii (at a nip: the nip's radii,

@@ -42,6 +42,8 @@ pub(crate) struct NipFile {
     pub cover_poisson: Option<f64>,
     pub cover_unrelaxed_modulus_mpa: Option<f64>,
     pub cover_relaxation_time_s: Option<f64>,
+    pub cover_loss_factor: Option<f64>,
+    pub cover_loss_frequency_hz: Option<f64>,
     pub cover_points: Option<usize>,
     pub damping_ns_per_m2: Option<f64>,
     pub line_load_kn_per_m: Option<f64>,

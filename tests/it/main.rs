@@ -17,6 +17,7 @@ fn no_hdf5_file_locks() {
 mod analysis_study;
 mod balancing;
 mod barring;
+mod barring_time;
 mod bdf_tolerance;
 mod beam_closed_forms;
 mod calibration;
@@ -51,6 +52,7 @@ mod reduction;
 mod report;
 mod report_html;
 mod report_linear;
+mod report_nips;
 mod rotating_frame;
 mod run_log;
 mod runup;

@@ -147,23 +147,42 @@ fn steady_rolling_has_the_relaxed_and_unrelaxed_limits() {
     assert!(fast.overlap.abs() < 1e-3, "{fast:?}");
 }
 
-#[test]
-fn bad_viscoelastic_covers_are_clear_errors_at_their_key_and_line() {
-    let dir = support::scratch("visco-errors");
+/// A scratch folder `name` holding roll.toml: the stiff cylinder on 1e5 N/m supports.
+fn two_cylinders(name: &str) -> support::Scratch {
+    let dir = support::scratch(name);
     support::write_file(
         &dir,
         "roll.toml",
         &support::stiff_jeffcott("kx_n_per_m = 1.0e5, ky_n_per_m = 1.0e5", "", ""),
     );
-    let nip = |extra: &str| {
-        format!(
-            "name = \"m\"\n[[rolls]]\nname = \"a\"\nscene = \"roll.toml\"\nposition_mm = [0.0, 0.0]\n\
-             [[rolls]]\nname = \"b\"\nscene = \"roll.toml\"\nposition_mm = [0.0, 220.0]\n\
-             [[nips]]\nname = \"n\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
-             segments = 4\nlaw = \"cover\"\ncover_on = \"b\"\ncover_thickness_mm = 20.0\n\
-             cover_modulus_mpa = 30.0\ncover_poisson = 0.45\n{extra}\n"
-        )
-    };
+    dir
+}
+
+/// Two of those cylinders in a four-segment cover nip (20 mm, 30 MPa, ν = 0.45) with the nip
+/// lines `extra`.
+fn nip(extra: &str) -> String {
+    format!(
+        "name = \"m\"\n[[rolls]]\nname = \"a\"\nscene = \"roll.toml\"\nposition_mm = [0.0, 0.0]\n\
+         [[rolls]]\nname = \"b\"\nscene = \"roll.toml\"\nposition_mm = [0.0, 220.0]\n\
+         [[nips]]\nname = \"n\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
+         segments = 4\nlaw = \"cover\"\ncover_on = \"b\"\ncover_thickness_mm = 20.0\n\
+         cover_modulus_mpa = 30.0\ncover_poisson = 0.45\n{extra}\n"
+    )
+}
+
+/// Each case (nip lines, key, its line, reason) is an error naming the file, key and line.
+fn assert_errors(dir: &std::path::Path, cases: &[(&str, &str, &str, &str)]) {
+    for (extra, key, line, reason) in cases {
+        let text = nip(extra);
+        let path = support::write_file(dir, "machine.toml", &text);
+        let e = Scene::load(&path, &[]).expect_err(key);
+        support::assert_error_at(&e, &path, &text, (key, line, reason));
+    }
+}
+
+#[test]
+fn bad_viscoelastic_covers_are_clear_errors_at_their_key_and_line() {
+    let dir = two_cylinders("visco-errors");
     let cases = [
         (
             "cover_unrelaxed_modulus_mpa = 60.0\ncover_relaxation_time_s = -0.01",
@@ -208,12 +227,86 @@ fn bad_viscoelastic_covers_are_clear_errors_at_their_key_and_line() {
             "must lie in [16, 1000000]",
         ),
     ];
-    for (extra, key, line, reason) in cases {
-        let text = nip(extra);
-        let path = support::write_file(&dir, "machine.toml", &text);
-        let e = Scene::load(&path, &[]).expect_err(key);
-        support::assert_error_at(&e, &path, &text, (key, line, reason));
+    assert_errors(&dir, &cases);
+}
+
+/// The loss-factor form of a viscoelastic cover: `cover_loss_factor` η at
+/// `cover_loss_frequency_hz` f with τ gives the standard linear solid whose loss factor
+/// E″/E′ = (E_u − E_r) x/(E_r + E_u x²), x = 2πfτ (Zener 1948; Lakes, *Viscoelastic Materials*,
+/// 2009, §2.7), is η at f, to rounding; the shipped visco cover's own loss factor at 1 Hz
+/// (E_r = 30, E_u = 90 MPa, τ = 50 ms: x = 0.1π, η = 60x/(30 + 90x²) = 0.5299) gives back its
+/// E_u = 90 MPa. Bad input names file, key and line.
+#[test]
+fn loss_factor_gives_the_sls_with_that_loss() {
+    let dir = two_cylinders("visco-loss");
+    let cover = |extra: &str| {
+        let path = support::write_file(&dir, "machine.toml", &nip(extra));
+        let scene = Scene::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
+        match scene.machine.as_ref().unwrap().nips[0].law {
+            rotorsweep::scene::NipLaw::Viscoelastic { cover } => cover,
+            ref l => panic!("{l:?}"),
+        }
+    };
+    let loss = |c: &CoverSpec, f: f64| {
+        let x = 2.0 * PI * f * c.relaxation_time;
+        (c.unrelaxed - c.relaxed) * x / (c.relaxed + c.unrelaxed * x * x)
+    };
+    for (eta, f, tau) in [(0.3, 2.0, 0.05), (0.05, 100.0, 1e-3), (1.2, 0.1, 0.5)] {
+        let c = cover(&format!(
+            "cover_loss_factor = {eta:?}\ncover_loss_frequency_hz = {f:?}\ncover_relaxation_time_s = {tau:?}"
+        ));
+        assert!(
+            (loss(&c, f) / eta - 1.0).abs() < 1e-12,
+            "{eta} at {f} Hz: {}",
+            loss(&c, f)
+        );
+        assert!(c.unrelaxed > c.relaxed);
     }
+    let x = 0.1 * PI;
+    let eta = 60.0 * x / (30.0 + 90.0 * x * x);
+    let c = cover(&format!(
+        "cover_loss_factor = {eta:?}\ncover_loss_frequency_hz = 1.0\ncover_relaxation_time_s = 0.05"
+    ));
+    assert!(
+        (c.unrelaxed / c.relaxed - 3.0).abs() < 1e-12,
+        "{}",
+        c.unrelaxed / c.relaxed
+    );
+    let cases = [
+        (
+            "cover_loss_factor = 0.3\ncover_loss_frequency_hz = 2.0\ncover_relaxation_time_s = 0.05\n\
+             cover_unrelaxed_modulus_mpa = 60.0",
+            "nips[0].cover_loss_factor",
+            "cover_loss_factor = 0.3",
+            "not both",
+        ),
+        (
+            "cover_loss_factor = 0.3\ncover_relaxation_time_s = 0.05",
+            "nips[0].cover_loss_factor",
+            "cover_loss_factor = 0.3",
+            "needs cover_loss_frequency_hz too",
+        ),
+        (
+            "cover_loss_factor = 0.3\ncover_loss_frequency_hz = 2.0",
+            "nips[0].cover_loss_factor",
+            "cover_loss_factor = 0.3",
+            "needs cover_relaxation_time_s too",
+        ),
+        (
+            "cover_loss_factor = -0.3\ncover_loss_frequency_hz = 2.0\ncover_relaxation_time_s = 0.05",
+            "nips[0].cover_loss_factor",
+            "cover_loss_factor = -0.3",
+            "must be a positive number",
+        ),
+        (
+            // x = 2π·2·0.05 = 0.628: a loss factor must stay below 1/x = 1.59.
+            "cover_loss_factor = 2.0\ncover_loss_frequency_hz = 2.0\ncover_relaxation_time_s = 0.05",
+            "nips[0].cover_loss_factor",
+            "cover_loss_factor = 2.0",
+            "has a loss factor below",
+        ),
+    ];
+    assert_errors(&dir, &cases);
 }
 
 /// `rotorsweep barring` on the shipped studies/scenes/two-roll-nip-visco.toml (end to end):

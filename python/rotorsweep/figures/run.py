@@ -29,6 +29,7 @@ from .balance import balancing, read_balance
 from .compare import compare_figures
 from .jobs import stability, timing, work_precision_pages
 from .linear import campbell, linear_figures, linear_groups, study_systems
+from .nips import has_nips, nip_orders, nip_profile
 from .ramps import ramp_figures
 from .sampled import sampled_figures
 from .sweeps import harmonics, mean_runout, roller_ratios, spectral_map, sweep_means, trial_mass
@@ -96,6 +97,11 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
         orders["sensor"] + "/" + orders["direction"])
     have = sorted({c for s in sweeps for c in s["lines"]} | set(trial.get("channel", []))
                   | tracked)
+    if have and channel not in have and not chosen:
+        # A machine's channels are named by roll (`reference.centre/vertical`): its first
+        # roll's centre, else the first channel.
+        channel = next((c for c in have if c.endswith("." + DEFAULT_CHANNEL)), have[0])
+        sensor, _, direction = channel.partition("/")
     if have and channel not in have:
         raise PlotError(f"{path}: no channel {channel!r} (there are: {', '.join(have)})")
     numbers = report.numbers
@@ -114,6 +120,12 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
                                      mean_removed=bool(means))))
         figures.append((f"harmonics{suffix}.png", harmonics(s, sensor, study, numbers)))
         figures.append((f"mean{suffix}.png", mean_runout(s, means, study)))
+    if has_nips(path):
+        doc = report.document()[0]
+        speeds = attrs["speed_hz"] if "speed_hz" in attrs else pd.Series(dtype=float)
+        nip_settings = names([k for k in varying if k != "speed.hz"])
+        figures.append(("nip_orders.png", nip_orders(doc, speeds, nip_settings, study)))
+        figures.append(("nip_profile.png", nip_profile(doc, speeds, nip_settings, study)))
     if not trial.empty:
         figures.append(("trial_mass.png", trial_mass(
             trial, names([k for k in varying if k != "speed.hz"]), direction, study)))

@@ -5,6 +5,7 @@
 
 mod balancing;
 mod linear;
+mod nips;
 pub(crate) mod orders;
 pub(crate) mod outputs;
 mod per_grid_point;
@@ -18,6 +19,7 @@ mod trial_mass;
 
 pub(crate) use balancing::balancing_tables;
 pub(crate) use linear::linear_table;
+pub(crate) use nips::nips_table;
 pub(crate) use orders::{order_resonance_table, orders_table, records, OrderRow};
 pub(crate) use per_grid_point::{per_grid_point, Builder};
 pub(crate) use resonances::{pick, resonance_table};

@@ -1,0 +1,155 @@
+"""The figures of a machine's nips, from the report's ``nips`` table (Rust computes the static
+loads and the line amplitudes, ``src/report/tables/nips.rs``; this module only draws them).
+
+In: the report's JSON document (``rotorsweep report FILE --format json``), its table ``nips``:
+per job and nip a ``total`` row and one row per segment with ``z_mm`` and ``length_mm`` [mm],
+``static_n`` [N], ``line_load_kn_per_m`` [kN/m] and ``amplitude_<k>x_n`` [N] per order k of
+the first roll's speed; each job's speed [Hz] and its setting without the speed (the panels).
+
+Out:
+
+* :func:`nip_orders` (``nip_orders.png``), the nip-force spectral map over speed: per nip and
+  setting (e.g. per line load) a panel, the amplitude of the whole nip's force (summed over the
+  segments) at each order over the first roll's speed, log scale;
+* :func:`nip_profile` (``nip_profile.png``), the cross-machine nip profile: per nip and setting
+  a column, on top the static line load per segment [kN/m] over the axial position [mm] (every
+  speed of the setting, one grey line each, and the drawn job's in colour), below each order's
+  amplitude per segment [kN/m] at the job whose summed force has the largest line (its speed in
+  the title).
+
+Each is None when the document has no ``nips`` table (not a machine's run).
+"""
+
+from __future__ import annotations
+
+import h5py
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+
+from rotorsweep import PathLike
+
+from ._common import figure
+
+#: Prefix and suffix of the order amplitude columns of the ``nips`` table.
+AMP_PREFIX, AMP_SUFFIX = "amplitude_", "x_n"
+#: Most panels (settings × nips) drawn; further ones are left out, the title says how many.
+MAX_PANELS = 6
+
+
+def has_nips(path: PathLike) -> bool:
+    """Whether some job of the results file ``path`` holds a nip's records (``nips/<nip>``)."""
+    with h5py.File(path, "r") as f:
+        jobs = f.get("jobs")
+        return jobs is not None and any("nips" in jobs[j] for j in jobs)
+
+
+def nips_frame(doc: dict) -> pd.DataFrame | None:
+    """The report's ``nips`` table as a DataFrame (one row per job, nip and segment), None
+    without it."""
+    table = next((t for t in doc.get("tables", [])
+                  if isinstance(t, dict) and t.get("name") == "nips"), None)
+    if table is None or not table.get("rows"):
+        return None
+    return pd.DataFrame(table["rows"], columns=table["columns"])
+
+
+def _orders(df: pd.DataFrame) -> list[tuple[str, str]]:
+    """(column, order text) of every order amplitude column, in the table's order."""
+    return [(c, c[len(AMP_PREFIX):-len(AMP_SUFFIX)]) for c in df.columns
+            if c.startswith(AMP_PREFIX) and c.endswith(AMP_SUFFIX)]
+
+
+def _groups(df: pd.DataFrame, settings: pd.Series) -> list[tuple[str, pd.DataFrame]]:
+    """(panel title, rows) per nip and setting, in the table's order."""
+    df = df.assign(_setting=df["job_id"].map(settings).fillna(""))
+    out = []
+    for (nip, setting), rows in df.groupby(["nip", "_setting"], sort=False):
+        title = f"nip {nip}" + (f", {setting}" if setting else "")
+        out.append((title, rows))
+    return out
+
+
+def nip_orders(doc: dict, speeds: pd.Series, settings: pd.Series, study: str) -> Figure | None:
+    """The nip-force spectral map (module doc): ``speeds`` the first roll's speed [Hz] per job
+    (index job_id), ``settings`` each job's setting without the speed (index job_id). None
+    without a ``nips`` table or with fewer than two speeds in every panel."""
+    df = nips_frame(doc)
+    if df is None:
+        return None
+    total = df[df["segment"] == "total"].assign(speed=lambda d: d["job_id"].map(speeds))
+    groups = [(t, g.sort_values("speed")) for t, g in _groups(total, settings)
+              if g["speed"].nunique() >= 2]
+    if not groups:
+        return None
+    shown = groups[:MAX_PANELS]
+    orders = _orders(df)
+    fig = figure(figsize=(4.2 * len(shown) + 1.0, 4.2))
+    axes = fig.subplots(1, len(shown), sharey=True, squeeze=False)[0]
+    colours = [f"C{i}" for i in range(len(orders))]
+    for ax, (title, g) in zip(axes, shown):
+        for (col, text), colour in zip(orders, colours):
+            y = g[col].astype(float).to_numpy()
+            ok = np.isfinite(y) & (y > 0)
+            if ok.any():
+                ax.semilogy(g["speed"].to_numpy()[ok], y[ok], "o-", ms=3, color=colour,
+                            label=f"{text}×")
+        ax.set_title(title, fontsize=10)
+        ax.set_xlabel("first roll's speed [Hz]")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("amplitude of the nip force [N]")
+    axes[-1].legend(title="order", fontsize=8, loc="center left", bbox_to_anchor=(1.02, 0.5))
+    more = f" ({len(groups) - len(shown)} more panels not shown)" if len(groups) > len(shown) else ""
+    fig.suptitle(f"{study}: nip force (summed over the segments) at the first roll's orders{more}",
+                 fontsize=11)
+    return fig
+
+
+def nip_profile(doc: dict, speeds: pd.Series, settings: pd.Series, study: str) -> Figure | None:
+    """The cross-machine nip profile (module doc); arguments as :func:`nip_orders`. None without
+    a ``nips`` table."""
+    df = nips_frame(doc)
+    if df is None:
+        return None
+    orders = _orders(df)
+    total = df[df["segment"] == "total"]
+    segs = df[df["segment"] != "total"].copy()
+    segs["z_mm"] = segs["z_mm"].astype(float)
+    groups = _groups(total, settings)
+    shown = groups[:MAX_PANELS]
+    fig = figure(figsize=(4.2 * len(shown) + 1.0, 7.0))
+    axes = fig.subplots(2, len(shown), sharex=True, squeeze=False)
+    for c, (title, g) in enumerate(shown):
+        # The job whose summed force has the largest line at any order.
+        peak = g[[col for col, _ in orders]].astype(float).max(axis=1)
+        job = g.loc[peak.idxmax(), "job_id"] if peak.notna().any() else g["job_id"].iloc[0]
+        nip = g["nip"].iloc[0]
+        top, bottom = axes[0][c], axes[1][c]
+        for other in g["job_id"]:
+            rows = segs[(segs["job_id"] == other) & (segs["nip"] == nip)].sort_values("z_mm")
+            top.plot(rows["z_mm"], rows["line_load_kn_per_m"].astype(float), color="0.8", lw=0.8)
+        rows = segs[(segs["job_id"] == job) & (segs["nip"] == nip)].sort_values("z_mm")
+        length_m = rows["length_mm"].astype(float).to_numpy() / 1e3
+        top.plot(rows["z_mm"], rows["line_load_kn_per_m"].astype(float), "o-", ms=3, color="C0",
+                 label="static (drawn job)")
+        top.plot([], [], color="0.8", label="static, other speeds")
+        for i, (col, text) in enumerate(orders):
+            y = rows[col].astype(float).to_numpy() / length_m / 1e3
+            # An open segment carries nothing: a gap in the log-scale line.
+            y = np.where(y > 0, y, np.nan)
+            if np.isfinite(y).any() and np.nanmax(y) > 0:
+                bottom.semilogy(rows["z_mm"], y, "o-", ms=3, color=f"C{i}", label=f"{text}×")
+        speed = speeds.get(job, np.nan)
+        top.set_title(f"{title}\nspeed {speed:g} Hz" if np.isfinite(speed) else title,
+                      fontsize=10)
+        top.grid(True, alpha=0.3)
+        bottom.grid(True, which="both", alpha=0.3)
+        bottom.set_xlabel("axial position z [mm]")
+    axes[0][0].set_ylabel("static line load [kN/m]")
+    axes[1][0].set_ylabel("dynamic amplitude [kN/m]")
+    axes[0][-1].legend(fontsize=8, loc="center left", bbox_to_anchor=(1.02, 0.5))
+    axes[1][-1].legend(title="order", fontsize=8, loc="center left", bbox_to_anchor=(1.02, 0.5))
+    more = f" ({len(groups) - len(shown)} more not shown)" if len(groups) > len(shown) else ""
+    fig.suptitle(f"{study}: cross-machine nip profile; the amplitudes at the speed of the largest "
+                 f"line{more}", fontsize=11)
+    return fig
