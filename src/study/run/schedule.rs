@@ -2,8 +2,7 @@
 //!
 //! In: the run's work list (`work`: reference runs unless shared, then jobs in study order, the
 //! saved ones left out), the built [`Models`], the parts folder. Out: each item run on one
-//! thread of the pool, the items handed out one at a time in their order (the next free thread
-//! takes the next item), and saved by the calling thread in batches as they finish (`saver`,
+//! thread of the pool and saved by the calling thread in batches as they finish (`saver`,
 //! `parts`); the progress line per run. A worker hands its result over only when the saving
 //! thread takes it (memory bounded by one batch and one finished run per worker). The first
 //! failed save stops new runs from starting; running ones finish and are saved if they can be,
@@ -55,20 +54,14 @@ pub(super) fn run_all<T: Send>(
         let beside = scope.spawn(|| pool.install(beside));
         scope.spawn(move || {
             pool.install(|| {
-                // Handed out one at a time in plan order (not split in halves), so runs
-                // finish close to the order the results file is filled in: the stream copies
-                // them as they come and few wait for a predecessor.
-                work.iter()
-                    .enumerate()
-                    .par_bridge()
-                    .for_each_with(tx, |tx, (i, w)| {
-                        if stop_ref.load(Ordering::SeqCst) {
-                            return;
-                        }
-                        let r = models.simulate(w.scene, w.model_id, w.prune);
-                        // The receiver lives until every sender is gone.
-                        let _ = tx.send((i, r));
-                    });
+                work.par_iter().enumerate().for_each_with(tx, |tx, (i, w)| {
+                    if stop_ref.load(Ordering::SeqCst) {
+                        return;
+                    }
+                    let r = models.simulate(w.scene, w.model_id, w.prune);
+                    // The receiver lives until every sender is gone.
+                    let _ = tx.send((i, r));
+                });
             });
         });
         let writer = scope.spawn(move || write_batches(batches, sink, work, stop_ref));
