@@ -10,7 +10,7 @@ use crate::error::InputError;
 
 /// Most jobs a study may expand to. `plan` and `run` validate every job's scene before anything
 /// runs and hold every job: measured, 4901 jobs of the reference roll took 4.3 s and 274 MB to
-/// load (0.9 ms and 56 KB each); `plan` of 100 000 Jeffcott jobs took 23 s and 0.93 GB, and
+/// load (0.9 ms and 56 KB each); `plan` of 100 000 Jeffcott jobs took 15 s and 0.93 GB, and
 /// their run on 2 threads 10.4 min at 2.2 GB peak (2026-12-03). So the limit loads in about
 /// 1.5 min and 6 GB for jobs the size of the reference roll; beyond it, split the study (shards
 /// of several studies).
