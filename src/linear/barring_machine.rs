@@ -46,6 +46,7 @@ use crate::dynamics::cover_response::response;
 use crate::dynamics::model::Model;
 use crate::numerics::eigen;
 use crate::scene::{CoverSpec, Machine, NipLaw};
+use crate::text::number_text;
 
 /// Modes kept: those whose static share of the nip is at least this part of the largest.
 pub const MODE_SHARE: f64 = 0.01;
@@ -306,7 +307,8 @@ pub fn barring_map(
         let closed: Vec<usize> = (0..seg.len()).filter(|j| seg[*j].delta > 0.0).collect();
         if closed.is_empty() {
             return Err(format!(
-                "at {q} kN/m the nip `{}` is open at its static equilibrium",
+                "at {} kN/m the nip `{}` is open at its static equilibrium",
+                number_text(q),
                 nip.name
             ));
         }

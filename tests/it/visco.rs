@@ -371,3 +371,41 @@ fn barring_cli_maps_the_shipped_viscoelastic_nip() {
         assert_eq!(Some(*d), p["growth_per_s"].as_f64());
     }
 }
+
+/// `barring --loads-kn-per-m` with a negative, NaN or infinite load: a usage error naming the
+/// option and the value (not the machine file), before any model is built; a huge but finite
+/// load that opens the nip is named in short form (`1e308`, not its 309 digits).
+#[test]
+fn barring_refuses_bad_line_loads_naming_the_option() {
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/scenes/two-roll-nip-visco.toml"
+    );
+    let refused = |load: &str| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rotorsweep"))
+            .args([
+                "barring",
+                scene,
+                "--speeds",
+                "4:6:2",
+                "--loads-kn-per-m",
+                load,
+            ])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(1), "{load}: {err}");
+        err
+    };
+    for (load, shown) in [("-1", "-1"), ("nan", "NaN"), ("inf", "inf")] {
+        let err = refused(load);
+        assert!(
+            err.contains(&format!("--loads-kn-per-m {shown}: a line load must be")),
+            "{load}: {err}"
+        );
+        assert!(!err.contains("two-roll-nip-visco.toml"), "{load}: {err}");
+    }
+    let err = refused("1e308");
+    assert!(err.contains("at 1e308 kN/m"), "{err}");
+    assert!(err.len() < 300, "{err}");
+}

@@ -21,6 +21,7 @@ use rotorsweep::dynamics::model::Model;
 use rotorsweep::linear::barring_machine::{barring_map, BarringMap, MapRequest};
 use rotorsweep::results::barring_file::write_h5;
 use rotorsweep::store;
+use rotorsweep::text::number_text;
 
 use crate::error::CliError;
 use crate::speeds;
@@ -35,7 +36,7 @@ pub struct Args {
     #[arg(long, alias = "speeds-hz")]
     speeds: Option<String>,
     /// Nip line loads [kN/m], comma-separated (default: the nip's own).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     loads_kn_per_m: Option<Vec<f64>>,
     /// The nip (default: the first with a viscoelastic cover).
     #[arg(long)]
@@ -102,6 +103,12 @@ fn print(map: &BarringMap) {
 pub fn run(a: &Args) -> Result<(), CliError> {
     let speeds_hz =
         speeds::sweep(a.speeds.as_deref().unwrap_or("1:20:39")).map_err(CliError::input)?;
+    if let Some(q) = (a.loads_kn_per_m.iter().flatten()).find(|q| !(q.is_finite() && **q >= 0.0)) {
+        return Err(CliError::input(format!(
+            "--loads-kn-per-m {}: a line load must be a finite number, zero or positive [kN/m]",
+            number_text(*q)
+        )));
+    }
     let (scene, model) = Model::load(&a.machine, &a.set, None)?;
     let machine = scene.machine.as_ref().ok_or_else(|| {
         CliError::input(format!(
