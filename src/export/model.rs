@@ -311,20 +311,21 @@ pub fn write_model(
         )?;
     }
     let h5 = dir.join("model.h5");
-    write_h5(&h5, scene, model, &full, f, which).map_err(|e| ExportError::Hdf5(h5.clone(), e))?;
+    store::write_closed(&h5, |file| fill_h5(file, scene, model, &full, f, which))
+        .map_err(|e| ExportError::Hdf5(h5.clone(), e))?;
     files.push("model.h5".into());
     Ok(Written { dofs: n, files })
 }
 
-fn write_h5(
-    path: &Path,
+/// The contents of `model.h5` (module doc).
+fn fill_h5(
+    file: &hdf5::File,
     scene: &Scene,
     model: &Model,
     full: &FeMatrices,
     f: &FeMatrices,
     which: Which,
 ) -> hdf5::Result<()> {
-    let file = hdf5::File::create(path)?;
     let root = file.group("/")?;
     store::attr_str(
         &root,

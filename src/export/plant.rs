@@ -140,7 +140,10 @@ impl Plant {
 
     /// Writes the plant as HDF5 (module doc).
     pub fn write_h5(&self, path: &Path) -> hdf5::Result<()> {
-        let file = hdf5::File::create(path)?;
+        store::write_closed(path, |file| self.fill_h5(file))
+    }
+
+    fn fill_h5(&self, file: &hdf5::File) -> hdf5::Result<()> {
         let root = file.group("/")?;
         store::attr_str(
             &root,

@@ -271,6 +271,17 @@ pub fn create_file(path: &Path, command: &str, scene_text: &str) -> hdf5::Result
     Ok((f, jobs))
 }
 
+/// Creates the HDF5 file `path`, fills it with `body` and closes it, reporting a write that
+/// fails only at the final flush or close (a full disk, a file-size limit): HDF5 defers those
+/// writes, and a file merely dropped would hide their errors. `body`'s handles are dropped
+/// before the flush, so the close is real.
+pub fn write_closed(path: &Path, body: impl FnOnce(&File) -> hdf5::Result<()>) -> hdf5::Result<()> {
+    let f = File::create(path)?;
+    body(&f)?;
+    f.flush()?;
+    f.close()
+}
+
 /// Closes the file and moves it to its final name ([`rename_verified`]).
 pub fn finish_file(path: &Path, file: File, jobs: Group) -> std::io::Result<()> {
     drop(jobs);

@@ -122,3 +122,33 @@ fn export_command_writes_the_model_folder_and_the_plant_files() {
     assert_eq!(a.shape()[0], a.shape()[1]);
     assert_eq!(b.shape()[0], a.shape()[0]);
 }
+
+/// A plant file that cannot be written whole (a file-size limit, `ulimit -f` in 1 KiB blocks:
+/// every write past it fails, as on a full disk) is an I/O error (exit 74) naming the output,
+/// and leaves nothing: neither a part of the file under the name given nor its temporary file.
+/// The reference roll's plant is 60–100 kB in each format, above the 20 KiB limit.
+#[test]
+fn a_plant_that_does_not_fit_leaves_no_file() {
+    let dir = scratch("export-full");
+    let scene = repo().join("studies/scenes/reference-roll.toml");
+    for ext in ["mat", "npz", "h5"] {
+        let name = format!("plant.{ext}");
+        let out = std::process::Command::new("sh")
+            .current_dir(&dir)
+            .args([
+                "-c",
+                &format!(
+                    "ulimit -f 20 && exec {} export {} --state-space --speed-hz 12 -o {name}",
+                    env!("CARGO_BIN_EXE_rotorsweep"),
+                    scene.display()
+                ),
+            ])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(74), "{name}: {err}");
+        assert!(err.contains(&format!("error: {name}: ")), "{name}: {err}");
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert!(left.is_empty(), "{name}: {left:?}");
+    }
+}

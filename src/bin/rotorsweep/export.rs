@@ -72,11 +72,33 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         let sys = scene_system(&scene, &model)?;
         let p = plant(&sys, hz * std::f64::consts::TAU).map_err(in_scene(&scene))?;
         let io = |e: String| CliError::Io(format!("{}: {e}", a.output.display()).into());
+        // Written whole under a temporary name beside the output (removed if the write fails,
+        // e.g. a full disk), then linked to the output's name only if that is still free: a
+        // failed or concurrent export never leaves a half-written file under the name given.
+        let dir = match a.output.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => std::path::Path::new("."),
+        };
+        let tmp = tempfile::Builder::new()
+            .prefix(".rotorsweep-export-")
+            .suffix(".tmp")
+            .permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666))
+            .tempfile_in(dir)
+            .map_err(|e| {
+                // The folder and the OS's reason: the temporary name is not the user's business.
+                io(format!(
+                    "cannot write in the folder {} ({})",
+                    dir.display(),
+                    e.kind()
+                ))
+            })?;
         match ext {
-            Some("npz") => p.write_npz(&a.output).map_err(|e| io(e.to_string()))?,
-            Some("mat") => p.write_mat(&a.output).map_err(|e| io(e.to_string()))?,
-            _ => p.write_h5(&a.output).map_err(|e| io(e.to_string()))?,
+            Some("npz") => p.write_npz(tmp.path()).map_err(|e| io(e.to_string()))?,
+            Some("mat") => p.write_mat(tmp.path()).map_err(|e| io(e.to_string()))?,
+            _ => p.write_h5(tmp.path()).map_err(|e| io(e.to_string()))?,
         }
+        tmp.persist_noclobber(&a.output)
+            .map_err(|e| io(e.error.to_string()))?;
         println!(
             "{}: plant at {hz} Hz, {} states, {} inputs, {} outputs -> {} in {:.3} s",
             scene.name,
