@@ -170,6 +170,14 @@ fn files_of(c: &Check, fe: &FeFile) -> Result<BodyFiles, InputError> {
 /// The files and named nodes (name → node id) of the `[fe]` body of the scene file `scene`
 /// (after `extends`), without reading the body: the sparse reduction reads it itself.
 pub fn fe_body_files(scene: &Path) -> Result<(BodyFiles, BTreeMap<String, i64>), InputError> {
+    with_fe_table(scene, |c, fe| Ok((files_of(c, &fe)?, fe.named)))
+}
+
+/// Reads the scene file `scene` (after `extends`) and hands its `[fe]` table to `read`.
+fn with_fe_table<T>(
+    scene: &Path,
+    read: impl FnOnce(&Check, FeFile) -> Result<T, InputError>,
+) -> Result<T, InputError> {
     let source = Source::load(scene)?;
     let c = Check {
         file: scene,
@@ -177,7 +185,7 @@ pub fn fe_body_files(scene: &Path) -> Result<(BodyFiles, BTreeMap<String, i64>),
         overridden: &[],
     };
     let fe = fe_table(&c)?;
-    Ok((files_of(&c, &fe)?, fe.named))
+    read(&c, fe)
 }
 
 /// The scene's `[fe]` table as written (an error names the scene and the key).
@@ -201,14 +209,7 @@ pub fn fe_body_rings(
     nodes: &[Node],
     units: Units,
 ) -> Result<BTreeMap<String, Ring>, InputError> {
-    let source = Source::load(scene)?;
-    let c = Check {
-        file: scene,
-        source: &source,
-        overridden: &[],
-    };
-    let fe = fe_table(&c)?;
-    rings_of(&c, &fe, nodes, units)
+    with_fe_table(scene, |c, fe| rings_of(c, &fe, nodes, units))
 }
 
 /// The rings of `fe` on the node table `nodes` (SI), lengths in `units` ([`fe_body_rings`]).
