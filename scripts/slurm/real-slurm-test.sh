@@ -239,9 +239,9 @@ state() { squeue -h -t all -j "$1" -o %T 2>/dev/null | head -n 1; }
 
 # Requeue shard 1 once it runs and has saved a job, then start it again at once.
 task="${array}_1"
-saved() { [ "$(state "$task")" = RUNNING ] && compgen -G "$outdir/shard-1.h5.parts/batch-*.h5" >/dev/null; }
+saved() { [ "$(state "$task")" = RUNNING ] && compgen -G "$outdir/shard-1.h5.parts/batch-*.journal" >/dev/null; }
 wait_for 120 saved || fail "shard 1 never ran with a saved job (state $(state "$task"))"
-n_saved=$(compgen -G "$outdir/shard-1.h5.parts/batch-*.h5" | wc -l)
+n_saved=$(compgen -G "$outdir/shard-1.h5.parts/batch-*.journal" | wc -l)
 scontrol requeue "$task" || fail "scontrol requeue $task failed"
 say "requeued $task while running, $n_saved part files (batches of its 9 jobs) saved"
 pending() { [ "$(state "$task")" = PENDING ]; }

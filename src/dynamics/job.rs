@@ -15,9 +15,10 @@ use crate::dynamics::model::Model;
 use crate::dynamics::system::RollSystem;
 use crate::integrators::{Stats, StepView};
 use crate::scene::{Scene, SupportModel};
+use crate::text::static_name;
 
 /// One sampled output channel.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Channel {
     /// Path-like name, e.g. `runout/centre/vertical`.
     pub name: String,
@@ -28,7 +29,7 @@ pub struct Channel {
 }
 
 /// The outcome of a job.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct JobResult {
     /// Solver statistics, status and cause.
     pub stats: Stats,
@@ -47,7 +48,7 @@ pub struct JobResult {
 }
 
 /// A sampled field: one row per point of its axis (a nip's segments), one column per sample.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Field {
     /// Path-like name, e.g. `nips/main/force`.
     pub name: String,
@@ -61,6 +62,51 @@ pub struct Field {
     pub axis_units: &'static str,
     /// Samples, row-major [rows × time].
     pub data: Vec<f64>,
+}
+
+/// A [`Channel`] as read back from a saved run, its units owned.
+#[derive(serde::Deserialize)]
+struct SavedChannel {
+    name: String,
+    units: String,
+    data: Vec<f64>,
+}
+
+impl<'de> serde::Deserialize<'de> for Channel {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let c = SavedChannel::deserialize(d)?;
+        Ok(Channel {
+            name: c.name,
+            units: static_name(c.units).map_err(serde::de::Error::custom)?,
+            data: c.data,
+        })
+    }
+}
+
+/// A [`Field`] as read back from a saved run, its names owned.
+#[derive(serde::Deserialize)]
+struct SavedField {
+    name: String,
+    units: String,
+    axis: String,
+    axis_values: Vec<f64>,
+    axis_units: String,
+    data: Vec<f64>,
+}
+
+impl<'de> serde::Deserialize<'de> for Field {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let f = SavedField::deserialize(d)?;
+        let name = |s| static_name(s).map_err(serde::de::Error::custom);
+        Ok(Field {
+            name: f.name,
+            units: name(f.units)?,
+            axis: name(f.axis)?,
+            axis_values: f.axis_values,
+            axis_units: name(f.axis_units)?,
+            data: f.data,
+        })
+    }
 }
 
 pub(super) struct Recorder<'a> {

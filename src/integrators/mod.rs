@@ -107,7 +107,7 @@ pub trait SecondOrder {
 }
 
 /// How a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Status {
     /// Reached the end time.
@@ -189,7 +189,7 @@ pub fn review_trust(settings: &SolverSettings, st: &mut Stats) {
 }
 
 /// Statistics of one run.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Stats {
     /// How the run ended.
     pub status: Status,

@@ -144,7 +144,7 @@ pub fn subgroup(group: &Group, path: &str) -> hdf5::Result<Group> {
 }
 
 /// A parameter value stored as an attribute.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Param {
     /// A number.
     Number(f64),

@@ -2,8 +2,8 @@
 //!
 //! In: the failures of a run or a merge (bad input files, an output that may not be written,
 //! OS and HDF5 errors on a path, options that do not fit the files). Out: a [`CampaignError`]
-//! that names the path and the cause; an HDF5 error carries the OS error the library's file
-//! driver reports (`errno`) and, when the folder is nearly full (under 1 MiB), its free bytes.
+//! that names the path and the cause; an HDF5 or OS error carries the OS error (`errno`) and,
+//! when the folder is nearly full (under 1 MiB), its free bytes.
 //! Failing jobs are results, not errors.
 
 use std::path::{Path, PathBuf};
@@ -73,6 +73,29 @@ pub(crate) fn describe_hdf5(path: &Path, e: &hdf5::Error) -> String {
         Some(os) => format!("{os}; HDF5: {}", &full[..cut]),
         None => full[..cut].to_string(),
     };
+    with_free_space(path, &mut text);
+    text
+}
+
+/// An OS error on `path` as [`describe_hdf5`] words one ("File too large (errno 27)"), with the
+/// free space of the folder when it is exhausted.
+pub(crate) fn describe_io(path: &Path, e: &std::io::Error) -> String {
+    let full = e.to_string();
+    let mut text = match e.raw_os_error() {
+        Some(n) => {
+            let m = full
+                .strip_suffix(&format!(" (os error {n})"))
+                .unwrap_or(&full);
+            format!("{m} (errno {n})")
+        }
+        None => full,
+    };
+    with_free_space(path, &mut text);
+    text
+}
+
+/// Appends the free bytes of `path`'s folder to `text` when under 1 MiB.
+fn with_free_space(path: &Path, text: &mut String) {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -82,7 +105,6 @@ pub(crate) fn describe_hdf5(path: &Path, e: &hdf5::Error) -> String {
             text.push_str(&format!(" [{} bytes free in {}]", free, dir.display()));
         }
     }
-    text
 }
 
 /// The bytes available to unprivileged users in the file system holding `dir` (statvfs's

@@ -9,7 +9,7 @@
 //! - The output is locked for the whole run (`store::output`: one writer per output); an
 //!   existing output is replaced only with `overwrite`, and only if it is a rotorsweep results
 //!   file; the new file is renamed over it when complete.
-//! - Finished jobs are first written, in batches, to part files `OUT.h5.parts/batch-….h5` (under
+//! - Finished jobs are first written, in batches, to part files `OUT.h5.parts/batch-….journal` (under
 //!   a temporary name, then renamed; at least once a second, on a writer thread), so a `kill -9`
 //!   at any moment loses only the jobs that were running or finished in the last second. Each
 //!   part file carries the study's digest ([`Identity`](crate::study::identity::Identity));
@@ -34,7 +34,8 @@
 //! and cause.
 //!
 //! The files, in the order a run uses them: `options` (what is asked, what is reported),
-//! `error` (why a run stops), `campaign` ([`run`], step by step), `parts` (the saved runs),
+//! `error` (why a run stops), `campaign` ([`run`], step by step), `parts` (the saved runs) and
+//! `journal` (their file format),
 //! `references` (the shared references file, errors against reference runs), `models`
 //! (models, pruning pilots, one run on its model), `linear` (the study's linearised systems,
 //! beside the jobs), `work` (the work list), `schedule` (the work list on the pool), `saver`
@@ -44,6 +45,7 @@
 mod assemble;
 mod campaign;
 mod error;
+mod journal;
 mod linear;
 mod models;
 mod options;

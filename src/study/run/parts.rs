@@ -1,23 +1,24 @@
 //! Part files: finished runs saved in batches as they finish, until the output is assembled.
 //!
 //! In: finished runs (result and attributes) and the study's digest ([`Identity`]). Out:
-//! `OUT.h5.parts/batch-<first id>-<count>.h5`, written under `….h5.tmp` and renamed: a
-//! rotorsweep results file with the root attributes `study_digest` and `study_inputs` (which
-//! files, so a resume after an edit knows its own earlier parts) and each run as
-//! `jobs/<id>`. The saving thread (`schedule`) writes a batch when it holds [`BATCH_RUNS`] runs
+//! `OUT.h5.parts/batch-<first id>-<count>.journal` (`journal`: written whole under a `.tmp`
+//! name and renamed), each tagged with the study's digest and its inputs (which files, so a
+//! resume after an edit knows its own earlier parts), and where each run is saved in it
+//! ([`Saved`]). The saving thread (`schedule`) writes a batch when it holds [`BATCH_RUNS`] runs
 //! or [`BATCH_SAMPLES`] samples, or [`BATCH_SECONDS`] after its first run arrived: one file per
-//! batch, not per run (on 2 000 Jeffcott jobs of 0.1 s, a file per run cost more CPU than the
-//! integration: 30 % of all samples against 25 %), so a `kill -9` loses the runs still going
-//! and those finished in the last [`BATCH_SECONDS`], which `--resume` runs again. Also: which
-//! saved runs a resumed run reuses (those of its own runs with its digest, in batch files or
-//! in the one-run files `<id>.h5` with a `job` group that earlier versions wrote), and the
-//! removal of a parts folder, which removes only files rotorsweep wrote (judged by content,
-//! not only by name) and refuses anything else.
+//! batch, not per run, so a `kill -9` loses the runs still going and those finished in the last
+//! [`BATCH_SECONDS`], which `--resume` runs again. Also: which saved runs a resumed run reuses
+//! (those of its own runs with its digest: in journals, and in the HDF5 part files that earlier
+//! versions wrote, a batch `batch-….h5` with a `jobs` group or one run `<id>.h5` with a `job`
+//! group), a saved run put into the results file ([`OpenParts`]), and the removal of a parts
+//! folder, which removes only files rotorsweep wrote (judged by content, not only by name) and
+//! refuses anything else.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use super::error::{describe_hdf5, CampaignError};
+use super::error::{describe_io, CampaignError};
+use super::journal::{self, Header, Place};
 use crate::dynamics::simulation::JobResult;
 use crate::store::output::{self, OutputError};
 use crate::store::{self, Param};
@@ -44,14 +45,28 @@ pub(super) struct Finished<'a> {
     pub(super) result: JobResult,
 }
 
-/// Where a saved run is: its part file and the path of its group there.
+/// Where a saved run is.
 #[derive(Debug, Clone)]
-pub(super) struct Saved {
-    pub(super) file: PathBuf,
-    pub(super) group: String,
+pub(super) enum Saved {
+    /// In a journal, at its place there.
+    Journal { file: PathBuf, place: Place },
+    /// In an HDF5 part file of an earlier version: the path of its group there.
+    Part { file: PathBuf, group: String },
 }
 
-/// Writes a batch of finished runs (non-empty) to one part file, atomically, tagged with the
+impl Finished<'_> {
+    /// What the journal saves of it.
+    fn entry(&self) -> journal::Entry<'_> {
+        (self.id, &self.params, self.integrator, &self.result)
+    }
+
+    /// Writes it into `dst` under its id (the layout of `store::write_job`).
+    pub(super) fn write(&self, dst: &hdf5::Group) -> hdf5::Result<()> {
+        store::write_job(dst, self.id, &self.params, self.integrator, &self.result)
+    }
+}
+
+/// Writes a batch of finished runs (non-empty) to one journal, atomically, tagged with the
 /// study's digest; where each run is saved.
 pub(super) fn save_batch(
     dir: &Path,
@@ -59,39 +74,45 @@ pub(super) fn save_batch(
     identity: &Identity,
 ) -> Result<Vec<Saved>, CampaignError> {
     let first = runs.first().map_or("empty", |r| r.id);
-    let name = format!("batch-{first}-{}.h5", runs.len());
+    let name = format!("batch-{first}-{}{}", runs.len(), journal::EXTENSION);
     let tmp = dir.join(format!("{name}.tmp"));
     let fin = dir.join(&name);
-    output::check_working_file(&tmp)?;
-    let write = || -> hdf5::Result<()> {
-        let f = hdf5::File::create(&tmp)?;
-        store::attr_str(&f, "tool", "rotorsweep")?;
-        store::attr_str(&f, "tool_version", env!("CARGO_PKG_VERSION"))?;
-        store::attr_str(&f, "study_digest", &identity.digest)?;
-        store::attr_str(&f, "study_inputs", &identity.inputs_text())?;
-        let jobs = f.create_group("jobs")?;
-        for r in runs {
-            store::write_job(&jobs, r.id, &r.params, r.integrator, &r.result)?;
-        }
-        // H5Fclose defers the real close (and its write errors) while a group is open: flush
-        // with every handle but the file's dropped, so a failed write is seen here.
-        drop(jobs);
-        f.flush()?;
-        f.close()
+    check_leftover(&tmp)?;
+    let header = Header {
+        tool_version: env!("CARGO_PKG_VERSION").into(),
+        study_digest: identity.digest.clone(),
+        study_inputs: identity.inputs_text(),
+        runs: runs.len() as u64,
     };
-    if let Err(e) = write() {
-        let reason = describe_hdf5(&tmp, &e);
+    let entries: Vec<journal::Entry> = runs.iter().map(Finished::entry).collect();
+    let (bytes, places) =
+        journal::encode(&header, &entries).map_err(|e| CampaignError::io(&tmp, e))?;
+    if let Err((e, renaming)) = journal::write(&tmp, &fin, &bytes) {
         let _ = std::fs::remove_file(&tmp);
-        return Err(CampaignError::io(&tmp, reason));
+        let at = if renaming { &fin } else { &tmp };
+        return Err(CampaignError::io(at, describe_io(at, &e)));
     }
-    std::fs::rename(&tmp, &fin).map_err(|e| CampaignError::io(&fin, e))?;
-    Ok(runs
-        .iter()
-        .map(|r| Saved {
+    Ok(places
+        .into_iter()
+        .map(|place| Saved::Journal {
             file: fin.clone(),
-            group: format!("jobs/{}", r.id),
+            place,
         })
         .collect())
+}
+
+/// A journal's working name may be written: absent, or a leftover of a killed write (empty or
+/// tagged). Anything else there is a user's file and is refused.
+fn check_leftover(tmp: &Path) -> Result<(), OutputError> {
+    match std::fs::symlink_metadata(tmp) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(output::io_at(tmp)(e)),
+        Ok(m) if m.file_type().is_file() && journal::is_own_leftover(tmp) => Ok(()),
+        Ok(_) => Err(OutputError::Refused(
+            tmp.to_path_buf(),
+            "is not a file rotorsweep wrote, where it keeps a working file".into(),
+        )),
+    }
 }
 
 /// The saved parts of a run: where each run saved with the study's digest is, and the number
@@ -109,12 +130,10 @@ pub(super) fn saved_parts(
     let digest = identity.digest.as_str();
     let study_file = identity.inputs.iter().find(|f| f.role == "study");
     // A part of this study's earlier inputs: the same study file, edited (or what it reads).
-    let earlier = |f: &hdf5::File| {
-        let d = store::read_str(f, "study_digest").unwrap_or_default();
-        let inputs = store::read_str(f, "study_inputs").unwrap_or_default();
-        !d.is_empty()
-            && d != digest
-            && Identity::parse_inputs(&inputs)
+    let earlier = |p: &PartFile| {
+        !p.digest.is_empty()
+            && p.digest != digest
+            && Identity::parse_inputs(&p.inputs)
                 .iter()
                 .any(|i| study_file.is_some_and(|s| s.role == i.role && s.path == i.path))
     };
@@ -125,19 +144,19 @@ pub(super) fn saved_parts(
     };
     for e in rd.filter_map(|e| e.ok()) {
         let name = e.file_name().to_string_lossy().into_owned();
-        if !name.ends_with(".h5") {
+        if !name.ends_with(".h5") && !name.ends_with(journal::EXTENSION) {
             continue;
         }
         let path = e.path();
-        let (f, runs) = open_part(&path).map_err(|why| {
+        let part = read_part(&path).map_err(|why| {
             OutputError::Refused(
                 path.clone(),
                 format!("{why}: it is not a saved job of rotorsweep's; move it away"),
             )
         })?;
-        let same = store::read_str(&f, "study_digest").is_ok_and(|d| d == digest);
-        let is_earlier = earlier(&f);
-        for (id, group) in runs {
+        let same = part.digest == digest;
+        let is_earlier = earlier(&part);
+        for (id, saved) in part.runs {
             if !wanted.contains(id.as_str()) {
                 if is_earlier {
                     stale += 1;
@@ -152,8 +171,7 @@ pub(super) fn saved_parts(
                 )));
             }
             if same {
-                let file = path.clone();
-                done.insert(id, Saved { file, group });
+                done.insert(id, saved);
             } else {
                 stale += 1;
             }
@@ -162,8 +180,45 @@ pub(super) fn saved_parts(
     Ok((done, stale))
 }
 
-/// A part file, opened, with its saved runs (id, group path): a rotorsweep results file with
-/// a `jobs` group (a batch) or a `job` group (one run, `<id>.h5`, as earlier versions wrote).
+/// A part file read: the study digest and inputs it is tagged with, and its runs.
+struct PartFile {
+    digest: String,
+    inputs: String,
+    runs: Vec<(String, Saved)>,
+}
+
+/// Reads a journal, or an HDF5 part file of an earlier version.
+fn read_part(path: &Path) -> Result<PartFile, String> {
+    if path.to_string_lossy().ends_with(journal::EXTENSION) {
+        let (header, runs) = journal::read_index(path)?;
+        return Ok(PartFile {
+            digest: header.study_digest,
+            inputs: header.study_inputs,
+            runs: runs
+                .into_iter()
+                .map(|(id, place)| {
+                    let file = path.to_path_buf();
+                    (id, Saved::Journal { file, place })
+                })
+                .collect(),
+        });
+    }
+    let (f, runs) = open_part(path)?;
+    Ok(PartFile {
+        digest: store::read_str(&f, "study_digest").unwrap_or_default(),
+        inputs: store::read_str(&f, "study_inputs").unwrap_or_default(),
+        runs: runs
+            .into_iter()
+            .map(|(id, group)| {
+                let file = path.to_path_buf();
+                (id, Saved::Part { file, group })
+            })
+            .collect(),
+    })
+}
+
+/// An HDF5 part file of an earlier version, opened, with its saved runs (id, group path): a
+/// rotorsweep results file with a `jobs` group (a batch) or a `job` group (one run, `<id>.h5`).
 fn open_part(path: &Path) -> Result<(hdf5::File, Vec<(String, String)>), String> {
     let f = output::open_results_file(path)?;
     if f.group("job").is_ok() {
@@ -183,9 +238,9 @@ fn open_part(path: &Path) -> Result<(hdf5::File, Vec<(String, String)>), String>
     Ok((f, runs))
 }
 
-/// Whether a file in a parts folder is one of rotorsweep's: a part file (a rotorsweep HDF5 file
-/// with saved runs), a part's temporary name (empty or HDF5), or pilot shares (one number a
-/// line), judged by content, not only by name. Parts of the `known` ids (saved or checked by
+/// Whether a file in a parts folder is one of rotorsweep's: a journal (its tag) or an earlier
+/// version's part file (a rotorsweep HDF5 file with saved runs), a part's temporary name (empty,
+/// tagged or HDF5), or pilot shares (one number a line), judged by content, not only by name. Parts of the `known` ids (saved or checked by
 /// this run; one-run files are named by it) are not opened again.
 fn is_own_part(path: &Path, known: &BTreeSet<&str>) -> bool {
     let name = path
@@ -194,6 +249,10 @@ fn is_own_part(path: &Path, known: &BTreeSet<&str>) -> bool {
         .unwrap_or_default();
     if name.ends_with(".h5.tmp") {
         output::is_own_leftover(path)
+    } else if name.ends_with(&format!("{}.tmp", journal::EXTENSION)) {
+        journal::is_own_leftover(path)
+    } else if name.ends_with(journal::EXTENSION) {
+        journal::has_tag(path)
     } else if let Some(id) = name.strip_suffix(".h5") {
         known.contains(id) || open_part(path).is_ok()
     } else if name.ends_with(".shares") {
@@ -244,14 +303,20 @@ pub fn remove_parts(dir: &Path, known: &BTreeSet<&str>) -> Result<(), CampaignEr
 /// open files spare reopening one per run.
 #[derive(Default)]
 pub(super) struct OpenParts {
-    open: Vec<(PathBuf, hdf5::File)>,
+    open: Vec<(PathBuf, Open)>,
+}
+
+/// An open part file.
+enum Open {
+    Journal(std::fs::File),
+    Part(hdf5::File),
 }
 
 impl OpenParts {
     /// How many part files stay open at once.
     const KEEP: usize = 8;
 
-    /// Copies the saved run `id` into `dst` under its id.
+    /// Puts the saved run `id` into `dst` under its id.
     pub(super) fn copy(
         &mut self,
         saved: &BTreeMap<String, Saved>,
@@ -264,29 +329,52 @@ impl OpenParts {
         self.copy_saved(s, id, dst)
     }
 
-    /// Copies the run saved at `s` into `dst` under `id`.
+    /// Puts the run saved at `s` into `dst` under `id`: read from its journal and written, or
+    /// copied as stored from an earlier version's HDF5 part file.
     pub(super) fn copy_saved(
         &mut self,
         s: &Saved,
         id: &str,
         dst: &hdf5::Group,
     ) -> hdf5::Result<()> {
-        let at = match self.open.iter().position(|(p, _)| *p == s.file) {
+        let (file, journal) = match s {
+            Saved::Journal { file, .. } => (file, true),
+            Saved::Part { file, .. } => (file, false),
+        };
+        let cannot = |e: &dyn std::fmt::Display| {
+            hdf5::Error::from(format!("{}: {e}", file.display()).as_str())
+        };
+        let at = match self.open.iter().position(|(p, _)| p == file) {
             Some(i) => i,
             None => {
-                let part = hdf5::File::open(&s.file).map_err(|e| {
-                    hdf5::Error::from(format!("cannot open {}: {e}", s.file.display()).as_str())
-                })?;
+                let open = if journal {
+                    Open::Journal(std::fs::File::open(file).map_err(|e| cannot(&e))?)
+                } else {
+                    Open::Part(hdf5::File::open(file).map_err(|e| cannot(&e))?)
+                };
                 if self.open.len() == Self::KEEP {
                     self.open.remove(0);
                 }
-                self.open.push((s.file.clone(), part));
+                self.open.push((file.clone(), open));
                 self.open.len() - 1
             }
         };
-        let entry = self.open.remove(at);
-        store::copy_object(&entry.1, &s.group, dst, id)?;
+        let mut entry = self.open.remove(at);
+        let put = match (s, &mut entry.1) {
+            (Saved::Journal { place, .. }, Open::Journal(f)) => {
+                let run = journal::read_run(f, *place).map_err(|e| cannot(&e))?;
+                if run.id != id {
+                    return Err(cannot(&format!(
+                        "holds run {} where {id} was saved",
+                        run.id
+                    )));
+                }
+                store::write_job(dst, id, &run.params, &run.integrator, &run.result)
+            }
+            (Saved::Part { group, .. }, Open::Part(f)) => store::copy_object(f, group, dst, id),
+            _ => Err(cannot(&"is open as another kind of part file")),
+        };
         self.open.push(entry);
-        Ok(())
+        put
     }
 }

@@ -2,7 +2,7 @@
 //! part file at a time on a writer thread, so the runs go on while a batch is written.
 //!
 //! In: finished runs as the workers hand them over (their index in the work list and result).
-//! Out: the part files (`parts::save_batch`), each batch's runs copied into the results file
+//! Out: the part files (`parts::save_batch`), each batch's runs written into the results file
 //! being filled (`stream`), where each run is saved, one progress line per
 //! run when its batch is written (ok, or NOT SAVED with the cause: nothing unsaved is reported
 //! ok), and the first failed save, which raises the run's stop flag. [`Saver`] gathers a batch
@@ -133,6 +133,7 @@ pub(super) fn write_batches(
                     runs.iter()
                         .zip(&places)
                         .map(|(r, place)| (r.id.to_string(), place.clone())),
+                    &runs,
                 );
                 for (r, place) in runs.iter().zip(places) {
                     out.saved.insert(r.id.to_string(), place);

@@ -1,19 +1,20 @@
-//! The results file filled while the runs go on: saved runs are copied from their part files
-//! into the working file `OUT.h5.tmp` in plan order by the writer thread, right after their
-//! batch is saved, so the assembly after the last run has only the study's own groups, the
-//! analysis and the summary left to write.
+//! The results file filled while the runs go on: saved runs are written into the working file
+//! `OUT.h5.tmp` in plan order by the writer thread, right after their batch is saved, so the
+//! assembly after the last run has only the study's own groups, the analysis and the summary
+//! left to write.
 //!
 //! In: the working path; the run's plan order (reference runs it computes, then its jobs; their
 //! ids and kinds); where each run is saved (`parts::Saved`), those saved before this run at
-//! once, the others as each batch is saved. Out: `OUT.h5.tmp` holding `/references/<id>` and
-//! `/jobs/<id>` of the plan order's first runs, every one whose predecessors are all saved
-//! (`store::copy_object`: the part's datasets copied as stored, no second compression), each
-//! job analysed as it is copied (`results::job_analysis::Prepared`: its means and spectra
+//! once, the others as each batch is saved, with the batch's runs in memory. Out:
+//! `OUT.h5.tmp` holding `/references/<id>` and `/jobs/<id>` of the plan order's first runs,
+//! every one whose predecessors are all saved (written from memory when its batch is the one
+//! just saved, else read back from its part file: `parts::OpenParts`), each job analysed as
+//! it is written (`results::job_analysis::Prepared`: its means and spectra
 //! written into its group, its lines and spectra kept for the study's analysis), and the set of
 //! runs copied. Plan order, not the order of finishing: small groups list their members
 //! in the order they were made, and the analysis reads them in that order, so the file is the
-//! same whatever the threads. Memory: where each saved-but-not-yet-copied run is (a path per
-//! run), nothing of its data.
+//! same whatever the threads. Memory: where each saved-but-not-yet-written run is (a path and
+//! an offset per run), nothing of its data.
 //!
 //! The part files stay the record of what is saved: a `kill -9` leaves this file unfinished
 //! under its working name, and `--resume` starts it again from the parts. The first failed copy
@@ -23,7 +24,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use super::parts::{OpenParts, Saved};
+use super::parts::{Finished, OpenParts, Saved};
 use super::work::Kind;
 use crate::results::job_analysis::Prepared;
 
@@ -74,24 +75,29 @@ impl Stream {
             .iter()
             .filter_map(|(id, _)| Some((id.clone(), before.get(id)?.clone())))
             .collect();
-        s.add(wanted);
+        s.add(wanted, &[]);
         s
     }
 
-    /// Takes the saved runs (id, where saved) and copies every run the plan order now allows;
-    /// the first failure drops the file (module doc).
-    pub(super) fn add(&mut self, saved: impl IntoIterator<Item = (String, Saved)>) {
+    /// Takes the saved runs (id, where saved; those of `fresh`, the batch just saved, in
+    /// memory) and writes every run the plan order now allows; the first failure drops the
+    /// file (module doc).
+    pub(super) fn add(
+        &mut self,
+        saved: impl IntoIterator<Item = (String, Saved)>,
+        fresh: &[Finished],
+    ) {
         if self.file.is_none() {
             return;
         }
         self.ready.extend(saved);
-        if let Err(()) = self.copy_ready() {
+        if let Err(()) = self.copy_ready(fresh) {
             self.drop_file();
         }
     }
 
-    /// Copies the leading runs of the plan order that are saved.
-    fn copy_ready(&mut self) -> Result<(), ()> {
+    /// Writes the leading runs of the plan order that are saved.
+    fn copy_ready(&mut self, fresh: &[Finished]) -> Result<(), ()> {
         let Some(f) = &self.file else {
             return Ok(());
         };
@@ -107,7 +113,10 @@ impl Stream {
                 Kind::Job(_) => &jobs,
                 Kind::Reference => &refs,
             };
-            self.parts.copy_saved(&saved, id, dst).map_err(drop)?;
+            match fresh.iter().find(|r| r.id == id) {
+                Some(run) => run.write(dst).map_err(drop)?,
+                None => self.parts.copy_saved(&saved, id, dst).map_err(drop)?,
+            }
             if let Kind::Job(_) = kind {
                 let g = dst.group(id).map_err(drop)?;
                 self.prepared.add(&g, id).map_err(drop)?;
