@@ -46,6 +46,7 @@ mod linear_peaks;
 mod linear_rigid;
 mod linear_study;
 mod linear_supports;
+mod machine_loads;
 mod mutation;
 mod nips;
 mod reduction;
