@@ -47,6 +47,7 @@ mod linear_rigid;
 mod linear_study;
 mod linear_supports;
 mod machine_loads;
+mod machine_plan;
 mod mutation;
 mod nips;
 mod reduction;
