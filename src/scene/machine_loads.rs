@@ -109,7 +109,7 @@ pub struct Web {
     pub roll: usize,
     /// Axial range [m] it wraps.
     pub z: (f64, f64),
-    /// Tension T [N/m] (steady part) and wrap angle θ [rad].
+    /// Tension T [N/m]: its steady part (a table's value at t = 0).
     pub tension: f64,
     /// Wrap angle θ [rad].
     pub wrap: f64,
