@@ -9,8 +9,11 @@
 //!
 //! Method: q = (q of roll 1, q of roll 2, …), each roll's [`RollSystem`] as for a one-roll
 //! scene (its own speed, supports, gravity), M block-diagonal; the force adds the loading arms'
-//! and line loads' constant inertial forces Φ_jᵀ R(θ)ᵀ F at the roll's support nodes and the
-//! nips' segment forces ([`super::nip`]); the Newton matrix adds each segment's
+//! and the nips' line loads' inertial forces Φ_jᵀ R(θ)ᵀ F(t) at the roll's support nodes, the
+//! webs' line loads q(t) [N/m] over their ranges as Φ_wᵀ R(θ)ᵀ q(t) (Φ_w the lateral rows
+//! integrated with the linear shape functions of each element over the range), both in time
+//! as the scene's `LoadHistory` (constant, harmonic, table; the static equilibrium under their
+//! steady parts), and the nips' segment forces ([`super::nip`]); the Newton matrix adds each segment's
 //! Jᵀ[(b k + c c_d) J + b c_d J̃]. The run starts from the static equilibrium of the machine at
 //! standstill (each roll's own equilibrium, then Newton on the coupled force, open segments
 //! given the stiffness of a 1 µm penetration in the matrix only), or from rest at q = 0 when
@@ -26,14 +29,58 @@ use super::nip::{band_width, law_force, NipSys, RollView, SegmentState};
 use super::system::RollSystem;
 use crate::integrators::{integrate, SecondOrder, StepView};
 use crate::numerics::newton;
-use crate::scene::{Machine, NipLaw};
+use crate::rotor::fe::NDOF;
+use crate::scene::{LoadHistory, Machine, NipLaw};
 
-/// A roll of the coupled system: its system, where its coordinates start, and the constant
-/// inertial forces on it (arms, line loads) with the lateral rows of their nodes.
+/// A roll of the coupled system: its system, where its coordinates start, and the inertial
+/// forces on it (arms, nips' line loads, webs).
 struct Body {
     sys: RollSystem,
     offset: usize,
-    loads: Vec<(DMatrix<f64>, [f64; 2])>,
+    loads: Vec<Load>,
+}
+
+/// An inertial load on a roll: the lateral rows (2 × nm) it acts through (a node's rows, or a
+/// web's rows integrated over its range [m]), the load in time, and constant parts taken off
+/// it in order (the nips' line loads on roll_b's support nodes).
+struct Load {
+    rows: DMatrix<f64>,
+    history: LoadHistory,
+    less: Vec<[f64; 2]>,
+}
+
+impl Load {
+    /// The load at time `t` [s], or its steady part (`None`: the static equilibrium).
+    fn at(&self, t: Option<f64>) -> [f64; 2] {
+        let mut f = match t {
+            Some(t) => self.history.at(t),
+            None => self.history.steady,
+        };
+        for s in &self.less {
+            f[0] -= s[0];
+            f[1] -= s[1];
+        }
+        f
+    }
+}
+
+/// The lateral rows (2 × nm) of a unit line load over [z0, z1] [m]: per FE element the load
+/// on its overlap shared between its two nodes by the linear shape functions, ∫(1 − s) dz and
+/// ∫s dz (the nips' interpolation, `rows_at`); rows × line load [N/m] is the generalized force.
+fn line_rows(model: &Model, (z0, z1): (f64, f64)) -> DMatrix<f64> {
+    let nz = &model.rotor.node_z;
+    let phi = &model.reduced.phi;
+    let mut rows = DMatrix::zeros(2, phi.ncols());
+    for i in 0..nz.len().saturating_sub(1) {
+        let (za, zb) = (nz[i], nz[i + 1]);
+        let (a, b) = (z0.max(za), z1.min(zb));
+        if b <= a || zb <= za {
+            continue;
+        }
+        let upper = ((b - za).powi(2) - (a - za).powi(2)) / (2.0 * (zb - za));
+        rows += (b - a - upper) * phi.rows(NDOF * i, 2) + upper * phi.rows(NDOF * (i + 1), 2);
+    }
+    rows
 }
 
 /// The coupled system (module doc).
@@ -65,7 +112,11 @@ impl MachineSystem {
                 .scene
                 .supports
                 .iter()
-                .map(|s| (rows(&s.node), roll.arm_force))
+                .map(|s| Load {
+                    rows: rows(&s.node),
+                    history: roll.arm.clone(),
+                    less: Vec::new(),
+                })
                 .collect();
             let n = sys.n;
             bodies.push(Body { sys, offset, loads });
@@ -76,9 +127,15 @@ impl MachineSystem {
             let share = nip.line_load * (nip.z.len() as f64 * nip.segment_length)
                 / b.loads.len().max(1) as f64;
             for l in &mut b.loads {
-                l.1[0] -= share * nip.normal[0];
-                l.1[1] -= share * nip.normal[1];
+                l.less.push([share * nip.normal[0], share * nip.normal[1]]);
             }
+        }
+        for web in &machine.webs {
+            bodies[web.roll].loads.push(Load {
+                rows: line_rows(&models[web.roll], web.z),
+                history: web.load.clone(),
+                less: Vec::new(),
+            });
         }
         let nips = machine
             .nips
@@ -177,9 +234,10 @@ impl MachineSystem {
         }
     }
 
+    /// The force at time `t` with the loads at `load_t` (`None`: their steady parts).
     fn force_with(
         &self,
-        t: f64,
+        (t, load_t): (f64, Option<f64>),
         st: &States,
         q: &DVector<f64>,
         v: &DVector<f64>,
@@ -191,7 +249,8 @@ impl MachineSystem {
                 .force_at(st[i], &self.part(i, q), &self.part(i, v), &mut f);
             let (s, c) = st[i].0.sin_cos();
             let rt = Matrix2::new(c, s, -s, c);
-            for (rows, force) in &b.loads {
+            for load in &b.loads {
+                let (rows, force) = (&load.rows, load.at(load_t));
                 let fb = rt * nalgebra::Vector2::new(force[0], force[1]);
                 for j in 0..b.sys.nm {
                     f[j] += rows[(0, j)] * fb.x + rows[(1, j)] * fb.y;
@@ -259,7 +318,7 @@ impl MachineSystem {
         let v = DVector::zeros(self.n);
         let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
         let eval = |q: &DVector<f64>, f: &mut DVector<f64>, jac: &mut DMatrix<f64>| {
-            self.force_with(0.0, &st, q, &v, f);
+            self.force_with((0.0, None), &st, q, &v, f);
             self.newton_with((0.0, &st), q, &v, (0.0, 1.0, 0.0), true, jac);
         };
         newton::solve(
@@ -282,7 +341,7 @@ impl SecondOrder for MachineSystem {
     }
 
     fn force(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
-        self.force_with(t, &self.states(t), q, v, out);
+        self.force_with((t, Some(t)), &self.states(t), q, v, out);
     }
 
     fn newton_matrix(

@@ -108,9 +108,9 @@ pub fn markdown() -> String {
          axial place: a number of mm, or `\"centre\"`, a fraction of the shell length \
          (`\"0.25L\"`), or an end with an offset in mm (`\"tending+150\"`, `\"drive-700\"`, \
          `\"centre+100\"`; a `[rotor]` names its ends `start` and `end`). Unknown keys are \
-         errors. A *machine file* (`[[rolls]]`, `[[nips]]`: several rolls in nips, \
-         `docs/machines.md`) has the keys `name`, `description`, `rolls` and `nips` only; its \
-         rolls' scenes are scene files.\n\n\
+         errors. A *machine file* (`[[rolls]]`, `[[nips]]`, `[[webs]]`: several rolls in nips, \
+         `docs/machines.md`) has the keys `name`, `description`, `rolls`, `nips` and `webs` \
+         only; its rolls' scenes are scene files.\n\n\
          | key | type | units | default | allowed | meaning |\n\
          |---|---|---|---|---|---|\n",
     );

@@ -33,7 +33,8 @@
 //! error saying so.
 //!
 //! The line load q [N/m] presses roll_b toward roll_a: q (to − from) split evenly over roll_b's
-//! supports' nodes, beside the arms' forces of `arm_force_n` on every support node of a roll.
+//! supports' nodes, beside the arms' forces of `arm_force_n` on every support node of a roll
+//! (constant, harmonic or a table in time) and the webs' line loads (`machine_loads.rs`).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -42,6 +43,7 @@ use super::check::Check;
 use super::contact_fit::ContactGeometry;
 use super::locate;
 use super::machine_file::{MachineFile, NipFile};
+use super::machine_loads;
 use super::overrides::{override_error_key, parse_override, with_overrides};
 use super::source::Source;
 use super::types::{CoverSpec, Machine, MachineRoll, Nip, NipLaw, Scene};
@@ -86,7 +88,7 @@ pub(super) fn load(source: &Source, overrides: &[String]) -> Result<Scene, Input
 }
 
 /// The top-level keys of a machine file.
-const MACHINE_KEYS: [&str; 4] = ["name", "description", "rolls", "nips"];
+const MACHINE_KEYS: [&str; 5] = ["name", "description", "rolls", "nips", "webs"];
 
 /// The scene tables whose `--set` overrides a machine passes to its first roll's scene: the run
 /// window, solver and outputs (the machine's, module doc) and the first roll's speed (rolls with
@@ -180,16 +182,13 @@ fn build(c: &Check, raw: &MachineFile, first_roll: &[String]) -> Result<Machine,
         };
         let [x, y] = pair("position_mm", &r.position_mm)?;
         let position = [1e-3 * x, 1e-3 * y];
-        let arm_force = pair(
-            "arm_force_n",
-            r.arm_force_n.as_deref().unwrap_or(&[0.0, 0.0]),
-        )?;
+        let arm = machine_loads::arm(c, i, r)?;
         rolls.push(MachineRoll {
             name: r.name.clone(),
             scene,
             set,
             position,
-            arm_force,
+            arm,
             speed_factor: 1.0,
         });
     }
@@ -200,7 +199,17 @@ fn build(c: &Check, raw: &MachineFile, first_roll: &[String]) -> Result<Machine,
     }
     overlaps(c, &rolls, &nips)?;
     tie_speeds(c, raw, &mut rolls, &nips)?;
-    Ok(Machine { rolls, nips })
+    let extents: Vec<(f64, f64)> = rolls.iter().map(|r| extent(&r.scene.rotor)).collect();
+    let webs = (raw.webs.iter().enumerate())
+        .map(|(i, w)| machine_loads::web(c, i, w, &names, &extents))
+        .collect::<Result<_, _>>()?;
+    Ok(Machine { rolls, nips, webs })
+}
+
+/// The axial extent [m] of `rotor`: from its start to the end of its last segment.
+fn extent(rotor: &RotorSpec) -> (f64, f64) {
+    let length: f64 = rotor.segments.iter().map(|s| s.length).sum();
+    (rotor.z_start, rotor.z_start + length)
 }
 
 /// The roll named `name` under `key`.

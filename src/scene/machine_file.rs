@@ -11,6 +11,8 @@ pub(crate) struct MachineFile {
     pub rolls: Vec<MachineRollFile>,
     #[serde(default)]
     pub nips: Vec<NipFile>,
+    #[serde(default)]
+    pub webs: Vec<WebFile>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -23,6 +25,12 @@ pub(crate) struct MachineRollFile {
     pub position_mm: Vec<f64>,
     pub surface_speed_of: Option<String>,
     pub arm_force_n: Option<Vec<f64>>,
+    pub arm_profile: Option<String>,
+    pub arm_amplitude_n: Option<Vec<f64>>,
+    pub arm_frequency_hz: Option<f64>,
+    pub arm_phase_deg: Option<f64>,
+    pub arm_times_s: Option<Vec<f64>>,
+    pub arm_table_n: Option<Vec<Vec<f64>>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -47,4 +55,22 @@ pub(crate) struct NipFile {
     pub cover_points: Option<usize>,
     pub damping_ns_per_m2: Option<f64>,
     pub line_load_kn_per_m: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct WebFile {
+    pub name: String,
+    pub roll: String,
+    pub from_mm: f64,
+    pub to_mm: f64,
+    pub tension_kn_per_m: Option<f64>,
+    pub wrap_deg: f64,
+    pub resultant_deg: f64,
+    pub profile: Option<String>,
+    pub amplitude_kn_per_m: Option<f64>,
+    pub frequency_hz: Option<f64>,
+    pub phase_deg: Option<f64>,
+    pub times_s: Option<Vec<f64>>,
+    pub table_kn_per_m: Option<Vec<f64>>,
 }

@@ -11,6 +11,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::contact_fit::ContactFit;
+use super::machine_loads::{LoadHistory, Web};
 use super::settings::{DampingBands, Outputs, SimulationSettings};
 use super::speed::SpeedProfile;
 use crate::integrators::SolverSettings;
@@ -279,6 +280,8 @@ pub struct Machine {
     pub rolls: Vec<MachineRoll>,
     /// The nips, in file order.
     pub nips: Vec<Nip>,
+    /// The webs' line loads, in file order.
+    pub webs: Vec<Web>,
 }
 
 /// One roll of a machine.
@@ -292,8 +295,8 @@ pub struct MachineRoll {
     pub set: Vec<String>,
     /// Axis position (x, y) in the inertial frame [m].
     pub position: [f64; 2],
-    /// Loading-arm force (x, y) on each of its support nodes, inertial frame [N].
-    pub arm_force: [f64; 2],
+    /// Loading-arm force (x, y) on each of its support nodes, inertial frame [N], in time.
+    pub arm: LoadHistory,
     /// Its speed per speed of the roll it follows (`surface_speed_of`: −R_other/R_own), 1 for a
     /// roll with a speed of its own.
     pub speed_factor: f64,

@@ -46,6 +46,8 @@ mod linear_peaks;
 mod linear_rigid;
 mod linear_study;
 mod linear_supports;
+mod machine_loads;
+mod machine_plan;
 mod mutation;
 mod nips;
 mod reduction;

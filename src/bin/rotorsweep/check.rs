@@ -118,13 +118,18 @@ fn scene(source: &Source, set: &[String], model: bool) -> Result<(), CliError> {
 fn machine(m: &Machine, model: bool) -> Result<(), CliError> {
     for r in &m.rolls {
         println!(
-            "\n# Roll {}: {} at ({}, {}) mm, arm force ({}, {}) N",
+            "\n# Roll {}: {} at ({}, {}) mm, arm force ({}, {}) N{}",
             r.name,
             r.scene.source.display(),
             1e3 * r.position[0],
             1e3 * r.position[1],
-            r.arm_force[0],
-            r.arm_force[1]
+            r.arm.steady[0],
+            r.arm.steady[1],
+            if r.arm.varies() {
+                ", varying in time"
+            } else {
+                ""
+            }
         );
         let source = Source::load(&r.scene.source)?;
         let (table, _) = with_overrides(&source, &r.set)?;
@@ -174,6 +179,25 @@ fn machine(m: &Machine, model: bool) -> Result<(), CliError> {
                 cover.points
             ),
         }
+    }
+    for w in &m.webs {
+        println!(
+            "\n# Web {} on {}: z {:.1} … {:.1} mm, tension {:.3} kN/m over {:.1}°: line load \
+             ({:.1}, {:.1}) N/m{}",
+            w.name,
+            m.rolls[w.roll].name,
+            1e3 * w.z.0,
+            1e3 * w.z.1,
+            1e-3 * w.tension,
+            w.wrap.to_degrees(),
+            w.load.steady[0],
+            w.load.steady[1],
+            if w.load.varies() {
+                ", varying in time"
+            } else {
+                ""
+            }
+        );
     }
     Ok(())
 }
