@@ -641,8 +641,8 @@ pub const DOCS: &[KeyDoc] = &[
         key: "fe.format",
         units: "",
         default: "matrix-market",
-        range: "matrix-market, abaqus",
-        meaning: "Matrix Market coordinate files with a DOF table, or Abaqus *MATRIX OUTPUT, FORMAT=COORDINATE files.",
+        range: "matrix-market, abaqus, dmig, op4",
+        meaning: "Matrix Market coordinate files with a DOF table, Abaqus *MATRIX OUTPUT, FORMAT=COORDINATE files, Nastran DMIG bulk-data cards (small, large or free field; IFO 6 or 1, real), or Nastran OUTPUT4 ASCII files (dense or sparse, real) with a DOF table (docs/export.md).",
     },
     KeyDoc {
         key: "fe.mass",
@@ -668,9 +668,30 @@ pub const DOCS: &[KeyDoc] = &[
     KeyDoc {
         key: "fe.dofs",
         units: "",
-        default: "required for matrix-market",
+        default: "required for matrix-market and op4; not for abaqus or dmig (their entries name node and DOF)",
         range: "a CSV file",
         meaning: "DOF table: columns index,node,dof (1-based matrix row, node id, ux uy uz rx ry rz or 1-6).",
+    },
+    KeyDoc {
+        key: "fe.mass_matrix",
+        units: "",
+        default: "the file's only matrix",
+        range: "a matrix name in fe.mass (dmig, op4 only)",
+        meaning: "Name of the mass matrix among the DMIG or OP4 matrices of fe.mass (e.g. MAAX); needed when the file holds several.",
+    },
+    KeyDoc {
+        key: "fe.stiffness_matrix",
+        units: "",
+        default: "the file's only matrix",
+        range: "a matrix name in fe.stiffness (dmig, op4 only)",
+        meaning: "Name of the stiffness matrix among the DMIG or OP4 matrices of fe.stiffness (e.g. KAAX); needed when the file holds several.",
+    },
+    KeyDoc {
+        key: "fe.stress_stiffness_matrix",
+        units: "",
+        default: "the file's only matrix",
+        range: "a matrix name in fe.stress_stiffness (dmig, op4 only)",
+        meaning: "Name of the stress stiffness among the DMIG or OP4 matrices of fe.stress_stiffness; needed when the file holds several.",
     },
     KeyDoc {
         key: "fe.units",

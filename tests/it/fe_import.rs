@@ -23,7 +23,7 @@ use crate::support::{repo, scratch, write_file};
 const K: f64 = 1000.0;
 const M: f64 = 2.0;
 
-fn chain_closed_form() -> [f64; 2] {
+pub(crate) fn chain_closed_form() -> [f64; 2] {
     let r = K / M;
     [r * (3.0 - 5f64.sqrt()) / 2.0, r * (3.0 + 5f64.sqrt()) / 2.0]
 }
@@ -32,7 +32,7 @@ const CHAIN_MASS: &str =
     "%%MatrixMarket matrix coordinate real symmetric\n% units: SI\n2 2 2\n1 1 2.0\n2 2 2.0\n";
 const CHAIN_STIFF: &str = "%%MatrixMarket matrix coordinate real symmetric\n% units: SI\n2 2 3\n1 1 2000.0\n2 1 -1000.0\n2 2 1000.0\n";
 
-fn eigenvalues(k: &DMatrix<f64>, m: &DMatrix<f64>) -> Vec<f64> {
+pub(crate) fn eigenvalues(k: &DMatrix<f64>, m: &DMatrix<f64>) -> Vec<f64> {
     let mut v: Vec<f64> = generalized_symmetric(k, m)
         .unwrap()
         .values
@@ -212,6 +212,7 @@ fn axis_body(dir: &Path, mass: Option<&str>, stiff: Option<&str>, dofs: Option<&
         stiffness: write_file(dir, "k.mtx", stiff.unwrap_or(&k)),
         nodes: write_file(dir, "nodes.csv", "id,x,y,z\n7,0,0,0\n9,0,0,0.5\n"),
         dofs: Some(write_file(dir, "dofs.csv", dofs.unwrap_or(&d))),
+        names: Default::default(),
         units: Units::Si,
         rotating: None,
         stress: None,
@@ -272,7 +273,7 @@ fn bad_bodies_are_refused_naming_file_and_entry() {
 }
 
 /// The reference roll's scene and its model, and the export of its full body into `dir`.
-fn exported(dir: &Path, overrides: &[String]) -> (Scene, Model) {
+pub(crate) fn exported(dir: &Path, overrides: &[String]) -> (Scene, Model) {
     let path = repo().join("studies/scenes/reference-roll.toml");
     let (scene, model) = Model::load(&path, overrides, None).unwrap();
     let (table, _) = with_overrides(&Source::load(&path).unwrap(), overrides).unwrap();

@@ -265,6 +265,7 @@ fn error_of(mass: &str, stiffness: &str, dofs: &str) -> String {
         stiffness: write_file(&dir, "k.mtx", stiffness),
         nodes: write_file(&dir, "nodes.csv", NODES),
         dofs: Some(write_file(&dir, "dofs.csv", dofs)),
+        names: Default::default(),
         units: Units::Si,
         rotating: None,
         stress: None,

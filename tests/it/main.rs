@@ -32,6 +32,8 @@ mod dynamics_checks;
 mod error_trust;
 mod export;
 mod fe_import;
+mod fe_nastran;
+mod fe_rings;
 mod fe_sparse;
 mod import;
 mod input_checks;

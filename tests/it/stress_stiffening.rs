@@ -153,6 +153,7 @@ fn ring_body(dir: &std::path::Path, omega_ref: f64, kind: StressKind) -> BodyFil
         stiffness: write_file(dir, "stiffness.mtx", &mtx(&k)),
         nodes: write_file(dir, "nodes.csv", &nodes),
         dofs: Some(write_file(dir, "dofs.csv", &dofs)),
+        names: Default::default(),
         units: Units::Si,
         rotating: None,
         stress: Some(StressFiles {
@@ -559,6 +560,7 @@ fn bad_stress_stiffness_is_refused_naming_file_and_entry() {
         ),
         nodes: write_file(&dir, "nodes.csv", "id,x,y,z\n1,0,0,0\n2,0,0,1\n"),
         dofs: Some(write_file(&dir, "dofs.csv", "index,node,dof\n1,1,ux\n2,2,ux\n")),
+        names: Default::default(),
         units: Units::Si,
         rotating: None,
         stress: Some(StressFiles {
@@ -668,6 +670,7 @@ fn abaqus_stress_stiffness_in_millimetres_is_scaled_to_si() {
         ),
         nodes: write_file(&dir, "nodes.csv", "id,x,y,z\n1,0,0,0\n2,0,0,100\n"),
         dofs: None,
+        names: Default::default(),
         units: Units::MmTonne,
         rotating: None,
         stress: Some(StressFiles {

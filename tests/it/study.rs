@@ -10,7 +10,7 @@ use rotorsweep::study::run::{self as campaign, ReferenceSource, RunOptions};
 use rotorsweep::study::Study;
 use support::{scratch, study_text, write_file};
 
-fn line_of(text: &str, needle: &str) -> usize {
+pub(crate) fn line_of(text: &str, needle: &str) -> usize {
     text.lines()
         .position(|l| l.contains(needle))
         .expect("needle in text")

@@ -1,8 +1,9 @@
 //! An FE body from files: read, checked, converted to SI and to the rotor's DOF order.
 //!
 //! In: [`BodyFiles`]: the mass and stiffness matrices (Matrix Market, [`super::matrix_market`],
-//! or an Abaqus coordinate file, [`super::abaqus`]), the node table and, for Matrix Market, the
-//! DOF table ([`super::tables`]), the unit system, and optionally the body-frame rotating terms
+//! an Abaqus coordinate file, [`super::abaqus`], Nastran DMIG cards, [`super::dmig`], or a
+//! Nastran OP4 ASCII file, [`super::op4`], the last two by matrix name), the node table and,
+//! for Matrix Market and OP4, the DOF table ([`super::tables`]), the unit system, and optionally the body-frame rotating terms
 //! a rotorsweep export writes (Coriolis G_c, spin softening E, angular acceleration C,
 //! stationary gyroscopic G_s and the loads f_c, f_t, g_x, g_y), and optionally a stiffness
 //! exported at a reference speed Ω_ref ([`StressFiles`]: stress stiffening).
@@ -30,8 +31,8 @@ use nalgebra::{DMatrix, DVector, Vector3};
 
 pub use super::files::{BodyFiles, Format, RotatingFiles, StressFiles, StressKind};
 use super::invariants::{invariants, rigid_modes, rotating_terms, Invariants};
-use super::matrix_market;
 use super::tables::{self, Dof, Node, Units, DOF_NAMES};
+use super::{dmig, matrix_market, op4};
 use crate::error::InputError;
 use crate::rotor::fe::{FeMatrices, NDOF};
 
@@ -134,30 +135,74 @@ fn read_pair(f: &BodyFiles, nodes: &[Node]) -> Result<(Read, DMatrix<f64>), Inpu
         Format::MatrixMarket => {
             let m = read_market(&f.mass, f.units)?;
             let k = read_market(&f.stiffness, f.units)?;
-            if k.nrows() != m.nrows() {
-                return Err(InputError::new(
-                    &f.stiffness,
-                    format!(
-                        "the stiffness matrix is {} × {}, the mass matrix {} is {} × {}",
-                        k.nrows(),
-                        k.nrows(),
-                        f.mass.display(),
-                        m.nrows(),
-                        m.nrows()
-                    ),
-                ));
-            }
-            let dofs_path = f.dofs.as_ref().ok_or_else(|| {
-                InputError::new(&f.mass, "a Matrix Market body needs a DOF table (`dofs`)")
-            })?;
-            let dofs = tables::read_dofs(dofs_path, m.nrows(), nodes, &f.nodes)?;
+            same_size(f, &m, &k)?;
+            let dofs = table(f, m.nrows(), nodes)?;
             Ok((Read { matrix: m, dofs }, k))
         }
         Format::Abaqus => {
             let (m, k, dofs) = super::abaqus::read_pair(&f.mass, &f.stiffness, nodes, &f.nodes)?;
             Ok((Read { matrix: m, dofs }, k))
         }
+        Format::Dmig => {
+            let ((m, um), (k, uk), dofs) = dmig::read_pair(
+                dmig::Named {
+                    path: &f.mass,
+                    name: f.names.mass.as_deref(),
+                    key: "fe.mass_matrix",
+                },
+                dmig::Named {
+                    path: &f.stiffness,
+                    name: f.names.stiffness.as_deref(),
+                    key: "fe.stiffness_matrix",
+                },
+                nodes,
+                &f.nodes,
+            )?;
+            units_check(&f.mass, &um, f.units)?;
+            units_check(&f.stiffness, &uk, f.units)?;
+            Ok((Read { matrix: m, dofs }, k))
+        }
+        Format::Op4 => {
+            let m = op4::read(&f.mass, f.names.mass.as_deref(), "fe.mass_matrix")?;
+            let k = op4::read(
+                &f.stiffness,
+                f.names.stiffness.as_deref(),
+                "fe.stiffness_matrix",
+            )?;
+            same_size(f, &m, &k)?;
+            let dofs = table(f, m.nrows(), nodes)?;
+            Ok((Read { matrix: m, dofs }, k))
+        }
     }
+}
+
+/// The stiffness's size against the mass's.
+fn same_size(f: &BodyFiles, m: &DMatrix<f64>, k: &DMatrix<f64>) -> Result<(), InputError> {
+    if k.nrows() == m.nrows() {
+        return Ok(());
+    }
+    Err(InputError::new(
+        &f.stiffness,
+        format!(
+            "the stiffness matrix is {} × {}, the mass matrix {} is {} × {}",
+            k.nrows(),
+            k.nrows(),
+            f.mass.display(),
+            m.nrows(),
+            m.nrows()
+        ),
+    ))
+}
+
+/// The DOF table of a Matrix Market or OP4 body of `n` rows.
+fn table(f: &BodyFiles, n: usize, nodes: &[Node]) -> Result<Vec<Dof>, InputError> {
+    let dofs_path = f.dofs.as_ref().ok_or_else(|| {
+        InputError::new(
+            &f.mass,
+            "a Matrix Market or OP4 body needs a DOF table (`dofs`)",
+        )
+    })?;
+    tables::read_dofs(dofs_path, n, nodes, &f.nodes)
 }
 
 fn read_loads(
@@ -255,6 +300,21 @@ fn read_stress(
     let mut a = match f.format {
         Format::MatrixMarket => read_market(path, f.units)?,
         Format::Abaqus => super::abaqus::read_on(path, dofs, nodes, &f.nodes)?,
+        Format::Dmig => {
+            let named = dmig::Named {
+                path,
+                name: f.names.stress.as_deref(),
+                key: "fe.stress_stiffness_matrix",
+            };
+            let (a, u) = dmig::read_on(named, dofs, nodes, &f.nodes)?;
+            units_check(path, &u, f.units)?;
+            a
+        }
+        Format::Op4 => op4::read(
+            path,
+            f.names.stress.as_deref(),
+            "fe.stress_stiffness_matrix",
+        )?,
     };
     if a.nrows() != n {
         return Err(InputError::new(

@@ -15,6 +15,28 @@ pub enum Format {
     MatrixMarket,
     /// Abaqus `*MATRIX OUTPUT, FORMAT=COORDINATE` files (node, dof, node, dof, value).
     Abaqus,
+    /// Nastran DMIG bulk-data cards (GRID and component address every entry).
+    Dmig,
+    /// Nastran OUTPUT4 ASCII files with a DOF table.
+    Op4,
+}
+
+impl Format {
+    /// Whether the format's files hold named matrices (DMIG, OP4), possibly several.
+    pub fn named_matrices(self) -> bool {
+        matches!(self, Format::Dmig | Format::Op4)
+    }
+}
+
+/// The names of the matrices in DMIG or OP4 files (`None`: the file's only matrix).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct MatrixNames {
+    /// The mass matrix's name (`fe.mass_matrix`).
+    pub mass: Option<String>,
+    /// The stiffness matrix's name (`fe.stiffness_matrix`).
+    pub stiffness: Option<String>,
+    /// The stress stiffness's name (`fe.stress_stiffness_matrix`).
+    pub stress: Option<String>,
 }
 
 /// The files of the rotating terms (module doc), all Matrix Market but the loads (`index,fc,
@@ -68,8 +90,10 @@ pub struct BodyFiles {
     pub stiffness: PathBuf,
     /// Node table.
     pub nodes: PathBuf,
-    /// DOF table (Matrix Market only; an Abaqus file names its DOFs).
+    /// DOF table (Matrix Market and OP4; Abaqus and DMIG files name their DOFs).
     pub dofs: Option<PathBuf>,
+    /// The matrices' names in DMIG or OP4 files.
+    pub names: MatrixNames,
     /// Unit system of every file.
     pub units: Units,
     /// The rotating terms, if the files carry them.
@@ -80,7 +104,7 @@ pub struct BodyFiles {
 
 impl BodyFiles {
     /// The file that says which DOF each matrix row is, as an error names it: the DOF table, or
-    /// for an Abaqus body the mass matrix.
+    /// for an Abaqus or DMIG body the mass matrix.
     pub fn dofs_file(&self) -> String {
         self.dofs
             .as_deref()

@@ -2,8 +2,9 @@
 //! and DOF tables, read, checked and turned into the rotor's body-frame matrices.
 //!
 //! In: Matrix Market coordinate files ([`matrix_market`], also written for export) with a node
-//! and a DOF table ([`tables`]), or Abaqus `*MATRIX OUTPUT, FORMAT=COORDINATE` files
-//! ([`abaqus`]), in SI or mm-t-s units. Out: an [`ImportedBody`](body::ImportedBody) in SI and
+//! and a DOF table ([`tables`]), Abaqus `*MATRIX OUTPUT, FORMAT=COORDINATE` files
+//! ([`abaqus`]), Nastran DMIG bulk-data cards ([`dmig`], the cards by [`bulk`]) or Nastran
+//! OUTPUT4 ASCII files with a DOF table ([`op4`]), in SI or mm-t-s units. Out: an [`ImportedBody`](body::ImportedBody) in SI and
 //! the rotor's DOF order, with its inertia invariants ([`invariants`]); or an
 //! [`InputError`](crate::error::InputError) naming the file and the line or entry.
 //! Large bodies are read sparse ([`sparse_body`]) for the sparse reduction
@@ -14,9 +15,12 @@
 
 pub mod abaqus;
 pub mod body;
+pub mod bulk;
+pub mod dmig;
 pub mod files;
 pub mod invariants;
 pub mod matrix_market;
+pub mod op4;
 pub mod rings;
 pub mod solid;
 pub mod sparse_body;

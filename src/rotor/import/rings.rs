@@ -7,7 +7,8 @@
 //! Out: a [`Ring`]: its node ids (ascending), weights, the reference point c [m] (the weighted
 //! centroid) and the 6 × 3k interpolation matrix R that gives the reference point's motion
 //! (u_x, u_y, u_z [m], θ_x, θ_y, θ_z [rad]) from the ring nodes' translations (node by node,
-//! x y z); or a reason (the caller names the file and key): no node, a node id the table lacks
+//! x y z); or a reason (the caller names the file and key): no node (an empty `nodes` or none
+//! on the circle), a node id the table lacks
 //! or given twice, weights not positive or not one per node, nodes on a line (the reference's
 //! rotations undetermined).
 //! Method: the weighted least-squares rigid motion of the ring (the RBE3 definition, MSC
@@ -61,6 +62,9 @@ fn select(spec: &RingSpec, table: &[Node], length: f64) -> Result<Vec<i64>, Stri
     if let Some(ids) = &spec.nodes {
         if spec.z.is_some() || spec.radius.is_some() || spec.tolerance.is_some() {
             return Err("give either `nodes` or `z` and `radius`, not both".into());
+        }
+        if ids.is_empty() {
+            return Err("`nodes` is empty: a ring needs three or more nodes not on a line".into());
         }
         let mut ids = ids.clone();
         ids.sort_unstable();

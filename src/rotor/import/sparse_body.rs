@@ -7,7 +7,7 @@
 //! line or entry: a truncated file, an entry given twice, a size that does not match the DOF
 //! table or the other matrix, a matrix not symmetric, wrong units (`% units:` differing from
 //! the scene's), a node the DOF table names that the node table lacks, a mass matrix that is
-//! not positive definite, an Abaqus body (read dense only).
+//! not positive definite, an Abaqus, DMIG or OP4 body (read dense only).
 //! Method: the Matrix Market entries ([`super::matrix_market::read_sparse`]); symmetry of a
 //! `general` file checked entry by entry against its mirror (binary search), to 1e-10 of the
 //! largest entry, as the dense reader does; the same unit scaling as [`super::body`] (mass ×
@@ -110,7 +110,7 @@ pub fn load(f: &BodyFiles) -> Result<SparseBody, InputError> {
         return Err(InputError::new(
             &f.mass,
             "the sparse reduction reads Matrix Market bodies (`format = \"matrix-market\"`); \
-             Abaqus files are read dense",
+             Abaqus, DMIG and OP4 files are read dense",
         ));
     }
     let dofs_path = f.dofs.as_ref().ok_or_else(|| {

@@ -1,9 +1,11 @@
 //! The FE body builder: `[fe]` → a rotor that is an FE body imported from files, with its
 //! named nodes, rings and sensors.
 //!
-//! In: the `[fe]` table: the matrices' `format` (`matrix-market` or `abaqus`), the files
-//! `mass`, `stiffness`, `nodes`, `dofs` (Matrix Market) and optionally the `[fe.rotating]`
-//! terms, paths relative to the scene file; `units` (`SI` or `mm-t-s`); optionally a stress
+//! In: the `[fe]` table: the matrices' `format` (`matrix-market`, `abaqus`, `dmig` or `op4`),
+//! the files `mass`, `stiffness`, `nodes`, `dofs` (Matrix Market and OP4) and optionally the
+//! `[fe.rotating]` terms, paths relative to the scene file; the names of the matrices in DMIG
+//! or OP4 files (`mass_matrix`, `stiffness_matrix`, `stress_stiffness_matrix`; needed when a
+//! file holds several); `units` (`SI` or `mm-t-s`); optionally a stress
 //! stiffness `stress_stiffness` (a file in the matrices' format), `stress_stiffness_kind`
 //! (`increment`: ΔK, or `total`: K + ΔK) and `stress_reference_hz` (the speed [Hz] it was
 //! computed at), all three or none; `named` nodes (name → node id), `rings` (ring attachments,
@@ -29,6 +31,7 @@ use crate::rotor::fe::{FeMatrices, RotorSpec};
 use crate::rotor::import::body::{
     self, BodyFiles, Format, ImportedBody, RotatingFiles, StressFiles, StressKind,
 };
+use crate::rotor::import::files::MatrixNames;
 use crate::rotor::import::rings::{self, Ring, RingSpec};
 use crate::rotor::import::tables::{Node, Units};
 use crate::rotor::import::{solid, sparse_body};
@@ -46,6 +49,9 @@ pub(crate) struct FeFile {
     pub stiffness: String,
     pub nodes: String,
     pub dofs: Option<String>,
+    pub mass_matrix: Option<String>,
+    pub stiffness_matrix: Option<String>,
+    pub stress_stiffness_matrix: Option<String>,
     pub units: String,
     pub rotating: Option<FeRotatingFile>,
     pub stress_stiffness: Option<String>,
@@ -91,15 +97,56 @@ fn files_of(c: &Check, fe: &FeFile) -> Result<BodyFiles, InputError> {
     let format = match fe.format.as_str() {
         "matrix-market" => Format::MatrixMarket,
         "abaqus" => Format::Abaqus,
+        "dmig" => Format::Dmig,
+        "op4" => Format::Op4,
         f => {
             return Err(c.err(
                 "fe.format",
-                format!("`{f}`: expected `matrix-market` or `abaqus`"),
+                format!("`{f}`: expected `matrix-market`, `abaqus`, `dmig` or `op4`"),
             ))
         }
     };
-    if format == Format::MatrixMarket && fe.dofs.is_none() {
-        return Err(c.err("fe.dofs", "a Matrix Market body needs its DOF table"));
+    match format {
+        Format::MatrixMarket | Format::Op4 if fe.dofs.is_none() => {
+            return Err(c.err(
+                "fe.dofs",
+                if format == Format::Op4 {
+                    "an OP4 body needs its DOF table"
+                } else {
+                    "a Matrix Market body needs its DOF table"
+                },
+            ))
+        }
+        Format::Dmig if fe.dofs.is_some() => {
+            return Err(c.err(
+                "fe.dofs",
+                "a DMIG body's cards name each entry's GRID and component: leave out the DOF table",
+            ))
+        }
+        _ => {}
+    }
+    if !format.named_matrices() {
+        for (key, v) in [
+            ("fe.mass_matrix", &fe.mass_matrix),
+            ("fe.stiffness_matrix", &fe.stiffness_matrix),
+            ("fe.stress_stiffness_matrix", &fe.stress_stiffness_matrix),
+        ] {
+            if v.is_some() {
+                return Err(c.err(
+                    key,
+                    format!(
+                        "a matrix name is for `dmig` or `op4` files, not `{}`",
+                        fe.format
+                    ),
+                ));
+            }
+        }
+    }
+    if fe.stress_stiffness_matrix.is_some() && fe.stress_stiffness.is_none() {
+        return Err(c.err(
+            "fe.stress_stiffness_matrix",
+            "names a matrix of fe.stress_stiffness, which is not given",
+        ));
     }
     let units = Units::parse(&fe.units).map_err(|r| c.err("fe.units", r))?;
     let stress = match (
@@ -155,6 +202,11 @@ fn files_of(c: &Check, fe: &FeFile) -> Result<BodyFiles, InputError> {
         stiffness: path(&fe.stiffness),
         nodes: path(&fe.nodes),
         dofs: fe.dofs.as_deref().map(path),
+        names: MatrixNames {
+            mass: fe.mass_matrix.clone(),
+            stiffness: fe.stiffness_matrix.clone(),
+            stress: fe.stress_stiffness_matrix.clone(),
+        },
         units,
         rotating: fe.rotating.as_ref().map(|r| RotatingFiles {
             coriolis: path(&r.coriolis),
