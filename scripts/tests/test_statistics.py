@@ -129,7 +129,17 @@ def test_a_sampled_study_on_a_grid_axis_reads_per_grid_point(tmp_path: Path) -> 
         assert row.n == 32 and row.mean_low <= mean <= row.mean_high
     si = rs.sensitivity(out)
     assert len(si[si.output == "sag_vertical_um:centre"]) == 4
+    # The samples frame: every job with its grid point's gravity beside its sampled density,
+    # each job's sag the rigid body's closed form at its own ρ and g, to 2e-5 (the cylinder's
+    # own bending adds under 2e-5 of the sag: studies/sensitivity-jeffcott.toml).
+    sa = rs.samples(out)
+    assert list(sa.columns[:4]) == ["job_id", "label", "simulation.gravity_m_s2",
+                                    "materials.steel.density_kg_m3"]
+    assert len(sa) == 2 * 16 * 4 and sorted(set(sa["simulation.gravity_m_s2"])) == [4.905, 9.81]
+    exact = (-sa["materials.steel.density_kg_m3"] * math.pi * 0.01 * 0.4
+             * sa["simulation.gravity_m_s2"] / 2e5 * 1e6)
+    assert ((sa["sag_vertical_um:centre"] / exact - 1).abs() < 2e-5).all()
     from rotorsweep.figures import render
 
     names = [p.name for p in render(out, tmp_path / "figs")]
-    assert {"histograms.png", "sensitivity.png"} <= set(names)
+    assert {"histograms.png", "scatter.png", "sensitivity.png"} <= set(names)
