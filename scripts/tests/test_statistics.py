@@ -101,6 +101,17 @@ def test_samples_frame_holds_every_job_with_its_inputs(sens: Path) -> None:
     m = sa["materials.steel.density_kg_m3"] * math.pi * 0.1**2 * 0.4
     f = (2 * sa["supports[0].spring.kx_n_per_m"] / m) ** 0.5 / (2 * math.pi)
     assert ((sa["critical_speed_hz:1"] / f - 1).abs() < 1e-4).all()
+    # Each critical speed's log decrement is an output: the job's linear system's
+    # /linear/<linear_id>/critical_log_dec, read with h5py.
+    import h5py
+
+    with h5py.File(sens, "r") as h5:
+        for _, row in sa.iloc[:20].iterrows():
+            lid = h5[f"jobs/{row.job_id}"].attrs["linear_id"]
+            lid = lid.decode() if isinstance(lid, bytes) else lid
+            stored = h5[f"linear/{lid}/critical_log_dec"][:]
+            got = [row[f"critical_log_dec:{k + 1}"] for k in range(len(stored))]
+            assert got == pytest.approx(list(stored), abs=0, rel=0, nan_ok=True)
 
 
 def test_a_sampled_study_gets_its_histograms_scatter_and_sensitivity_figures(

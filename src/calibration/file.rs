@@ -206,12 +206,15 @@ pub struct Calibration {
 
 /// Output kinds a target may name (the statistics table's, `report::tables::outputs`), and
 /// whether the part after the first colon starts with `sensor/direction`.
-const OUTPUTS: [(&str, bool); 9] = [
+const OUTPUTS: [(&str, bool); 12] = [
     ("runout_mean_um", true),
     ("line_amplitude_um", true),
     ("peak_speed_hz", true),
     ("peak_amplitude_um", true),
     ("critical_speed_hz", false),
+    ("critical_log_dec", false),
+    ("nip_static_n", false),
+    ("nip_amplitude_n", false),
     ("bending_vertical_hz", false),
     ("bending_horizontal_hz", false),
     ("sag_vertical_um", false),
