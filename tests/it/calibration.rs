@@ -606,3 +606,19 @@ fn a_noisy_run_up_gives_back_stand_damping_modal_damping_and_asymmetry() {
     // 2 records × 2 directions × 26 blocks × 2 parts.
     fit_recovers(&d, &text, 208, &truth);
 }
+
+/// The shipped files of issue 24 load: studies/calibrate-table51.toml (three free parameters,
+/// the twelve rows of the source's Table 5.1: speed and three amplitudes of each of 2×, 3×, 4×)
+/// and studies/monte-carlo-wall.toml (a Saltelli design of n = 256 over d = 3 parameters:
+/// n (d + 2) = 1280 jobs).
+#[test]
+fn the_shipped_calibration_and_monte_carlo_study_load() {
+    let cal = Calibration::load(&support::repo().join("studies/calibrate-table51.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(cal.parameters.len(), 3);
+    assert_eq!(cal.rows.len(), 12);
+    let st = rotorsweep::study::Study::load(&support::repo().join("studies/monte-carlo-wall.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    // The wall's seed, stand ky and stand cy: the 1280 jobs docs/statistics.md reports.
+    assert_eq!(st.jobs.len(), 256 * 5);
+}
