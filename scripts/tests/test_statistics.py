@@ -101,6 +101,17 @@ def test_samples_frame_holds_every_job_with_its_inputs(sens: Path) -> None:
     m = sa["materials.steel.density_kg_m3"] * math.pi * 0.1**2 * 0.4
     f = (2 * sa["supports[0].spring.kx_n_per_m"] / m) ** 0.5 / (2 * math.pi)
     assert ((sa["critical_speed_hz:1"] / f - 1).abs() < 1e-4).all()
+    # Each critical speed's log decrement is an output: the job's linear system's
+    # /linear/<linear_id>/critical_log_dec, read with h5py.
+    import h5py
+
+    with h5py.File(sens, "r") as h5:
+        for _, row in sa.iloc[:20].iterrows():
+            lid = h5[f"jobs/{row.job_id}"].attrs["linear_id"]
+            lid = lid.decode() if isinstance(lid, bytes) else lid
+            stored = h5[f"linear/{lid}/critical_log_dec"][:]
+            got = [row[f"critical_log_dec:{k + 1}"] for k in range(len(stored))]
+            assert got == pytest.approx(list(stored), abs=0, rel=0, nan_ok=True)
 
 
 def test_a_sampled_study_gets_its_histograms_scatter_and_sensitivity_figures(
@@ -129,7 +140,17 @@ def test_a_sampled_study_on_a_grid_axis_reads_per_grid_point(tmp_path: Path) -> 
         assert row.n == 32 and row.mean_low <= mean <= row.mean_high
     si = rs.sensitivity(out)
     assert len(si[si.output == "sag_vertical_um:centre"]) == 4
+    # The samples frame: every job with its grid point's gravity beside its sampled density,
+    # each job's sag the rigid body's closed form at its own ρ and g, to 2e-5 (the cylinder's
+    # own bending adds under 2e-5 of the sag: studies/sensitivity-jeffcott.toml).
+    sa = rs.samples(out)
+    assert list(sa.columns[:4]) == ["job_id", "label", "simulation.gravity_m_s2",
+                                    "materials.steel.density_kg_m3"]
+    assert len(sa) == 2 * 16 * 4 and sorted(set(sa["simulation.gravity_m_s2"])) == [4.905, 9.81]
+    exact = (-sa["materials.steel.density_kg_m3"] * math.pi * 0.01 * 0.4
+             * sa["simulation.gravity_m_s2"] / 2e5 * 1e6)
+    assert ((sa["sag_vertical_um:centre"] / exact - 1).abs() < 2e-5).all()
     from rotorsweep.figures import render
 
     names = [p.name for p in render(out, tmp_path / "figs")]
-    assert {"histograms.png", "sensitivity.png"} <= set(names)
+    assert {"histograms.png", "scatter.png", "sensitivity.png"} <= set(names)

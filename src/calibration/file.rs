@@ -206,12 +206,15 @@ pub struct Calibration {
 
 /// Output kinds a target may name (the statistics table's, `report::tables::outputs`), and
 /// whether the part after the first colon starts with `sensor/direction`.
-const OUTPUTS: [(&str, bool); 9] = [
+const OUTPUTS: [(&str, bool); 12] = [
     ("runout_mean_um", true),
     ("line_amplitude_um", true),
     ("peak_speed_hz", true),
     ("peak_amplitude_um", true),
     ("critical_speed_hz", false),
+    ("critical_log_dec", false),
+    ("nip_static_n", false),
+    ("nip_amplitude_n", false),
     ("bending_vertical_hz", false),
     ("bending_horizontal_hz", false),
     ("sag_vertical_um", false),
@@ -455,6 +458,10 @@ fn parameters(c: &Ctx, raw: &[ParameterFile], study: &Study) -> Result<Vec<Param
     Ok(out)
 }
 
+/// Largest |value|/σ (√weight times) of a target row: a residual of this size squares to
+/// 1e300, so the cost ½ Σ r² of up to 1e8 such rows stays below f64's largest number (1.8e308).
+const MAX_SCALED_VALUE: f64 = 1e150;
+
 /// A row from a value and its standard deviation, checked.
 fn row(
     c: &Ctx,
@@ -479,6 +486,17 @@ fn row(
         return Err(c.err(
             &format!("{at}.weight"),
             format!("{weight}: a weight must be ≥ 0"),
+        ));
+    }
+    let scaled = weight.sqrt() * value.abs() / std;
+    if scaled > MAX_SCALED_VALUE {
+        return Err(c.err(
+            &format!("{at}.{value_key}"),
+            format!(
+                "{value} is {scaled:e} standard deviations ({std_key} = {std}) from 0: the fit's \
+                 cost ½ Σ residual² would overflow; give the value and its standard deviation \
+                 in the output's unit"
+            ),
         ));
     }
     Ok(Row {

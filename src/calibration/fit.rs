@@ -213,6 +213,21 @@ fn fit_error(
                 .filter(|(_, v)| !v.is_finite())
                 .map(|(r, _)| format!("{} ({})", r.at, r.output))
                 .collect();
+            if missing.is_empty() {
+                return InputError::new(
+                    &cal.path,
+                    format!(
+                        "the {} point {:?} (jobs {} in {}) gives a cost that is not a finite \
+                         number: a residual √w (model − value)/σ overflows (a model value far \
+                         outside the targets' standard deviations)",
+                        p.role.text(),
+                        e.values,
+                        e.job_ids.join(", "),
+                        e.batch
+                    ),
+                )
+                .into();
+            }
             let why = if e.ok {
                 "every job ended ok, so the study's results do not hold these outputs: check \
                  [analysis] orders, the sensors and that a run-up passes the resonance"

@@ -119,7 +119,7 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
     for build in [statistics_table as Builder, sensitivity_table] {
         tables.extend(per_grid_point(&f, &jobs, &text, &varying, build).map_err(failed)?);
     }
-    tables.extend(samples_table(&f, &jobs, &text).map_err(failed)?);
+    tables.extend(samples_table(&f, &jobs, &text, &varying).map_err(failed)?);
     Ok(Report {
         file: path.to_path_buf(),
         study,

@@ -1,5 +1,6 @@
 //! `rotorsweep calibrate` (src/calibration/): the bad inputs of issue 24 (file, key and line),
-//! a parameter that moves nothing (a warning naming its file, key and line), and known
+//! a parameter that moves nothing (a warning naming its file, key and line), a calibration
+//! killed and resumed (the fit of an uninterrupted run; a finished one replayed), and known
 //! parameters recovered from noisy run-ups made by the model (Young's modulus, ground damping
 //! and unbalance from a 1× record; ground damping, modal damping and a bending asymmetry from a
 //! 2× and a 1× record).
@@ -109,6 +110,134 @@ fn bad_calibrations_name_file_key_and_line() {
     let (key, _, msg, _) = error_of(&format!("{PARAM}initial = 0.04\n{ROW}job = 7\n"));
     assert_eq!(key.as_deref(), Some("targets[0].job"));
     assert!(msg.contains("4 job(s)"), "{msg}");
+    // A value so many standard deviations from 0 that the cost would overflow (it ran, every
+    // job ok, and stopped with "has no value for :" naming no row).
+    let body = format!(
+        "{PARAM}initial = 0.04\n[[frequencies]]\ncritical = 1\nhz = 1e308\nstd_hz = 0.01\n"
+    );
+    let (key, at, msg, text) = error_of(&body);
+    assert_eq!(key.as_deref(), Some("frequencies[0].hz"));
+    assert_eq!(at, line(&text, "hz = 1e308"));
+    assert!(msg.contains("overflow"), "{msg}");
+}
+
+/// A calibration killed (SIGKILL) part-way, again and again, and run again, ends with the fit of
+/// an uninterrupted run: every value, standard error, row and evaluation the same (the JSON
+/// output without its CPU and wall times); a run of a finished calibration replays its saved
+/// evaluations and runs no job (its batch files untouched). The experiment: the rigid Jeffcott
+/// rotor (studies/scenes/rigid-jeffcott.toml) 10 s at 5 Hz, the support stiffness fitted to
+/// critical speeds of 8 Hz (the closed form of studies/sensitivity-jeffcott.toml).
+#[test]
+fn a_killed_calibration_resumes_to_the_fit_of_an_uninterrupted_one() {
+    use std::process::Command;
+    use std::time::{Duration, Instant};
+    let d = scratch("calibration-kill");
+    let scene = support::repo().join("studies/scenes/rigid-jeffcott.toml");
+    write_file(
+        &d,
+        "study.toml",
+        &format!(
+            "name = \"rigid\"\nscene = {:?}\n[set]\n\"simulation.t_end_s\" = 10.0\n\
+             \"simulation.settle_s\" = 0.1\n[[axes]]\nkey = \"speed.hz\"\nvalues = [5.0]\n",
+            scene.display().to_string()
+        ),
+    );
+    let keys = "[\"supports[0].spring.kx_n_per_m\", \"supports[0].spring.ky_n_per_m\", \
+                \"supports[1].spring.kx_n_per_m\", \"supports[1].spring.ky_n_per_m\"]";
+    write_file(
+        &d,
+        "cal.toml",
+        &format!(
+            "study = \"study.toml\"\n[fit]\nstep = 0.001\n[[parameters]]\nname = \"k\"\n\
+             keys = {keys}\ninitial = 1.0e5\nlower = 1.0e4\nupper = 1.0e6\nscale = \"log\"\n\
+             [[frequencies]]\ncritical = 1\nhz = 8.0\nstd_hz = 0.01\n\
+             [[frequencies]]\ncritical = 2\nhz = 8.0\nstd_hz = 0.01\n"
+        ),
+    );
+    let run = |out: &str| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_rotorsweep"));
+        c.current_dir(&d)
+            .args([
+                "calibrate",
+                "cal.toml",
+                "-o",
+                out,
+                "--json",
+                "--threads",
+                "1",
+            ])
+            .stderr(std::process::Stdio::null())
+            .stdout(std::process::Stdio::piped());
+        c
+    };
+    // The JSON without the run's times.
+    let fit = |stdout: &[u8]| -> serde_json::Value {
+        let mut v: serde_json::Value = serde_json::from_slice(stdout).unwrap();
+        let o = v.as_object_mut().unwrap();
+        o.remove("cpu_s");
+        o.remove("wall_s");
+        v
+    };
+    let t0 = Instant::now();
+    let whole = run("whole.h5").output().unwrap();
+    assert!(whole.status.success());
+    let whole_s = t0.elapsed().as_secs_f64();
+    let batches = |out: &str| -> Vec<String> {
+        let mut b: Vec<String> = std::fs::read_dir(d.join(format!("{out}.evaluations")))
+            .map(|r| {
+                r.filter_map(|e| e.ok())
+                    .map(|e| e.file_name().to_string_lossy().into_owned())
+                    .filter(|n| n.ends_with(".h5"))
+                    .collect()
+            })
+            .unwrap_or_default();
+        b.sort();
+        b
+    };
+    let (mut killed, mut saved_at_kill) = (0, Vec::new());
+    // Each run killed after a quarter of the whole run's time: each resumes the saved batches
+    // and gets further.
+    for _ in 0..6 {
+        if d.join("out.h5").exists() {
+            break;
+        }
+        let mut child = run("out.h5").spawn().unwrap();
+        std::thread::sleep(Duration::from_secs_f64(whole_s * 0.25));
+        child.kill().unwrap();
+        if child.wait().unwrap().code().is_none() {
+            killed += 1;
+            saved_at_kill.push(batches("out.h5").len());
+        }
+    }
+    eprintln!(
+        "whole calibration {whole_s:.2} s, {} batches; {killed} runs killed, batches after \
+         each: {saved_at_kill:?}",
+        batches("whole.h5").len()
+    );
+    assert!(
+        saved_at_kill.windows(2).any(|w| w[1] > w[0]) && killed >= 2,
+        "the kills did not fall between batches: {saved_at_kill:?}"
+    );
+    let resumed = run("out.h5").output().unwrap();
+    assert!(resumed.status.success());
+    assert_eq!(fit(&resumed.stdout), fit(&whole.stdout));
+    assert_eq!(batches("out.h5"), batches("whole.h5"));
+    // Run again: the evaluations replayed, no batch file written.
+    let stamps = |out: &str| -> Vec<std::time::SystemTime> {
+        batches(out)
+            .iter()
+            .map(|b| {
+                std::fs::metadata(d.join(format!("{out}.evaluations")).join(b))
+                    .and_then(|m| m.modified())
+                    .unwrap()
+            })
+            .collect()
+    };
+    let before = stamps("whole.h5");
+    let again = run("whole.h5").output().unwrap();
+    assert!(again.status.success());
+    assert_eq!(fit(&again.stdout), fit(&whole.stdout));
+    assert_eq!(stamps("whole.h5"), before);
 }
 
 /// A parameter that moves no target row (the run's end time does not enter the linear system
@@ -476,4 +605,20 @@ fn a_noisy_run_up_gives_back_stand_damping_modal_damping_and_asymmetry() {
     );
     // 2 records × 2 directions × 26 blocks × 2 parts.
     fit_recovers(&d, &text, 208, &truth);
+}
+
+/// The shipped files of issue 24 load: studies/calibrate-table51.toml (three free parameters,
+/// the twelve rows of the source's Table 5.1: speed and three amplitudes of each of 2×, 3×, 4×)
+/// and studies/monte-carlo-wall.toml (a Saltelli design of n = 256 over d = 3 parameters:
+/// n (d + 2) = 1280 jobs).
+#[test]
+fn the_shipped_calibration_and_monte_carlo_study_load() {
+    let cal = Calibration::load(&support::repo().join("studies/calibrate-table51.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(cal.parameters.len(), 3);
+    assert_eq!(cal.rows.len(), 12);
+    let st = rotorsweep::study::Study::load(&support::repo().join("studies/monte-carlo-wall.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    // The wall's seed, stand ky and stand cy: the 1280 jobs docs/statistics.md reports.
+    assert_eq!(st.jobs.len(), 256 * 5);
 }

@@ -9,6 +9,9 @@
 //!   the table gives a_s and |b_{s,k}| per segment and, for the total, Σ a_s and
 //!   |Σ_s b_{s,k} e^{iφ_{s,k}}| (the summed force's line), to rounding; the line load is the
 //!   static load per segment length (400 mm / 10 segments).
+//! - A sampled study of the same machine, the line load q uniform on 0.5 … 1.5 kN/m: the
+//!   statistics' output `nip_static_n:nip` is each job's two-mass static force q L k_c/(2k +
+//!   2k_c), and `nip_amplitude_n:nip:1x` each job's `nips` table's total 1× amplitude.
 
 use std::f64::consts::PI;
 
@@ -150,4 +153,63 @@ fn nips_table_gives_static_loads_and_order_amplitudes() {
             );
         }
     }
+}
+
+#[test]
+fn a_sampled_machine_gives_its_nip_forces_as_outputs() {
+    let dir = support::scratch("report-nips-sampled");
+    let (k, kc) = (1.0e5, 1.0e5);
+    let tail = "[speed]\nhz = 10.0\n[simulation]\nt_end_s = 1.0\nsettle_s = 0.0\n\
+                sample_rate_hz = 1000.0\ngravity_m_s2 = 0.0\n";
+    support::write_file(
+        &dir,
+        "roll.toml",
+        &support::stiff_jeffcott(&format!("kx_n_per_m = {k:e}, ky_n_per_m = {k:e}"), "", tail),
+    );
+    support::write_file(
+        &dir,
+        "machine.toml",
+        "name = \"machine\"\n\
+        [[rolls]]\nname = \"a\"\nscene = \"roll.toml\"\nposition_mm = [0.0, 0.0]\n\
+        [[rolls]]\nname = \"b\"\nscene = \"roll.toml\"\nposition_mm = [0.0, 200.0]\n\
+        [[nips]]\nname = \"nip\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
+        segments = 10\nlaw = \"linear\"\nstiffness_n_per_m2 = 2.5e5\nline_load_kn_per_m = 1.0\n",
+    );
+    let study = support::write_file(
+        &dir,
+        "s.toml",
+        "name = \"nip-sampled\"\nscene = \"machine.toml\"\n\
+         [sample]\nmethod = \"latin-hypercube\"\nn = 4\nseed = 1\n\
+         [[sample.parameters]]\nkey = \"nips[0].line_load_kn_per_m\"\n\
+         distribution = \"uniform\"\nlower = 0.5\nupper = 1.5\n",
+    );
+    let out = dir.join("s.h5");
+    support::rotorsweep_ok(&["run", study.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let samples = support::report_table(&out, "samples");
+    let q = column(&samples, "nips[0].line_load_kn_per_m");
+    let stat = column(&samples, "nip_static_n:nip");
+    assert_eq!(q.len(), 4);
+    for (q, s) in q.iter().zip(&stat) {
+        // The two-mass statics (test above): q [kN/m] × 0.4 m × k_c/(2k + 2k_c), to 1e-3.
+        let expected = q * 1e3 * 0.4 * kc / (2.0 * k + 2.0 * kc);
+        assert!(
+            (s / expected - 1.0).abs() < 1e-3,
+            "q {q}: {s} vs {expected}"
+        );
+    }
+    // The 1× amplitude as the nips table's total row of the same job.
+    let nips = support::report_table(&out, "nips");
+    let totals: Vec<f64> = column(&nips, "amplitude_1x_n")
+        .into_iter()
+        .step_by(11)
+        .collect();
+    assert_eq!(column(&samples, "nip_amplitude_n:nip:1x"), totals);
+    let stats = support::report_table(&out, "statistics");
+    let names: Vec<&str> = (stats["rows"].as_array().unwrap().iter())
+        .map(|r| r[0].as_str().unwrap())
+        .collect();
+    assert!(
+        names.contains(&"nip_static_n:nip") && names.contains(&"nip_amplitude_n:nip:4x"),
+        "{names:?}"
+    );
 }

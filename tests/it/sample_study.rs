@@ -4,10 +4,12 @@
 //! Saltelli/Jansen estimators on the Ishigami function (Ishigami & Homma 1990), the shipped
 //! rigid-Jeffcott study's indices against their closed form (derived in
 //! studies/sensitivity-jeffcott.toml), the mean and standard deviation of a linear output (the
-//! static sag, linear in the density) under a normal input, identical bytes at 1 and 2 threads
-//! and through shards, Morris elementary effects of a linear output (Morris 1991; Campolongo et
-//! al. 2007), a sampled study on a grid axis (statistics and indices per grid point), and bad
-//! `[sample]` tables named by file, key and line.
+//! static sag, linear in the density) under a normal input with intervals of normal theory's
+//! width, a Gaussian copula's rank correlation under uniform and lognormal marginals (Kruskal
+//! 1958), identical bytes at 1 and 2 threads, through shards and after kills and resumes, Morris
+//! elementary effects of a linear output (Morris 1991; Campolongo et al. 2007), a sampled study
+//! on a grid axis (statistics, indices and samples per grid point), and bad `[sample]` tables
+//! named by file, key and line.
 
 use crate::support;
 
@@ -132,6 +134,71 @@ fn gaussian_copula_gives_the_asked_correlation() {
     let z_err = (r.atanh() - 0.6f64.atanh()).abs() * ((n - 3) as f64).sqrt();
     eprintln!("copula: r = {r} against 0.6 ({z_err} standard errors of Fisher's z)");
     assert!(z_err < 2.58, "r = {r}, {z_err} standard errors from 0.6");
+}
+
+/// Ranks 0 … n − 1 of `x` (no ties in continuous samples).
+fn ranks(x: &[f64]) -> Vec<f64> {
+    let mut order: Vec<usize> = (0..x.len()).collect();
+    order.sort_by(|&a, &b| x[a].total_cmp(&x[b]));
+    let mut r = vec![0.0; x.len()];
+    for (rank, &i) in order.iter().enumerate() {
+        r[i] = rank as f64;
+    }
+    r
+}
+
+/// Pearson's product-moment correlation of two samples.
+fn pearson(x: &[f64], y: &[f64]) -> f64 {
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let (mx, my) = (mean(x), mean(y));
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
+    let syy: f64 = y.iter().map(|b| (b - my).powi(2)).sum();
+    sxy / (sxx * syy).sqrt()
+}
+
+/// A Gaussian copula under marginals that are not normal (uniform and lognormal), by every
+/// method that takes one: each marginal stays its own (Kolmogorov–Smirnov at 1 %, Massey 1951)
+/// and the samples' rank correlation is the copula's, Spearman's ρ_S = (6/π) asin(ρ/2) for a
+/// Gaussian copula of correlation ρ (Kruskal 1958; Nelsen 2006, §5.1.2): 0.5819 for ρ = 0.6
+/// (a pair of normal marginals would show the product-moment 0.6 itself). Fisher's z of
+/// Spearman's ρ has standard error √(1.06/(n − 3)) (Fieller, Hartley & Pearson 1957): within
+/// 2.58 of them (99 %).
+#[test]
+fn gaussian_copula_gives_its_rank_correlation_under_any_marginals() {
+    let d = scratch("sample-copula-ranks");
+    let n = 2048;
+    let rho: f64 = 0.6;
+    let spearman = 6.0 / PI * (rho / 2.0).asin();
+    let s2 = (1.0 + (800.0f64 / 7850.0).powi(2)).ln();
+    let lognormal = LogNormal::new(7850f64.ln() - s2 / 2.0, s2.sqrt()).unwrap();
+    for method in ["monte-carlo", "latin-hypercube", "sobol"] {
+        let text = jeffcott_study(&format!(
+            "[sample]\nmethod = \"{method}\"\nn = {n}\nseed = 11\ncorrelation = [[1.0, {rho}], [{rho}, 1.0]]\n\
+             [[sample.parameters]]\nkey = \"speed.hz\"\ndistribution = \"uniform\"\nlower = 5.0\nupper = 9.0\n\
+             [[sample.parameters]]\nkey = \"materials.steel.density_kg_m3\"\ndistribution = \"lognormal\"\nmean = 7850.0\nstd = 800.0\n"
+        ));
+        let st = Study::load(&write_file(&d, "s.toml", &text)).unwrap();
+        let (x, y) = (
+            values(&st, "speed.hz"),
+            values(&st, "materials.steel.density_kg_m3"),
+        );
+        let critical = 1.63 / (n as f64).sqrt();
+        let dx = ks_distance(x.clone(), |v| (v - 5.0) / 4.0);
+        let dy = ks_distance(y.clone(), |v| lognormal.cdf(v));
+        let r_s = pearson(&ranks(&x), &ranks(&y));
+        let z_err = (r_s.atanh() - spearman.atanh()).abs() / (1.06 / (n - 3) as f64).sqrt();
+        eprintln!(
+            "{method}: KS {dx:.4}, {dy:.4} (1 % critical {critical:.4}); Spearman {r_s:.4} \
+             against {spearman:.4} ({z_err:.2} standard errors), product-moment {:.4}",
+            pearson(&x, &y)
+        );
+        assert!(dx < critical && dy < critical, "{method}: D = {dx}, {dy}");
+        assert!(
+            z_err < 2.58,
+            "{method}: ρ_S = {r_s}, {z_err} standard errors"
+        );
+    }
 }
 
 #[test]
@@ -354,6 +421,22 @@ fn mean_and_std_of_the_static_sag_under_a_normal_density() {
     );
     let ratio = (n - 1) as f64 * (num(&row, "std") / std).powi(2);
     assert!((153.0..253.9).contains(&ratio), "(n − 1) s²/σ² = {ratio}");
+    // The intervals reflect n: their half-widths are normal theory's 95 % half-widths,
+    // 1.96 s/√n for the mean and 1.96 s/√(2(n − 1)) for the standard deviation of a normal
+    // sample (Kendall & Stuart, vol. 1, §10.8), within 20 % (the percentile bootstrap's 1000
+    // resamples place a 2.5 % quantile to a few per cent).
+    let s = num(&row, "std");
+    for (col, theory) in [
+        ("mean", 1.96 * s / (n as f64).sqrt()),
+        ("std", 1.96 * s / (2.0 * (n - 1) as f64).sqrt()),
+    ] {
+        let half = (num(&row, &format!("{col}_high")) - num(&row, &format!("{col}_low"))) / 2.0;
+        eprintln!("{col}: interval half-width {half} µm, normal theory {theory} µm");
+        assert!(
+            (half / theory - 1.0).abs() < 0.2,
+            "{col}: half-width {half} against {theory}"
+        );
+    }
 }
 
 #[test]
@@ -393,6 +476,63 @@ fn sampled_jobs_have_the_same_bytes_at_one_and_two_threads_and_through_shards() 
     assert!(one.iter().any(|(p, _)| p.ends_with("@label:sample")));
     assert_eq!(one, two);
     assert_eq!(one, results_content(&merged));
+}
+
+/// A sampled run killed (SIGKILL) part-way and resumed, again and again, ends with the bytes of
+/// an uninterrupted run: the design is a function of the `[sample]` table, so a resumed run
+/// asks for the same jobs and finds those saved. (tests/it/study_kill.rs kills a grid study at
+/// random moments.)
+#[test]
+fn a_killed_sampled_run_resumes_to_the_bytes_of_an_uninterrupted_one() {
+    use std::time::{Duration, Instant};
+    let d = scratch("sample-kill");
+    // 64 jobs of 5 s simulated (several seconds in all: several batches of saved runs).
+    let text = jeffcott_study(
+        "[set]\n\"simulation.t_end_s\" = 5.0\n\
+         [sample]\nmethod = \"saltelli\"\nn = 16\nseed = 4\n\
+         [[sample.parameters]]\nkey = \"speed.hz\"\ndistribution = \"uniform\"\nlower = 5.0\nupper = 9.0\n\
+         [[sample.parameters]]\nkey = \"materials.steel.density_kg_m3\"\ndistribution = \"lognormal\"\nmean = 7850.0\nstd = 300.0\n",
+    );
+    write_file(&d, "s.toml", &text);
+    let run = |out: &str, resume: bool| support::run_command(&d, "s.toml", out, resume);
+    assert!(run("whole.h5", false).status().unwrap().success());
+    // Batches of saved runs (parts.rs: one file at least every second while runs finish).
+    let saved = || {
+        std::fs::read_dir(d.join("out.h5.parts"))
+            .map(|r| {
+                r.filter_map(|e| e.ok())
+                    .filter(|e| e.file_name().to_string_lossy().ends_with(".h5"))
+                    .count()
+            })
+            .unwrap_or(0)
+    };
+    // Each run killed as soon as the saved batches change: it has saved one of its own (or,
+    // its runs all done, is assembling the output and removing them). Each resumes the saved
+    // jobs and gets further.
+    let mut saved_at_kill = Vec::new();
+    let t0 = Instant::now();
+    while saved_at_kill.len() < 4 && t0.elapsed() < Duration::from_secs(120) {
+        let before = saved();
+        let mut child = run("out.h5", true).spawn().unwrap();
+        while saved() == before && child.try_wait().unwrap().is_none() {
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        child.kill().unwrap();
+        if child.wait().unwrap().code().is_some() {
+            break; // it finished first
+        }
+        saved_at_kill.push(saved());
+    }
+    eprintln!("killed when the saved batches changed; batches then: {saved_at_kill:?}");
+    assert!(
+        saved_at_kill.len() >= 2,
+        "fewer than two runs were killed part-way: {saved_at_kill:?}"
+    );
+    assert!(run("out.h5", true).status().unwrap().success());
+    assert_eq!(
+        results_content(&d.join("out.h5")),
+        results_content(&d.join("whole.h5"))
+    );
 }
 
 /// Loads a study of `body` and returns its error's (key, line, text).
@@ -477,6 +617,27 @@ fn bad_sample_tables_name_file_key_and_line() {
     );
     assert_eq!(key.as_deref(), Some("sample.method"));
     assert!(msg.contains("latin-hypercube"), "{msg}");
+
+    // A Saltelli design of one parameter: its AB_1 rows are B's (the same jobs), at `method`.
+    let (key, at, msg, text) = error_of(
+        &format!("{head}distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n")
+            .replace("\"monte-carlo\"", "\"saltelli\""),
+    );
+    assert_eq!(key.as_deref(), Some("sample.method"));
+    assert_eq!(at, line(&text, "method = \"saltelli\""));
+    assert!(msg.contains("at least two"), "{msg}");
+
+    // Two draws of the same values (a discrete parameter of two values, 10 samples): at the
+    // [sample] table, not at axes the study does not have.
+    let (key, at, msg, text) = error_of(&format!(
+        "{head}distribution = \"discrete\"\nvalues = [5.0, 6.0]\n"
+    ));
+    assert_eq!(key.as_deref(), Some("sample"));
+    assert_eq!(at, line(&text, "[sample]"));
+    assert!(
+        msg.contains("same values") && msg.contains("discrete"),
+        "{msg}"
+    );
 }
 
 /// The scene's own errors in a sampled value point at the parameter that sampled it.
@@ -641,6 +802,29 @@ fn a_sampled_study_on_a_grid_axis_runs_every_sample_at_every_point() {
             let tol = if want == 0.0 { 1e-12 } else { 0.0 };
             assert!(lo - tol <= want && want <= hi + tol, "{row:?}");
         }
+    }
+    // The samples table: every job, the grid point's gravity beside the sampled density, each
+    // job's sag the rigid body's closed form at its own ρ and g, to 2e-5 (the cylinder's own
+    // bending, also linear in ρ g, adds under 2e-5 of the sag: studies/sensitivity-jeffcott.toml).
+    let samples = report_table(&out, "samples");
+    assert_eq!(
+        samples["columns"].as_array().unwrap()[..4],
+        [
+            "job_id",
+            "label",
+            "simulation.gravity_m_s2",
+            "materials.steel.density_kg_m3"
+        ]
+    );
+    let all = rows(&samples);
+    assert_eq!(all.len(), 2 * n * 4);
+    for (i, row) in all.iter().enumerate() {
+        let g = num(row, "simulation.gravity_m_s2");
+        assert_eq!(g, if i < n * 4 { 9.81 } else { 4.905 }, "{row:?}");
+        let rho = num(row, "materials.steel.density_kg_m3");
+        let exact = -rho * PI * 0.01 * 0.4 * g / 2e5 * 1e6;
+        let sag = num(row, "sag_vertical_um:centre");
+        assert!((sag / exact - 1.0).abs() < 2e-5, "{sag} against {exact}");
     }
     // A key both swept and sampled.
     let both = jeffcott_study(&format!(

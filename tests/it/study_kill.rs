@@ -47,16 +47,7 @@ fn sigkill_at_random_moments_then_resume_gives_every_job_once_and_the_same_resul
         "\"simulation.t_end_s\" = 0.3",
     );
     let study = write_file(&d, "s.toml", &text);
-    let run = |out: &str, resume: bool| {
-        let mut c = Command::new(bin());
-        c.current_dir(&d)
-            .args(["run", "s.toml", "-o", out, "--threads", "1"])
-            .stderr(std::process::Stdio::null());
-        if resume {
-            c.arg("--resume");
-        }
-        c
-    };
+    let run = |out: &str, resume: bool| support::run_command(&d, "s.toml", out, resume);
     let t0 = Instant::now();
     assert!(run("whole.h5", false).status().unwrap().success());
     let whole_s = t0.elapsed().as_secs_f64();

@@ -1,11 +1,11 @@
 """The figures of a sampled study (``[sample]``, docs/statistics.md): the distribution of each
 output, each output against each input, and the sensitivity indices.
 
-In: the report's ``samples`` table (per job that ended ok: ``job_id``, ``label``, each sampled
-parameter's value under its first key, each output under its name with the unit in it), its
-``statistics`` table (``output``, ``mean``, ``q05``, ``q95``) and its ``sensitivity`` table
-(Saltelli: ``first_order`` and ``total`` with ``_low``/``_high``; Morris: ``mu_star`` and
-``sigma`` with theirs), all computed by the Rust report (:mod:`.tables`). Out:
+In: the report's ``samples`` table (per job that ended ok: ``job_id``, ``label``, on grid axes
+each swept key's value, each sampled parameter's value under its first key, each output under
+its name with the unit in it), its ``statistics`` table (``output``, ``mean``, ``q05``,
+``q95``) and its ``sensitivity`` table (Saltelli: ``first_order`` and ``total`` with
+``_low``/``_high``; Morris: ``mu_star`` and ``sigma`` with theirs), all computed by the Rust report (:mod:`.tables`). Out:
 
 * ``histograms.png``: a histogram per output (√n bins, at least 5), the mean solid and the 5 %
   and 95 % quantiles dashed, n and the mean in the title;
@@ -23,8 +23,8 @@ the rows of A and B, as the statistics table); the scatter shows every job. The 
 parameters, except a random field's seed (a key ending in ``.seed``: a seed is no quantity),
 whose realised statistics (the outputs ``wall_…_mm``) take its place. Units are in the names.
 On grid axes (``[sample]`` beside ``[[axes]]``, whose tables lead with the swept keys) the
-histograms pool the grid points and draw no mean or quantile lines, and each sensitivity bar
-pair names its grid point.
+histograms pool the grid points and draw no mean or quantile lines, each sensitivity bar
+pair names its grid point, and the scatter has a column per swept key (a number key) too.
 """
 
 from __future__ import annotations
@@ -203,7 +203,9 @@ def sampled_figures(doc: dict, channel: str, study: str) -> list[tuple[str, Figu
     parameters = [c for c in samples.columns
                   if c not in ID_COLUMNS and "." in c and ":" not in c]
     outputs = chosen_outputs(samples, parameters, channel)
-    inputs = [p for p in parameters if not p.endswith(".seed")]
+    # On grid axes the swept keys' columns are inputs too (a text key's values are not drawn).
+    inputs = [p for p in parameters if not p.endswith(".seed")
+              and pd.to_numeric(samples[p], errors="coerce").notna().any()]
     inputs += [o for o in outputs if o.startswith(WALL_PREFIX)]
     return [
         ("histograms.png", histograms(samples[~samples["label"].str.split(", ").str[-1].str.startswith("AB_")],

@@ -31,9 +31,9 @@ pub struct Args {
     #[arg(long, default_value = "md", value_name = "md|csv|json|html")]
     format: Format,
     /// Only this table: solver, resonances, trial_mass, balancing, balancing_residual,
-    /// stability, linear, orders or order_resonances; with --compare, compare or
-    /// compare_resonances (in CSV without the
-    /// title lines, so that pandas.read_csv reads it).
+    /// stability, linear, orders, order_resonances, nips, or of a sampled study statistics,
+    /// sensitivity or samples; with --compare, compare or compare_resonances (in CSV without
+    /// the title lines, so that pandas.read_csv reads it).
     #[arg(long, value_name = "NAME")]
     table: Option<String>,
     /// Write the HTML page to this file (with --format html) instead of standard output.

@@ -108,6 +108,23 @@ fn nip_rows(g: &Group, nip: &str, speed_hz: f64, orders: &[f64]) -> hdf5::Result
     }))
 }
 
+/// Per nip of the job group `g` (`/jobs/<id>`): its name, the total force's static load [N]
+/// and its amplitude [N] at each of `orders` of the job's speed, as in the table's `total` row;
+/// empty without nips. The statistics' nip outputs (`super::outputs`).
+pub(crate) fn nip_totals(g: &Group, orders: &[f64]) -> hdf5::Result<Vec<(String, f64, Vec<f64>)>> {
+    let Ok(nips) = g.group("nips") else {
+        return Ok(Vec::new());
+    };
+    let speed = store::read_num(g, "speed_hz").unwrap_or(f64::NAN);
+    let mut out = Vec::new();
+    for name in nips.member_names()? {
+        if let Some(n) = nip_rows(&nips.group(&name)?, &name, speed, orders)? {
+            out.push((n.nip, n.total.0, n.total.1));
+        }
+    }
+    Ok(out)
+}
+
 /// The `nips` table of the jobs (module doc); none when no job has a nip.
 pub(crate) fn nips_table(
     f: &File,

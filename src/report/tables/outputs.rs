@@ -4,12 +4,17 @@
 //! statistics (the job attributes `wall_mean_mm`, `wall_std_mm`, `wall_h1_mm`, `wall_h2_mm`), `/analysis/lines` (each
 //! job's line amplitude per channel and order [µm]), `/analysis/order_resonances` (the highest
 //! peak per job, channel and order: speed [Hz] and amplitude [µm]) and the job's linear system
-//! `/linear/<linear_id>` (`critical_speeds_hz` [Hz], `static/sag_vertical_um` and
-//! `sag_horizontal_um` per sensor [µm], attributes `vertical_hz`, `horizontal_hz`). Out: per
-//! output name — its unit in the name, its place after colons, e.g.
+//! `/linear/<linear_id>` (`critical_speeds_hz` [Hz], `critical_log_dec` (1),
+//! `static/sag_vertical_um` and `sag_horizontal_um` per sensor [µm], attributes `vertical_hz`,
+//! `horizontal_hz`), and a machine's nips (`/jobs/<id>/nips/<nip>/force` [N], at the study's
+//! `[analysis] orders`, from the file's `study_text`; default 1, 2, 3, 4). Out: per output
+//! name — its unit in the name, its place after colons, e.g.
 //! `runout_mean_um:centre/vertical`, `line_amplitude_um:centre/vertical:2x`,
-//! `peak_speed_hz:centre/vertical:2x`, `critical_speed_hz:1` — the value of every job asked
-//! for, in their order (NaN where a job has none). Outputs that depend on the machine (CPU
+//! `peak_speed_hz:centre/vertical:2x`, `critical_speed_hz:1`, `critical_log_dec:1` (the log
+//! decrement of that critical speed's mode), `nip_static_n:<nip>` and
+//! `nip_amplitude_n:<nip>:2x` (the total nip force's static load and its line at the order, as
+//! the `nips` table's `total` row) — the value of every job asked for, in their order (NaN
+//! where a job has none). Outputs that depend on the machine (CPU
 //! time, steps) are not outputs of the physics and are left out.
 
 use std::collections::BTreeMap;
@@ -17,7 +22,9 @@ use std::collections::BTreeMap;
 use hdf5::types::VarLenUnicode;
 use hdf5::File;
 
+use super::nips::nip_totals;
 use super::orders::{records, PeakRow};
+use crate::results::request::analysis_of_text;
 use crate::store;
 use crate::text::number_text;
 
@@ -54,6 +61,8 @@ pub(crate) fn job_outputs(f: &File, job_ids: &[String]) -> hdf5::Result<Outputs>
     };
     let jobs = f.group("jobs")?;
     let linear = f.group("linear").ok();
+    let text = store::read_str(f, "study_text").unwrap_or_default();
+    let orders = analysis_of_text(&text).unwrap_or_default().spec.orders;
     for (j, id) in job_ids.iter().enumerate() {
         let g = jobs.group(id)?;
         for attr in WALL_FIELD {
@@ -70,6 +79,12 @@ pub(crate) fn job_outputs(f: &File, job_ids: &[String]) -> hdf5::Result<Outputs>
                 }
             }
         }
+        for (nip, stat, amps) in nip_totals(&g, &orders)? {
+            put(format!("nip_static_n:{nip}"), j, stat);
+            for (k, a) in orders.iter().zip(amps) {
+                put(format!("nip_amplitude_n:{nip}:{}x", number_text(*k)), j, a);
+            }
+        }
         let lid = store::read_str(&g, "linear_id").unwrap_or_default();
         if let Some(lg) = linear.as_ref().and_then(|l| l.group(&lid).ok()) {
             for (attr, name) in [
@@ -80,12 +95,14 @@ pub(crate) fn job_outputs(f: &File, job_ids: &[String]) -> hdf5::Result<Outputs>
                     put(name.to_string(), j, v);
                 }
             }
-            if let Ok(c) = lg
-                .dataset("critical_speeds_hz")
-                .and_then(|d| d.read_raw::<f64>())
-            {
-                for (k, v) in c.iter().enumerate() {
-                    put(format!("critical_speed_hz:{}", k + 1), j, *v);
+            for (dataset, name) in [
+                ("critical_speeds_hz", "critical_speed_hz"),
+                ("critical_log_dec", "critical_log_dec"),
+            ] {
+                if let Ok(c) = lg.dataset(dataset).and_then(|d| d.read_raw::<f64>()) {
+                    for (k, v) in c.iter().enumerate() {
+                        put(format!("{name}:{}", k + 1), j, *v);
+                    }
                 }
             }
             if let Ok(sensors) = lg

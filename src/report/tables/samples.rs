@@ -2,10 +2,13 @@
 //! of the histograms and scatter plots.
 //!
 //! In: a results file of a study with `[sample]` (its stored text names the parameters), its
-//! jobs (status, label) and their outputs ([`super::outputs`]). Out: one row per job that ended
-//! `ok`, in job order: `job_id`, `label` (its design row), each parameter's value (column: its
-//! first key; the job attribute of that key, NaN when it is not a number) and each output (its
-//! unit in its name; NaN where the job has none). `None` for a study without `[sample]`.
+//! jobs (status, label, values of the varying keys), the file's varying keys and the jobs'
+//! outputs ([`super::outputs`]). Out: one row per job that ended `ok`, in job order: `job_id`,
+//! `label` (its labelled axes' labels, then its design row), on grid axes each swept key's
+//! value (column: the key; the varying keys the design does not sample, as in
+//! [`super::per_grid_point`]), each parameter's value (column: its first key; the job
+//! attribute of that key, NaN when it is not a number) and each output (its unit in its name;
+//! NaN where the job has none). `None` for a study without `[sample]`.
 
 use hdf5::File;
 
@@ -20,6 +23,7 @@ pub(crate) fn samples_table(
     f: &File,
     jobs: &[Job],
     study_text: &str,
+    varying: &[String],
 ) -> hdf5::Result<Option<Table>> {
     let Some(spec) = spec_of_text(study_text) else {
         return Ok(None);
@@ -31,7 +35,12 @@ pub(crate) fn samples_table(
     let ids: Vec<String> = ok.iter().map(|j| j.id.clone()).collect();
     let outputs = job_outputs(f, &ids)?;
     let keys: Vec<&str> = spec.parameters.iter().map(|p| p.keys[0].as_str()).collect();
+    let sampled = spec.keys();
+    let swept: Vec<usize> = (0..varying.len())
+        .filter(|&i| !sampled.contains(&varying[i]))
+        .collect();
     let mut columns = vec!["job_id".to_string(), "label".to_string()];
+    columns.extend(swept.iter().map(|&i| varying[i].clone()));
     columns.extend(keys.iter().map(|k| k.to_string()));
     columns.extend(outputs.keys().cloned());
     let group = f.group("jobs")?;
@@ -39,6 +48,7 @@ pub(crate) fn samples_table(
     for (i, j) in ok.iter().enumerate() {
         let g = group.group(&j.id)?;
         let mut row = vec![Cell::Text(j.id.clone()), Cell::Text(j.label.clone())];
+        row.extend(swept.iter().map(|&i| j.params[i].clone()));
         row.extend(
             keys.iter()
                 .map(|k| Cell::Number(store::read_num(&g, k).unwrap_or(f64::NAN))),
@@ -49,9 +59,10 @@ pub(crate) fn samples_table(
     Ok(Some(Table {
         name: "samples".into(),
         title: "Sampled inputs and outputs of every job".into(),
-        legend: "One row per job that ended ok: its id, its design row (label), the value of each \
-                 sampled parameter (named by its first key, in its unit) and each output (its \
-                 unit in its name: _um µm, _hz Hz, _mm mm; empty where the job has none)."
+        legend: "One row per job that ended ok: its id, its label (on grid axes the axes' labels, \
+                 then its design row), on grid axes the value of each swept key, the value of \
+                 each sampled parameter (named by its first key, in its unit) and each output \
+                 (its unit in its name: _um µm, _hz Hz, _mm mm; empty where the job has none)."
             .into(),
         columns,
         rows,

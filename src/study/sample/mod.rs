@@ -139,8 +139,20 @@ pub(super) fn into_grid(
 }
 
 /// A job's error about a sampled key, pointed at the `[[sample.parameters]]` entry that
-/// samples it (the expansion points it at the jobs).
+/// samples it (the expansion points it at the jobs); two jobs of the same inputs, which the
+/// expansion reports at `axes`, pointed at `[sample]` with the design's likely cause.
 pub(super) fn relocate(c: &Ctx, spec: Option<&Spec>, e: InputError) -> InputError {
+    if spec.is_some() && e.key.as_deref() == Some("axes") && e.reason.contains("same inputs") {
+        return c.err(
+            "sample",
+            format!(
+                "{}: two design rows drew the same values (a discrete parameter can repeat \
+                 a row, and in a Saltelli design make AB_i equal to A; use a continuous \
+                 distribution there, or fewer samples than the discrete values' combinations)",
+                e.reason
+            ),
+        );
+    }
     let Some((i, p)) = spec.and_then(|s| {
         let key = e.key.as_deref()?;
         s.parameters

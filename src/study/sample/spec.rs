@@ -9,7 +9,7 @@
 //! `keys`, a key sampled twice, parameters a distribution does not take or lacks, a standard
 //! deviation that is not positive, bounds not ascending, a correlation matrix that is not one
 //! (or is not positive definite), a correlated Saltelli or Morris design (their indices assume
-//! independent inputs), `levels` that are not even and 2 … 1000 or beside another method, and a design of more than [`MAX_JOBS`](crate::study::MAX_JOBS) jobs or more
+//! independent inputs), a Saltelli design of one parameter (its AB_1 rows would be B's), `levels` that are not even and 2 … 1000 or beside another method, and a design of more than [`MAX_JOBS`](crate::study::MAX_JOBS) jobs or more
 //! coordinates than the Sobol' points have.
 
 use serde::Deserialize;
@@ -136,6 +136,15 @@ impl SampleFile {
         }
         let parameters = self.parameters(c)?;
         let d = parameters.len();
+        if method == Method::Saltelli && d < 2 {
+            return Err(c.err(
+                "sample.method",
+                "a Saltelli design needs at least two [[sample.parameters]]: with one, its \
+                 AB_1 rows are the rows of B (the same jobs) and the parameter's indices are 1 \
+                 by definition; sample one parameter with \"monte-carlo\", \"latin-hypercube\" \
+                 or \"sobol\"",
+            ));
+        }
         let n = usize::try_from(self.n).unwrap_or(usize::MAX);
         let jobs = (n as u128) * (method.jobs(1, d) as u128);
         if n == 0 || jobs > MAX_JOBS as u128 {

@@ -1,5 +1,5 @@
-//! Process helpers: the rotorsweep binary run and its JSON tables read, campaign options for a
-//! test, and the deterministic content of a results file.
+//! Process helpers: the rotorsweep binary run (or spawned, to be killed) and its JSON tables
+//! read, campaign options for a test, and the deterministic content of a results file.
 
 /// Runs the rotorsweep binary with `args` and returns its standard output; panics with its
 /// standard error when it fails.
@@ -14,6 +14,24 @@ pub fn rotorsweep_ok(args: &[&str]) -> Vec<u8> {
         String::from_utf8_lossy(&out.stderr)
     );
     out.stdout
+}
+
+/// `rotorsweep run STUDY -o OUT --threads 1 [--resume]` in `dir`, its standard error
+/// discarded: a command to spawn and kill (the crash-safety tests).
+pub fn run_command(
+    dir: &std::path::Path,
+    study: &str,
+    out: &str,
+    resume: bool,
+) -> std::process::Command {
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_rotorsweep"));
+    c.current_dir(dir)
+        .args(["run", study, "-o", out, "--threads", "1"])
+        .stderr(std::process::Stdio::null());
+    if resume {
+        c.arg("--resume");
+    }
+    c
 }
 
 /// `rotorsweep report FILE --table NAME --format json`: the one table of that name.
