@@ -497,15 +497,7 @@ fn a_killed_sampled_run_resumes_to_the_bytes_of_an_uninterrupted_one() {
     let run = |out: &str, resume: bool| support::run_command(&d, "s.toml", out, resume);
     assert!(run("whole.h5", false).status().unwrap().success());
     // Batches of saved runs (parts.rs: one file at least every second while runs finish).
-    let saved = || {
-        std::fs::read_dir(d.join("out.h5.parts"))
-            .map(|r| {
-                r.filter_map(|e| e.ok())
-                    .filter(|e| e.file_name().to_string_lossy().ends_with(".h5"))
-                    .count()
-            })
-            .unwrap_or(0)
-    };
+    let saved = || support::saved_batches(&d, "out.h5");
     // Each run killed as soon as the saved batches change: it has saved one of its own (or,
     // its runs all done, is assembling the output and removing them). Each resumes the saved
     // jobs and gets further.

@@ -67,14 +67,7 @@ fn sigkill_at_random_moments_then_resume_gives_every_job_once_and_the_same_resul
         if status.code().is_none() {
             killed += 1;
         }
-        let saved = std::fs::read_dir(d.join("out.h5.parts"))
-            .map(|r| {
-                r.filter_map(|e| e.ok())
-                    .filter(|e| e.file_name().to_string_lossy().ends_with(".h5"))
-                    .count()
-            })
-            .unwrap_or(0);
-        saved_before_resume.push(saved);
+        saved_before_resume.push(support::saved_batches(&d, "out.h5"));
     }
     eprintln!("{killed} of {kills} runs killed; part files after each: {saved_before_resume:?}");
     assert!(killed >= kills.min(3), "the runs were killed: {killed}");

@@ -104,3 +104,15 @@ pub fn results_content(path: &std::path::Path) -> Vec<(String, Vec<u64>)> {
     }
     out
 }
+
+/// How many batches of saved runs a study run on `out` in `dir` holds now: its journals
+/// (`OUT.h5.parts/batch-….journal`, study::run::parts).
+pub fn saved_batches(dir: &std::path::Path, out: &str) -> usize {
+    std::fs::read_dir(dir.join(format!("{out}.parts")))
+        .map(|r| {
+            r.filter_map(|e| e.ok())
+                .filter(|e| e.file_name().to_string_lossy().ends_with(".journal"))
+                .count()
+        })
+        .unwrap_or(0)
+}
