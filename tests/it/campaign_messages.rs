@@ -125,3 +125,33 @@ fn resume_after_a_scene_edit_recomputes_the_changed_jobs() {
         "{log}"
     );
 }
+
+/// A journal of saved runs cut short (a crash of the machine while it was written; study::run::
+/// journal checks each run's length and SHA-256) is refused by `--resume` with its cause and
+/// what to do, and left where it is; moved away, the study runs whole.
+#[test]
+fn a_damaged_journal_is_refused_with_its_cause_and_kept() {
+    let d = scratch("messages-damaged-journal");
+    jeffcott_study(&d, "12.0, 14.0");
+    let parts = d.join("out.h5.parts");
+    std::fs::create_dir(&parts).unwrap();
+    // The journal's tag, then a frame whose length runs past the end of the file.
+    let mut bytes = b"rotorsweep-jrnl1".to_vec();
+    bytes.extend_from_slice(&1000u64.to_le_bytes());
+    bytes.extend_from_slice(&[0u8; 40]);
+    let damaged = parts.join("batch-j0-2.journal");
+    std::fs::write(&damaged, &bytes).unwrap();
+    let o = rs(&d, &["run", "s.toml", "-o", "out.h5", "--resume"]);
+    let e = stderr(&o);
+    assert!(!o.status.success(), "{e}");
+    assert!(
+        e.contains("batch-j0-2.journal")
+            && e.contains("ends inside the frame at byte 16")
+            && e.contains("a journal of saved runs that cannot be read; move it away"),
+        "{e}"
+    );
+    assert_eq!(std::fs::read(&damaged).unwrap(), bytes);
+    std::fs::remove_file(&damaged).unwrap();
+    let e = run_ok(&d, &["run", "s.toml", "-o", "out.h5", "--resume"]);
+    assert!(e.contains("2 ok"), "{e}");
+}

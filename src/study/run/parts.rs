@@ -149,10 +149,13 @@ pub(super) fn saved_parts(
         }
         let path = e.path();
         let part = read_part(&path).map_err(|why| {
-            OutputError::Refused(
-                path.clone(),
-                format!("{why}: it is not a saved job of rotorsweep's; move it away"),
-            )
+            let what = if journal::has_tag(&path) {
+                "it is a journal of saved runs that cannot be read; move it away (its runs then \
+                 run again)"
+            } else {
+                "it is not a saved job of rotorsweep's; move it away"
+            };
+            OutputError::Refused(path.clone(), format!("{why}: {what}"))
         })?;
         let same = part.digest == digest;
         let is_earlier = earlier(&part);
