@@ -243,9 +243,15 @@ pub fn is_own_leftover(path: &Path) -> bool {
 /// or a regular file that is empty or HDF5 (a leftover of a killed run, replaced under the
 /// lock). Anything else there is a user's file and is refused.
 pub fn check_working_file(path: &Path) -> Result<(), OutputError> {
+    check_working_file_of(path, is_own_leftover)
+}
+
+/// [`check_working_file`] for a working file of another format, `own` saying whether a
+/// regular file there is a leftover of rotorsweep's writing.
+pub fn check_working_file_of(path: &Path, own: fn(&Path) -> bool) -> Result<(), OutputError> {
     match describe(path)? {
         None => Ok(()),
-        Some((m, _)) if m.file_type().is_file() && is_own_leftover(path) => Ok(()),
+        Some((m, _)) if m.file_type().is_file() && own(path) => Ok(()),
         Some((m, _)) if m.file_type().is_file() => Err(OutputError::Refused(
             path.to_path_buf(),
             "is a file rotorsweep did not write, where it keeps a working file".into(),

@@ -102,14 +102,10 @@ pub(super) fn write(tmp: &Path, path: &Path, bytes: &[u8]) -> Result<(), (std::i
     std::fs::rename(tmp, path).map_err(|e| (e, true))
 }
 
-/// Whether a file starts with the journal's tag (or is empty: a write killed at its start).
+/// Whether a file is a leftover of a journal's writing: empty (a write killed at its start) or
+/// tagged.
 pub(super) fn is_own_leftover(path: &Path) -> bool {
-    let mut head = [0u8; 16];
-    match std::fs::File::open(path).and_then(|mut f| f.read(&mut head)) {
-        Ok(0) => true,
-        Ok(n) => n == TAG.len() && &head == TAG,
-        Err(_) => false,
-    }
+    std::fs::metadata(path).is_ok_and(|m| m.len() == 0) || has_tag(path)
 }
 
 /// Whether a file starts with the journal's tag.

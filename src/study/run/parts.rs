@@ -54,6 +54,15 @@ pub(super) enum Saved {
     Part { file: PathBuf, group: String },
 }
 
+impl Saved {
+    /// The part file it is in.
+    fn file(&self) -> &PathBuf {
+        match self {
+            Saved::Journal { file, .. } | Saved::Part { file, .. } => file,
+        }
+    }
+}
+
 impl Finished<'_> {
     /// What the journal saves of it.
     fn entry(&self) -> journal::Entry<'_> {
@@ -77,7 +86,7 @@ pub(super) fn save_batch(
     let name = format!("batch-{first}-{}{}", runs.len(), journal::EXTENSION);
     let tmp = dir.join(format!("{name}.tmp"));
     let fin = dir.join(&name);
-    check_leftover(&tmp)?;
+    output::check_working_file_of(&tmp, journal::is_own_leftover)?;
     let header = Header {
         tool_version: env!("CARGO_PKG_VERSION").into(),
         study_digest: identity.digest.clone(),
@@ -99,20 +108,6 @@ pub(super) fn save_batch(
             place,
         })
         .collect())
-}
-
-/// A journal's working name may be written: absent, or a leftover of a killed write (empty or
-/// tagged). Anything else there is a user's file and is refused.
-fn check_leftover(tmp: &Path) -> Result<(), OutputError> {
-    match std::fs::symlink_metadata(tmp) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-        Err(e) => Err(output::io_at(tmp)(e)),
-        Ok(m) if m.file_type().is_file() && journal::is_own_leftover(tmp) => Ok(()),
-        Ok(_) => Err(OutputError::Refused(
-            tmp.to_path_buf(),
-            "is not a file rotorsweep wrote, where it keeps a working file".into(),
-        )),
-    }
 }
 
 /// The saved parts of a run: where each run saved with the study's digest is, and the number
@@ -340,20 +335,20 @@ impl OpenParts {
         id: &str,
         dst: &hdf5::Group,
     ) -> hdf5::Result<()> {
-        let (file, journal) = match s {
-            Saved::Journal { file, .. } => (file, true),
-            Saved::Part { file, .. } => (file, false),
-        };
+        let file = s.file();
         let cannot = |e: &dyn std::fmt::Display| {
             hdf5::Error::from(format!("{}: {e}", file.display()).as_str())
         };
         let at = match self.open.iter().position(|(p, _)| p == file) {
             Some(i) => i,
             None => {
-                let open = if journal {
-                    Open::Journal(std::fs::File::open(file).map_err(|e| cannot(&e))?)
-                } else {
-                    Open::Part(hdf5::File::open(file).map_err(|e| cannot(&e))?)
+                let open = match s {
+                    Saved::Journal { .. } => {
+                        Open::Journal(std::fs::File::open(file).map_err(|e| cannot(&e))?)
+                    }
+                    Saved::Part { .. } => {
+                        Open::Part(hdf5::File::open(file).map_err(|e| cannot(&e))?)
+                    }
                 };
                 if self.open.len() == Self::KEEP {
                     self.open.remove(0);
