@@ -8,11 +8,13 @@
 
 use std::path::Path;
 
+use serde::Deserialize;
+
 use super::build::build;
 use super::check::Check;
 use super::file::SceneFile;
 use super::locate;
-use super::overrides::{override_error_key, with_overrides};
+use super::overrides::{override_error_key, with_override_values, with_overrides};
 use super::source::Source;
 use super::types::Scene;
 use crate::error::InputError;
@@ -32,10 +34,37 @@ impl Scene {
 
     /// Validates a scene read with its bases ([`Source`]), with `key=value` overrides.
     pub fn from_source(source: &Source, overrides: &[String]) -> Result<Scene, InputError> {
-        let path = source.path();
         if source.table.contains_key("rolls") {
             return super::machine::load(source, overrides);
         }
+        Self::validate(source, !overrides.is_empty(), || {
+            with_overrides(source, overrides)
+        })
+    }
+
+    /// [`Scene::from_source`] with the overrides already read as (dotted key, value), as a
+    /// study's jobs hold them: nothing written out and read again.
+    pub fn from_source_values(
+        source: &Source,
+        overrides: &[(String, toml::Value)],
+    ) -> Result<Scene, InputError> {
+        if source.table.contains_key("rolls") {
+            let text: Vec<String> = overrides.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            return super::machine::load(source, &text);
+        }
+        Self::validate(source, !overrides.is_empty(), || {
+            with_override_values(source, overrides)
+        })
+    }
+
+    /// Validates the one-roll scene `source`, `overridden` (when there are overrides) by the
+    /// table and keys `overridden_table` makes.
+    fn validate(
+        source: &Source,
+        overridden: bool,
+        overridden_table: impl Fn() -> Result<(toml::Value, Vec<String>), InputError>,
+    ) -> Result<Scene, InputError> {
+        let path = source.path();
         let not_study = |e: InputError| {
             if crate::error::toml_kind(&source.layers[0].text) == Some("study") {
                 InputError::new(
@@ -47,31 +76,41 @@ impl Scene {
                 e
             }
         };
-        let mut raw: SceneFile = match source.layers.as_slice() {
-            // One file: its own spans give the line of a schema error.
-            [only] => toml::from_str(&only.text)
-                .map_err(|e| not_study(locate::toml_error(path, &only.text, &e)))?,
-            _ => {
-                let table = toml::Value::Table(source.table.clone());
-                table.clone().try_into().map_err(|e: toml::de::Error| {
-                    not_study(match override_error_key(&table) {
-                        Some(k) => source.err(&k, e.message().to_string()),
-                        None => InputError::new(path, e.message().to_string()),
+        // The scene as written; with one file, its own spans give the line of a schema error.
+        let as_written = || -> Result<SceneFile, InputError> {
+            match source.layers.as_slice() {
+                [only] => toml::from_str(&only.text)
+                    .map_err(|e| not_study(locate::toml_error(path, &only.text, &e))),
+                _ => {
+                    let table = toml::Value::Table(source.table.clone());
+                    table.clone().try_into().map_err(|e: toml::de::Error| {
+                        not_study(match override_error_key(&table) {
+                            Some(k) => source.err(&k, e.message().to_string()),
+                            None => InputError::new(path, e.message().to_string()),
+                        })
                     })
-                })?
+                }
             }
         };
-        let (table, keys) = with_overrides(source, overrides)?;
-        if !overrides.is_empty() {
-            let cli = Path::new("<command line --set>");
-            raw = table.clone().try_into().map_err(|e: toml::de::Error| {
-                let err = InputError::new(cli, e.message().to_string());
-                match override_error_key(&table) {
+        let (raw, keys) = if !overridden {
+            (as_written()?, Vec::new())
+        } else {
+            source.check_unoverridden(|| as_written().map(|_| ()))?;
+            let (table, keys) = overridden_table()?;
+            // Read from the table itself (no copy); on an error the table is made again to
+            // find the key the error is about.
+            let raw = SceneFile::deserialize(table).map_err(|e: toml::de::Error| {
+                let err = InputError::new(Path::new("<command line --set>"), e.message());
+                match overridden_table()
+                    .ok()
+                    .and_then(|(t, _)| override_error_key(&t))
+                {
                     Some(k) => err.with_key(k),
                     None => err,
                 }
             })?;
-        }
+            (raw, keys)
+        };
         let check = Check {
             file: path,
             source,

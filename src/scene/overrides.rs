@@ -91,11 +91,38 @@ pub fn with_overrides(
     source: &Source,
     overrides: &[String],
 ) -> Result<(toml::Value, Vec<String>), InputError> {
-    let cli = Path::new("<command line --set>");
+    apply(
+        source,
+        overrides
+            .iter()
+            .map(|o| parse_override(o).map_err(|r| InputError::new(Path::new(COMMAND_LINE), r))),
+    )
+}
+
+/// [`with_overrides`] of overrides already read as (dotted key, value): a study's jobs.
+pub fn with_override_values(
+    source: &Source,
+    overrides: &[(String, toml::Value)],
+) -> Result<(toml::Value, Vec<String>), InputError> {
+    apply(
+        source,
+        overrides.iter().map(|(k, v)| Ok((k.clone(), v.clone()))),
+    )
+}
+
+/// Where errors of overrides point.
+const COMMAND_LINE: &str = "<command line --set>";
+
+/// The merged table with `overrides` applied in order (the first error, in order, stops it).
+fn apply(
+    source: &Source,
+    overrides: impl Iterator<Item = Result<(String, toml::Value), InputError>>,
+) -> Result<(toml::Value, Vec<String>), InputError> {
+    let cli = Path::new(COMMAND_LINE);
     let mut table = toml::Value::Table(source.table.clone());
     let mut keys: Vec<String> = Vec::new();
     for o in overrides {
-        let (k, v) = parse_override(o).map_err(|r| InputError::new(cli, r))?;
+        let (k, v) = o?;
         if let Some(other) = keys.iter().find(|p| replaces(&k, p)) {
             return Err(InputError::new(
                 cli,

@@ -17,6 +17,7 @@
 //! and where ([`Source::locate`] finds the file and line of any key of the merged table).
 
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use crate::error::InputError;
 
@@ -72,6 +73,10 @@ pub struct Source {
     pub layers: Vec<Layer>,
     /// The merged table (module doc), without `extends`.
     pub table: toml::Table,
+    /// Whether the scene as written, before any override, reads as a scene: checked once (a
+    /// study builds every job from the same source, and reading the text again per job was
+    /// a third of `plan`).
+    unoverridden: OnceLock<Result<(), InputError>>,
 }
 
 impl Source {
@@ -86,7 +91,19 @@ impl Source {
     pub fn from_text(path: &Path, text: &str) -> Result<Source, InputError> {
         let mut chain = Vec::new();
         let (table, layers) = resolve(path, text.to_string(), &mut chain)?;
-        Ok(Source { layers, table })
+        Ok(Source {
+            layers,
+            table,
+            unoverridden: OnceLock::new(),
+        })
+    }
+
+    /// `check`'s verdict on the scene as written (before any override), `check` run once.
+    pub(super) fn check_unoverridden(
+        &self,
+        check: impl FnOnce() -> Result<(), InputError>,
+    ) -> Result<(), InputError> {
+        self.unoverridden.get_or_init(check).clone()
     }
 
     /// The named scene file.

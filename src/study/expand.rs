@@ -11,26 +11,36 @@
 //! `10.0`).
 
 use std::collections::BTreeMap;
+use std::sync::Mutex;
 
 use rayon::prelude::*;
 
 use super::context::{override_key, Ctx};
 use super::grid::Combo;
-use super::ids::{job_id, linear_id, map_of, map_text, merged, model_id, scene_inputs};
+use super::ids::{job_id, linear_id, map_of, map_text, model_id, scene_inputs, Inputs};
+use super::job_table::{BaseTable, JobTable};
 use super::jobs::Job;
 use super::pruning::{share, PRUNE_KEY};
 use super::reference::References;
-use super::values::{normal_text, value_text, Override};
+use super::values::{normal_text, Override};
 use crate::error::InputError;
 use crate::scene::source::Source;
 use crate::scene::Scene;
 
-/// A job after its own checks (`Expansion::check`).
+/// A job after its own checks (`Expansion::check`), with its ids.
 struct Checked {
     overrides: Vec<Override>,
     prune: Option<f64>,
     labels: Vec<(String, String)>,
     scene: Scene,
+    /// Its inputs as normalised text (two jobs of the same text are one physics).
+    written: String,
+    inputs: Inputs,
+    id: String,
+    model_id: String,
+    linear_id: String,
+    reference_id: String,
+    reference_overrides: Vec<Override>,
 }
 
 /// What every job of a study is made from.
@@ -55,76 +65,87 @@ impl Expansion<'_> {
     /// The jobs of `combos`, in order; their references are added to `references`.
     ///
     /// Each job's scene is validated and its ids are hashed on rayon's pool, the jobs split
-    /// among its threads (about 0.1 ms and 0.08 ms per Jeffcott job); the checks that compare
+    /// among its threads; the ids hash the base scene's text, serialised once, with only the
+    /// entries a job's overrides touch serialised again ([`JobTable`]). The checks that compare
     /// jobs (the same inputs twice) and the references follow in job order. The first error in
-    /// job order is reported, each job's own checks in the order: overrides, scene, repeated
-    /// inputs, merged scene, reference.
+    /// job order is reported, each job's own checks in the order: overrides, scene, merged
+    /// scene and ids, repeated inputs, reference.
     pub(super) fn jobs(
         &self,
         combos: Vec<Combo>,
         references: &mut References,
     ) -> Result<Vec<Job>, InputError> {
+        let base = BaseTable::new(&self.source.table);
+        // The inputs' hash by thickness map: each map read and hashed once.
+        let inputs_of: Mutex<BTreeMap<Option<String>, Inputs>> = Mutex::default();
         let checked: Vec<Result<Checked, InputError>> = combos
             .into_par_iter()
             .enumerate()
-            .map(|(index, (combo, labels))| self.check(index, combo, labels))
+            .map(|(index, (combo, labels))| {
+                self.check(index, combo, labels, &base, references, &inputs_of)
+            })
             .collect();
         let mut physics_of = BTreeMap::new();
-        // The inputs' hash by thickness map: each map read and hashed once.
-        let mut inputs_of = BTreeMap::new();
-        let mut ready = Vec::with_capacity(checked.len());
+        let mut jobs = Vec::with_capacity(checked.len());
         for (index, c) in checked.into_iter().enumerate() {
             let c = c?;
-            self.new_physics(index, &c.overrides, c.prune, &mut physics_of)?;
-            let merged = self.merged(index, &c.overrides)?;
-            let map = map_of(&merged).map(str::to_string);
-            let inputs = *inputs_of.entry(map).or_insert_with_key(|m| {
-                let text = m.as_deref().map(|csv| map_text(self.source, csv));
-                scene_inputs(self.source, text.as_deref())
+            self.new_physics(index, c.written, &mut physics_of)?;
+            references.add(
+                index,
+                &c.reference_id,
+                c.reference_overrides,
+                c.inputs,
+                &base,
+            )?;
+            jobs.push(Job {
+                index,
+                id: c.id,
+                model_id: c.model_id,
+                linear_id: c.linear_id,
+                overrides: c.overrides,
+                prune: c.prune,
+                reference_id: c.reference_id,
+                labels: c.labels,
+                scene: c.scene,
             });
-            let reference_id = references.add(index, &c.overrides, inputs, &merged)?;
-            ready.push((c, inputs, reference_id));
         }
-        // The merged tables are made again here rather than held: one is a copy of the whole
-        // scene table, several kB per job.
-        ready
-            .into_par_iter()
-            .enumerate()
-            .map(|(index, (c, inputs, reference_id))| {
-                let merged = self.merged(index, &c.overrides)?;
-                Ok(Job {
-                    index,
-                    id: job_id(inputs, &merged, c.prune, self.pilot),
-                    model_id: model_id(inputs, &merged),
-                    linear_id: linear_id(inputs, &merged),
-                    overrides: c.overrides,
-                    prune: c.prune,
-                    reference_id,
-                    labels: c.labels,
-                    scene: c.scene,
-                })
-            })
-            .collect()
+        Ok(jobs)
     }
 
-    /// Job `index`'s scene table with its `overrides` applied.
-    fn merged(&self, index: usize, overrides: &[Override]) -> Result<toml::Value, InputError> {
-        merged(&self.source.table, overrides, |k, r| {
-            self.c.err(&self.locate_key(index, k), r)
-        })
-    }
-
-    /// Job `index`'s own checks, which need no other job: its overrides and its validated
-    /// scene.
+    /// Job `index`'s own checks, which need no other job (its overrides, its validated scene,
+    /// its scene table), and its ids.
     fn check(
         &self,
         index: usize,
         combo: Vec<Override>,
         labels: Vec<(String, String)>,
+        base: &BaseTable,
+        references: &References,
+        inputs_of: &Mutex<BTreeMap<Option<String>, Inputs>>,
     ) -> Result<Checked, InputError> {
         let (overrides, prune) = self.overrides(index, combo)?;
         let scene = self.scene(index, &overrides)?;
+        let merged = JobTable::new(base, &overrides, |k, r| {
+            self.c.err(&self.locate_key(index, k), r)
+        })?;
+        let map = map_of(&merged).map(str::to_string);
+        let inputs = {
+            let mut known = inputs_of.lock().unwrap_or_else(|e| e.into_inner());
+            *known.entry(map).or_insert_with_key(|m| {
+                let text = m.as_deref().map(|csv| map_text(self.source, csv));
+                scene_inputs(self.source, text.as_deref())
+            })
+        };
+        let reference_overrides = references.overrides_of(&overrides);
+        let reference_id = references.id_of(base, inputs, &merged, &reference_overrides)?;
         Ok(Checked {
+            written: normal_text(&overrides) + &format!("|{prune:?}"),
+            id: job_id(inputs, &merged, prune, self.pilot),
+            model_id: model_id(inputs, &merged),
+            linear_id: linear_id(inputs, &merged),
+            inputs,
+            reference_id,
+            reference_overrides,
             overrides,
             prune,
             labels,
@@ -175,11 +196,7 @@ impl Expansion<'_> {
 
     /// Job `index`'s validated scene.
     fn scene(&self, index: usize, overrides: &[Override]) -> Result<Scene, InputError> {
-        let strings: Vec<String> = overrides
-            .iter()
-            .map(|(k, v)| format!("{k}={}", value_text(v)))
-            .collect();
-        Scene::from_source(self.source, &strings).map_err(|mut e| {
+        Scene::from_source_values(self.source, overrides).map_err(|mut e| {
             let key = override_key(&e, overrides);
             if e.file.as_os_str() == "<command line --set>" {
                 let mut err = self.c.err(
@@ -197,15 +214,13 @@ impl Expansion<'_> {
     }
 
     /// The same physics written twice (`10` and `10.0`): one job. `physics_of` holds the jobs
-    /// before `index` by their normalised inputs.
+    /// before `index` by their normalised inputs; `written` is job `index`'s.
     fn new_physics(
         &self,
         index: usize,
-        overrides: &[Override],
-        prune: Option<f64>,
+        written: String,
         physics_of: &mut BTreeMap<String, usize>,
     ) -> Result<(), InputError> {
-        let written = normal_text(overrides) + &format!("|{prune:?}");
         if let Some(first) = physics_of.insert(written, index) {
             let at = match index.checked_sub(self.axis_combos) {
                 Some(j) => format!("jobs[{j}]"),

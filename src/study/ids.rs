@@ -2,7 +2,7 @@
 //! (the same on every machine and run) of every input that defines each.
 //!
 //! In: the text of every file a job's scene reads ([`scene_inputs`]), the base scene table with
-//! the job's overrides applied ([`merged`]), its pruning share and the pilot's overrides. Out:
+//! the job's overrides applied ([`JobTable`]), its pruning share and the pilot's overrides. Out:
 //! ids `m…` (the unpruned reduced model: the model tables), `l…` (the linearised system: the
 //! model on its supports and drive, and gravity), `j…` (the job: the whole scene, and for a
 //! pruned job how its pilot ran) and `r…` (the reference: the job's physics with the reference's
@@ -11,9 +11,8 @@
 
 use std::path::Path;
 
+use super::job_table::JobTable;
 use super::values::value_text;
-use crate::error::InputError;
-use crate::scene::set_path;
 use crate::scene::source::Source;
 
 /// Scene tables that make the reduced model (a pruning pilot runs on its jobs' model).
@@ -66,8 +65,8 @@ pub(super) fn scene_inputs(source: &Source, map_text: Option<&str>) -> Inputs {
     Inputs { state }
 }
 
-/// The thickness map a merged scene reads (`roll.shell.thickness_map`), as written.
-pub(super) fn map_of(merged: &toml::Value) -> Option<&str> {
+/// The thickness map a job's scene reads (`roll.shell.thickness_map`), as written.
+pub(super) fn map_of<'t>(merged: &'t JobTable) -> Option<&'t str> {
     merged
         .get("roll")
         .and_then(|r| r.get("shell"))
@@ -82,52 +81,28 @@ pub(super) fn map_text(source: &Source, csv: &str) -> String {
     crate::error::read_text(&p).unwrap_or_default()
 }
 
-/// `prefix` and 16 hex digits of FNV-1a over the inputs' text and `parts`, each part after a
-/// U+001F.
-fn hash_id(prefix: char, inputs: Inputs, parts: &[&str]) -> String {
+/// `prefix` and 16 hex digits of FNV-1a over the inputs' text and `parts`, each part (the
+/// concatenation of its pieces) after a U+001F.
+fn hash_id(prefix: char, inputs: Inputs, parts: &[&[&str]]) -> String {
     let mut h = inputs.state;
     for p in parts {
         h = fnv1a_from(h, "\u{1f}".as_bytes());
-        h = fnv1a_from(h, p.as_bytes());
+        for piece in *p {
+            h = fnv1a_from(h, piece.as_bytes());
+        }
     }
     format!("{prefix}{h:016x}")
 }
 
-/// Subtree of a merged scene table, serialised canonically.
-fn canonical(merged: &toml::Value, keep: &[&str], drop: &[&str]) -> String {
-    let mut t = merged.as_table().cloned().unwrap_or_default();
-    t.retain(|k, _| {
-        let k: &str = k;
-        (keep.is_empty() || keep.contains(&k)) && !drop.contains(&k)
-    });
-    toml::to_string(&t).unwrap_or_default()
-}
-
-/// The scene table with the overrides applied in order; `err` makes the error of an override
-/// that does not fit (its key, the reason).
-pub(super) fn merged(
-    table: &toml::Table,
-    overrides: &[(String, toml::Value)],
-    err: impl Fn(&str, String) -> InputError,
-) -> Result<toml::Value, InputError> {
-    let mut merged = toml::Value::Table(table.clone());
-    for (k, v) in overrides {
-        set_path(&mut merged, k, v.clone()).map_err(|r| err(k, r))?;
-    }
-    Ok(merged)
-}
-
-/// The id of the unpruned reduced model of a merged scene.
-pub(super) fn model_id(inputs: Inputs, merged: &toml::Value) -> String {
-    let model_part = canonical(merged, &MODEL_TABLES, &[]);
-    hash_id('m', inputs, &[&model_part])
+/// The id of the unpruned reduced model of a job's scene.
+pub(super) fn model_id(inputs: Inputs, merged: &JobTable) -> String {
+    hash_id('m', inputs, &[&merged.canonical_parts(&MODEL_TABLES, &[])])
 }
 
 /// The id of a merged scene's linearised system: its model with its modal damping, on its
 /// supports and drive, with gravity.
-pub(super) fn linear_id(inputs: Inputs, merged: &toml::Value) -> String {
-    let linear_part = canonical(
-        merged,
+pub(super) fn linear_id(inputs: Inputs, merged: &JobTable) -> String {
+    let linear_part = merged.canonical_parts(
         &[
             "materials",
             "roll",
@@ -144,13 +119,13 @@ pub(super) fn linear_id(inputs: Inputs, merged: &toml::Value) -> String {
         .and_then(|s| s.get("gravity_m_s2"))
         .map(value_text)
         .unwrap_or_default();
-    hash_id('l', inputs, &[&linear_part, &gravity])
+    hash_id('l', inputs, &[&linear_part, &[&gravity]])
 }
 
 /// The id of a job: its whole merged scene and, for a pruned job, how its pilot ran.
 pub(super) fn job_id(
     inputs: Inputs,
-    merged: &toml::Value,
+    merged: &JobTable,
     prune: Option<f64>,
     pilot: &[(String, toml::Value)],
 ) -> String {
@@ -158,26 +133,29 @@ pub(super) fn job_id(
     let prune_text = prune
         .map(|p| format!("{p:e}|{}", pilot_text(pilot)))
         .unwrap_or_default();
-    let all = canonical(merged, &[], &[]);
-    hash_id('j', inputs, &[&all, &prune_text])
+    let all = merged.canonical_parts(&[], &[]);
+    hash_id('j', inputs, &[&all, &[&prune_text]])
 }
 
 /// The id of a job's reference run: the job's physics (its scene without the solver keys, and
 /// without the mode set when the reference sets its own) and the reference's solver keys.
 pub(super) fn reference_id(
     inputs: Inputs,
-    merged: &toml::Value,
-    reference_merged: &toml::Value,
+    merged: &JobTable,
+    reference_merged: &JobTable,
     sets_modes: bool,
 ) -> String {
     let physics = if sets_modes {
-        canonical(merged, &[], &["solver", "reduction"])
+        merged.canonical_parts(&[], &["solver", "reduction"])
     } else {
-        canonical(merged, &[], &["solver"])
+        merged.canonical_parts(&[], &["solver"])
     };
     hash_id(
         'r',
         inputs,
-        &[&physics, &canonical(reference_merged, &["solver"], &[])],
+        &[
+            &physics,
+            &reference_merged.canonical_parts(&["solver"], &[]),
+        ],
     )
 }

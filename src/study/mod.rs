@@ -40,6 +40,7 @@ mod expand;
 mod file;
 mod grid;
 mod ids;
+mod job_table;
 mod jobs;
 mod limit;
 mod linear;

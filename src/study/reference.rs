@@ -12,9 +12,10 @@
 use std::collections::BTreeMap;
 
 use super::context::{override_key, Ctx};
-use super::ids::{merged, model_id, reference_id, Inputs};
+use super::ids::{model_id, reference_id, Inputs};
+use super::job_table::{BaseTable, JobTable};
 use super::jobs::Reference;
-use super::values::{flatten, value_text};
+use super::values::{flatten, Override};
 use crate::error::InputError;
 use crate::scene::source::Source;
 use crate::scene::Scene;
@@ -59,48 +60,68 @@ impl<'a> References<'a> {
         })
     }
 
-    /// The reference id of job `index` (its `overrides`, the text of its scene's files
-    /// `inputs`, its merged scene); the reference is built and its scene validated the first
-    /// time its id comes up.
-    pub(super) fn add(
-        &mut self,
-        index: usize,
-        overrides: &[(String, toml::Value)],
-        inputs: Inputs,
-        job_merged: &toml::Value,
-    ) -> Result<String, InputError> {
+    /// Job `overrides` with the `[reference]` keys set after them: its reference's overrides.
+    pub(super) fn overrides_of(&self, overrides: &[Override]) -> Vec<Override> {
         let mut ref_over = overrides.to_vec();
         for (k, v) in &self.keys {
             ref_over.retain(|(ok, _)| ok != k);
             ref_over.push((k.clone(), v.clone()));
         }
-        let ref_merged = merged(&self.source.table, &ref_over, |_, r| {
-            self.c.err("reference", r)
-        })?;
-        let id = reference_id(inputs, job_merged, &ref_merged, self.sets_modes);
-        if !self.built.contains_key(&id) {
+        ref_over
+    }
+
+    /// The reference's scene table of a job whose reference overrides are `ref_over`.
+    fn table<'t>(
+        &self,
+        base: &'t BaseTable<'t>,
+        ref_over: &[Override],
+    ) -> Result<JobTable<'t>, InputError> {
+        JobTable::new(base, ref_over, |_, r| self.c.err("reference", r))
+    }
+
+    /// The reference id of a job (the text of its scene's files `inputs`, its scene table
+    /// `job`, its reference overrides `ref_over`).
+    pub(super) fn id_of(
+        &self,
+        base: &BaseTable,
+        inputs: Inputs,
+        job: &JobTable,
+        ref_over: &[Override],
+    ) -> Result<String, InputError> {
+        let reference = self.table(base, ref_over)?;
+        Ok(reference_id(inputs, job, &reference, self.sets_modes))
+    }
+
+    /// Job `index`'s reference, of id `id` and overrides `ref_over`: built and its scene
+    /// validated the first time its id comes up.
+    pub(super) fn add(
+        &mut self,
+        index: usize,
+        id: &str,
+        ref_over: Vec<Override>,
+        inputs: Inputs,
+        base: &BaseTable,
+    ) -> Result<(), InputError> {
+        if !self.built.contains_key(id) {
             let scene = self.scene(index, &ref_over)?;
+            let model_id = model_id(inputs, &self.table(base, &ref_over)?);
             self.built.insert(
-                id.clone(),
+                id.to_string(),
                 Reference {
-                    id: id.clone(),
+                    id: id.to_string(),
                     overrides: ref_over,
-                    model_id: model_id(inputs, &ref_merged),
+                    model_id,
                     scene,
                 },
             );
         }
-        Ok(id)
+        Ok(())
     }
 
     /// The validated scene of job `index`'s reference; errors point at the `[reference]` key
     /// the scene refuses, or at `[reference]`.
     fn scene(&self, index: usize, ref_over: &[(String, toml::Value)]) -> Result<Scene, InputError> {
-        let rs: Vec<String> = ref_over
-            .iter()
-            .map(|(k, v)| format!("{k}={}", value_text(v)))
-            .collect();
-        Scene::from_source(self.source, &rs).map_err(|e| {
+        Scene::from_source_values(self.source, ref_over).map_err(|e| {
             let key = override_key(&e, ref_over);
             let at = if self.keys.iter().any(|(k, _)| *k == key) {
                 format!("reference.{key}")
