@@ -437,6 +437,49 @@ impl MachineSystem {
             .collect()
     }
 
+    /// The static equilibrium at standstill from `q0` with nip `k`'s segments following
+    /// `law(j, δ)` → (F [N], dF/dδ [N/m]) instead of the scene's law (the barring map's
+    /// steady rolling cover, `linear/barring_machine.rs`): Newton on f(q) + Σ_j J_j (F_j − F'_j)
+    /// with the matrix K + Σ_j J_jᵀ J_j (k'_j − k_j), F_j, k_j the scene law's (zero for an open
+    /// segment), F'_j, k'_j the law's. An error of the law (its first) or of Newton's method.
+    pub fn equilibrium_with(
+        &self,
+        q0: DVector<f64>,
+        k: usize,
+        law: impl Fn(usize, f64) -> Result<(f64, f64), String>,
+    ) -> Result<DVector<f64>, String> {
+        let v = DVector::zeros(self.n);
+        let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
+        let mut failure: Option<String> = None;
+        let eval = |q: &DVector<f64>, f: &mut DVector<f64>, jac: &mut DMatrix<f64>| {
+            self.force_with((0.0, None), &st, q, &v, f);
+            self.newton_with((0.0, &st), q, &v, (0.0, 1.0, 0.0), true, jac);
+            let seg = &self.segments(0.0, &st, q, &v)[k];
+            for (j, (s, row)) in seg.iter().zip(self.nip_rows_at_rest(k, q)).enumerate() {
+                let (force, stiffness) = match law(j, s.delta) {
+                    Ok(x) => x,
+                    Err(e) => {
+                        failure.get_or_insert(e);
+                        (s.force, s.stiffness)
+                    }
+                };
+                f.axpy(s.force - force, &row, 1.0);
+                jac.ger(stiffness - s.stiffness, &row, &row, 1.0);
+            }
+        };
+        let q = newton::solve(
+            q0,
+            &self.weights,
+            eval,
+            "static equilibrium of the machine with the rolling nip",
+            "is every roll supported?",
+        );
+        match failure {
+            Some(e) => Err(e),
+            None => q,
+        }
+    }
+
     /// Number of coordinates.
     pub fn n(&self) -> usize {
         self.n

@@ -3,49 +3,51 @@
 //! In: a [`Machine`] with a nip whose cover is viscoelastic (`cover_unrelaxed_modulus_mpa`,
 //! `cover_relaxation_time_s`), the first roll's [`Model`], a [`MapRequest`]: the nip's name
 //! (default: the first viscoelastic nip), the first roll's speeds [Hz] and the nip's line loads
-//! [kN/m] (default: the file's). Out: a [`BarringMap`]: per load the static nip force [N], the
-//! roll modes used (undamped frequency [Hz], damping ratio, share of the nip), and per speed the
-//! least stable root ([`MapPoint`]: growth rate Re λ [1/s] and per revolution, frequency [Hz],
-//! waves per revolution of the covered roll and the polygon order, the mode, its modal contact
-//! stiffness [N/m] and overlap μ) with the lowest unstable speed on the grid ([`Onset`]); as
-//! JSON (`serde`) and as HDF5 ([`write_h5`]).
+//! [kN/m] (default: the file's). Out: a [`BarringMap`]: per load the static nip force [N] at
+//! standstill, the rolls' modes on their supports with the nip open (undamped frequency [Hz],
+//! damping ratio, share of the nip; information), and per speed the least stable barring root
+//! ([`MapPoint`]: growth rate Re λ [1/s] and per revolution, frequency [Hz], waves per
+//! revolution of the covered roll and the polygon order, the nip's share of the root, the closed
+//! segments and largest penetration [µm] at the rolling equilibrium, the nip's quasi-static
+//! rolling stiffness [N/m] and mean overlap μ) with the lowest unstable speed on the grid
+//! ([`Onset`]); as JSON (`serde`) and as HDF5 ([`write_h5`]).
 //!
 //! Method: per load the machine (its nip's line load set) is brought to its static equilibrium at
-//! standstill and linearised there as `rotorsweep linear` does ([`MachineSystem::at_rest`]); the
-//! nip's closed segments' tangent stiffness Jᵀ(dF/dδ)J is taken out of K, leaving the rolls on
-//! their supports (the nip's viscous damping stays in C). The undamped modes φ_i (mass
-//! normalised, ω_i > [`ZERO_RAD_S`]) of that system are ranked by their static share of the nip
-//! Σ_j (J_j φ_i)²/ω_i²; those within [`MODE_SHARE`] of the largest, at most [`MAX_MODES`], each
-//! become a one-mode barring roll (`linear/barring.rs`): m = 1, k = ω_i², c = φ_iᵀ C φ_i. The
-//! cover's rolling linearisation per closed segment j at its static penetration δ_j and the
-//! covered roll's revolution frequency f_c ([`rolling`], `dynamics/cover.rs`: the force change
-//! k_c,j after a step Δδ held for a revolution, and −μ_j k_c,j Δδ one revolution after it ends)
-//! is projected on the mode: K_c,i = Σ_j k_c,j (J_j φ_i)², μ_i = Σ_j μ_j k_c,j (J_j φ_i)²/K_c,i,
-//! so m η̈ + c η̇ + k η = −K_c,i [η(t) − μ_i η(t − 1/f_c)]; its rightmost root by Chebyshev
-//! collocation ([`rightmost`]; with μ_i ≤ 0 that of m λ² + c λ + k + K_c,i = 0). That
-//! quasi-static root is only the start: the point's root is that of the exact characteristic
-//! equation m λ² + c λ + k + Σ_j L_j (J_j φ_i)² H_j(λ) = 0 ([`exact_root`], Newton's method from
-//! the quasi-static root and its neighbours), H_j the cover's response at the vibration's own
-//! rate with the memory of every revolution (`dynamics/cover_response.rs`). The point's root is
-//! the least stable over the modes; the polygon order is the nearest whole number of waves per
-//! revolution. Confirmed by time runs of a single-DOF roll on the cover's points
-//! (tests/it/barring_time.rs: growth and decay rates within 3 %). Assumptions: the linearisation
-//! about the steady rolling state at the static penetration (small vibration), the rolls at
-//! standstill in the linearisation (no gyroscopic terms; exact for axisymmetric rolls on
-//! speed-independent supports in the nip direction), a rightmost root among those Newton's
-//! method reaches from its starts.
+//! standstill (as `rotorsweep linear`, [`MachineSystem::at_rest`]). Per speed, with the covered
+//! roll at its revolution frequency f_c: (1) the steady rolling equilibrium
+//! ([`MachineSystem::equilibrium_with`]): each closed segment carries the rolling cover's
+//! steady force L F(δ_j) ([`rolling`], `dynamics/cover.rs`), stiffer than the relaxed law of the
+//! standstill equilibrium, so the nip closes over fewer segments with other penetrations (the
+//! time run's mean state); (2) the machine linearised there, the closed segments' static
+//! tangent stiffness taken out of K (the rolls on their supports, the nip's viscous damping in
+//! C); (3) the roots of the coupled characteristic equation
+//! det[M λ² + C λ + K + Σ_j L_j H_j(λ) J_jᵀ J_j] = 0 over every coordinate of the machine
+//! (`linear/barring_coupled.rs`; H_j the rolling cover's response at the vibration's own rate
+//! with the memory of every revolution, `dynamics/cover_response.rs`, at segment j's rolling
+//! state); the point's root is the rightmost with a nip share of at least [`ROOT_SHARE`] (the
+//! rolls' own modes the nip does not touch left out); the polygon order is the nearest whole
+//! number of waves per revolution. The earlier map (each of the rolls' modes without the nip
+//! taken alone, at the standstill equilibrium) put unstable roots where the coupled time run
+//! decays (docs/machines.md). Confirmed by time runs: a single-DOF roll on the cover's points
+//! (tests/it/barring_time.rs, [`exact_root`] of a [`NipMode`]: within 3 %) and the coupled
+//! two-roll machine (tests/it/barring_machine_time.rs). Assumptions: small vibration about the
+//! steady rolling equilibrium; the linearisation at standstill otherwise (no gyroscopic or
+//! circulatory terms: measured to move the roots of the shipped machine by at most 0.003 1/s);
+//! the rightmost root among those Newton's method reaches from its starts.
 
-use nalgebra::{Complex, DVector};
+use nalgebra::{Complex, DMatrix, DVector};
 use serde::Serialize;
 
-use super::barring::{rightmost, BarringRoll, Root};
+use super::barring::{BarringRoll, Root};
+use super::barring_coupled::CoupledNip;
 use super::modes::ZERO_RAD_S;
 use crate::dynamics::bodies::{models, MachineSystem};
 use crate::dynamics::cover::{rolling, Rolling};
 use crate::dynamics::cover_response::response;
 use crate::dynamics::model::Model;
+use crate::dynamics::nip::SegmentState;
 use crate::numerics::eigen;
-use crate::scene::{CoverSpec, Machine, NipLaw};
+use crate::scene::{CoverSpec, Machine, Nip, NipLaw};
 use crate::text::number_text;
 
 /// Modes kept: those whose static share of the nip is at least this part of the largest.
@@ -67,7 +69,7 @@ pub struct MapRequest {
     pub loads_kn_per_m: Option<Vec<f64>>,
 }
 
-/// A roll mode used at one load.
+/// A mode of the rolls on their supports with the nip open, at one load (information).
 #[derive(Debug, Clone, Serialize)]
 pub struct MapMode {
     /// Undamped frequency with the nip open [Hz].
@@ -97,11 +99,15 @@ pub struct MapPoint {
     pub waves_per_rev: f64,
     /// The nearest whole number of waves: the polygon's sides.
     pub polygon_order: u64,
-    /// Index of the mode in the load's `modes`.
-    pub mode: usize,
-    /// The mode's modal contact stiffness K_c [N/m per unit modal coordinate²].
+    /// The nip's share of the root [-] (`linear/barring_coupled.rs`).
+    pub nip_share: f64,
+    /// Closed segments at the steady rolling equilibrium.
+    pub closed_segments: usize,
+    /// Largest penetration at the steady rolling equilibrium [µm].
+    pub max_penetration_um: f64,
+    /// The nip's quasi-static rolling stiffness Σ_j L_j k_c,j over its closed segments [N/m].
     pub contact_stiffness_n_per_m: f64,
-    /// The mode's overlap μ [-].
+    /// The k_c-weighted mean overlap μ of the closed segments [-].
     pub overlap: f64,
 }
 
@@ -129,11 +135,11 @@ pub struct LoadRow {
     pub line_load_kn_per_m: f64,
     /// Static nip force [N].
     pub nip_force_n: f64,
-    /// Closed segments at the static equilibrium.
+    /// Closed segments at the static equilibrium at standstill.
     pub closed_segments: usize,
-    /// Largest static penetration [µm].
+    /// Largest static penetration at standstill [µm].
     pub max_penetration_um: f64,
-    /// The modes used.
+    /// The rolls' modes with the nip open, ranked by their static share of the nip.
     pub modes: Vec<MapMode>,
     /// One per speed.
     pub points: Vec<MapPoint>,
@@ -199,18 +205,6 @@ fn root_at(re: f64, im: f64, period: f64, intervals: usize) -> Root {
     }
 }
 
-/// The root of m λ² + c λ + k = 0 with the larger real part (no memory), as a [`Root`].
-fn memoryless(roll: &BarringRoll, kc: f64, period: f64) -> Root {
-    let (m, c, k) = (roll.mass_kg, roll.damping_ns_m, roll.stiffness_n_m + kc);
-    let disc = c * c - 4.0 * m * k;
-    let (re, im) = if disc >= 0.0 {
-        ((-c + disc.sqrt()) / (2.0 * m), 0.0)
-    } else {
-        (-c / (2.0 * m), (-disc).sqrt() / (2.0 * m))
-    };
-    root_at(re, im, period, 0)
-}
-
 /// Newton iterations of [`exact_root`] from each start.
 pub const NEWTON_ITERATIONS: usize = 60;
 
@@ -265,6 +259,139 @@ pub fn exact_root(mode: &NipMode, cover: &CoverSpec, cover_hz: f64, near: &Root)
     best.map(|l| root_at(l.re, l.im, 1.0 / cover_hz, 0))
 }
 
+/// The indices of the closed segments (δ > 0) of nip `name`; none: an error naming where
+/// (`at`) and which equilibrium (`which`).
+fn closed_segments(
+    seg: &[SegmentState],
+    name: &str,
+    at: &str,
+    which: &str,
+) -> Result<Vec<usize>, String> {
+    let closed: Vec<usize> = (0..seg.len()).filter(|j| seg[*j].delta > 0.0).collect();
+    if closed.is_empty() {
+        return Err(format!(
+            "at {at} the nip `{name}` is open at its {which} equilibrium"
+        ));
+    }
+    Ok(closed)
+}
+
+/// (M, K, C, one nip's segment states, their rows J).
+type Linearised = (
+    DMatrix<f64>,
+    DMatrix<f64>,
+    DMatrix<f64>,
+    Vec<SegmentState>,
+    Vec<DVector<f64>>,
+);
+
+/// The machine linearised at rest about `q` ([`MachineSystem::at_rest`]) with nip `ni`'s
+/// segments' static tangent stiffness taken out of K: (M, K, C, nip `ni`'s segment states,
+/// their rows J).
+fn without_nip(sys: &MachineSystem, ni: usize, q: &DVector<f64>) -> Linearised {
+    let (m, mut k, c, mut states) = sys.at_rest(q);
+    let seg = states.swap_remove(ni);
+    let rows = sys.nip_rows_at_rest(ni, q);
+    for (s, j) in seg.iter().zip(&rows) {
+        if s.stiffness != 0.0 {
+            k.ger(-s.stiffness, j, j, 1.0);
+        }
+    }
+    (m, k, c, seg, rows)
+}
+
+/// Roots whose nip share ([`super::barring_coupled::CoupledRoot::nip_share`]) is below this are the rolls' own modes,
+/// which the nip does not touch, and are not barring roots.
+pub const ROOT_SHARE: f64 = 0.01;
+
+/// The machine's steady rolling equilibrium at the covered roll's revolution frequency `fc`
+/// [Hz] from the standstill equilibrium `q0`: nip `ni`'s closed segments carry the rolling
+/// cover's steady force L F(δ) ([`rolling`]; dF/dδ by a central difference of 1e-6 δ).
+fn rolling_equilibrium(
+    sys: &MachineSystem,
+    (ni, len, cover): (usize, f64, &CoverSpec),
+    q0: &DVector<f64>,
+    fc: f64,
+) -> Result<DVector<f64>, String> {
+    sys.equilibrium_with(q0.clone(), ni, |j, d| {
+        if d <= 0.0 {
+            return Ok((0.0, 0.0));
+        }
+        let force = |x: f64| {
+            (rolling(cover, x, fc).map(|r| r.force_n_per_m * len)).ok_or_else(|| {
+                format!("the cover's rolling state at {fc} Hz, segment {j}, not reached")
+            })
+        };
+        let h = 1e-6 * d;
+        Ok((force(d)?, (force(d + h)? - force(d - h)?) / (2.0 * h)))
+    })
+}
+
+/// The point at the first roll's `speed` [Hz] (the covered roll at `fc` [Hz]): the machine at
+/// its steady rolling equilibrium, linearised there, the nip's closed segments with the rolling
+/// cover's H, and the rightmost root with a nip share of at least [`ROOT_SHARE`] (module doc).
+fn rolling_point(
+    sys: &MachineSystem,
+    (ni, nip, cover): (usize, &Nip, &CoverSpec),
+    q0: &DVector<f64>,
+    m: &DMatrix<f64>,
+    fc: f64,
+    speed: f64,
+) -> Result<MapPoint, String> {
+    let len = nip.segment_length;
+    let q = rolling_equilibrium(sys, (ni, len, cover), q0, fc)?;
+    let (_, k_free, c, seg, rows) = without_nip(sys, ni, &q);
+    let seg = &seg;
+    let closed = closed_segments(
+        seg,
+        &nip.name,
+        &format!("{} Hz", number_text(speed)),
+        "rolling",
+    )?;
+    let states: Vec<Rolling> = (closed.iter())
+        .map(|j| {
+            rolling(cover, seg[*j].delta, fc).ok_or_else(|| {
+                format!("the cover's rolling state at {fc} Hz, segment {j}, not reached")
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let coupled = CoupledNip {
+        m: m.clone(),
+        c,
+        k: k_free,
+        segments: (closed.iter().zip(&states))
+            .map(|(j, r)| (len, rows[*j].clone(), r))
+            .collect(),
+    };
+    let frozen = coupled.frozen(cover, fc)?;
+    let root = (coupled.roots(cover, fc, &frozen).into_iter())
+        .filter(|r| r.nip_share >= ROOT_SHARE)
+        .max_by(|a, b| a.lambda.re.total_cmp(&b.lambda.re))
+        .ok_or_else(|| format!("no barring root at {} Hz converged", number_text(speed)))?;
+    let root_ = root_at(root.lambda.re, root.lambda.im, 1.0 / fc, 0);
+    let kc: f64 = states.iter().map(|r| r.stiffness_n_per_m2 * len).sum();
+    let mu = states
+        .iter()
+        .map(|r| r.overlap * r.stiffness_n_per_m2 * len)
+        .sum::<f64>()
+        / kc;
+    Ok(MapPoint {
+        speed_hz: speed,
+        cover_speed_hz: fc,
+        stable: root_.growth_per_s < 0.0,
+        growth_per_s: root_.growth_per_s,
+        growth_per_rev: root_.growth_per_rev,
+        frequency_hz: root_.frequency_hz,
+        waves_per_rev: root_.waves_per_rev,
+        polygon_order: root_.waves_per_rev.round() as u64,
+        nip_share: root.nip_share,
+        closed_segments: closed.len(),
+        max_penetration_um: 1e6 * closed.iter().map(|j| seg[*j].delta).fold(0.0, f64::max),
+        contact_stiffness_n_per_m: kc,
+        overlap: mu,
+    })
+}
+
 /// The barring map of `machine` (module doc); `first` is its first roll's model.
 pub fn barring_map(
     machine: &Machine,
@@ -293,25 +420,12 @@ pub fn barring_map(
         machine.nips[ni].line_load = 1e3 * q;
         let sys = MachineSystem::new(&machine, &models);
         let q0 = sys.initial(&machine, &models, true)?;
-        let (m, k, c, states) = sys.at_rest(&q0);
-        let seg = &states[ni];
-        let jrows = sys.nip_rows_at_rest(ni, &q0);
-        let mut k_free = k;
-        for (s, j) in seg.iter().zip(&jrows) {
-            if s.stiffness != 0.0 {
-                k_free.ger(-s.stiffness, j, j, 1.0);
-            }
-        }
+        let (m, k_free, c, seg, jrows) = without_nip(&sys, ni, &q0);
+        let seg = &seg;
         let k_sym = 0.5 * (&k_free + k_free.transpose());
         let eig = eigen::generalized_symmetric(&k_sym, &m).map_err(|e| e.to_string())?;
-        let closed: Vec<usize> = (0..seg.len()).filter(|j| seg[*j].delta > 0.0).collect();
-        if closed.is_empty() {
-            return Err(format!(
-                "at {} kN/m the nip `{}` is open at its static equilibrium",
-                number_text(q),
-                nip.name
-            ));
-        }
+        let at = format!("{} kN/m", number_text(q));
+        let closed = closed_segments(seg, &nip.name, &at, "static")?;
         // Candidate modes: (ω, φ, participations J_j φ of the closed segments).
         let mut cand: Vec<(f64, DVector<f64>, Vec<f64>, f64)> = Vec::new();
         for i in 0..eig.values.len() {
@@ -337,68 +451,14 @@ pub fn barring_map(
             .collect();
         let mut points = Vec::with_capacity(req.speeds_hz.len());
         for &speed in &req.speeds_hz {
-            let fc = cover_factor * speed;
-            let period = 1.0 / fc;
-            let states: Vec<Rolling> = (closed.iter())
-                .map(|j| {
-                    rolling(&cover, seg[*j].delta, fc).ok_or_else(|| {
-                        format!("the cover's rolling state at {fc} Hz, segment {j}, not reached")
-                    })
-                })
-                .collect::<Result<_, _>>()?;
-            let lin: Vec<(f64, f64)> = (states.iter())
-                .map(|r| (r.stiffness_n_per_m2 * nip.segment_length, r.overlap))
-                .collect();
-            let mut best: Option<MapPoint> = None;
-            for (i, (w, phi, part, _)) in cand.iter().enumerate() {
-                let kc: f64 = part.iter().zip(&lin).map(|(p, l)| l.0 * p * p).sum();
-                let mu = part
-                    .iter()
-                    .zip(&lin)
-                    .map(|(p, l)| l.1 * l.0 * p * p)
-                    .sum::<f64>()
-                    / kc;
-                let roll = BarringRoll {
-                    mass_kg: 1.0,
-                    damping_ns_m: phi.dot(&(&c * phi)),
-                    stiffness_n_m: w * w,
-                    overlap: mu.min(1.0),
-                };
-                let quasi = if mu > 0.0 {
-                    rightmost(&roll, kc, fc).map_err(|e| e.to_string())?
-                } else {
-                    memoryless(&roll, kc, period)
-                };
-                let mode = NipMode {
-                    roll,
-                    segments: (part.iter().zip(&states))
-                        .map(|(p, r)| (nip.segment_length, *p, r))
-                        .collect(),
-                };
-                let root = exact_root(&mode, &cover, fc, &quasi).ok_or_else(|| {
-                    format!("the exact barring root at {fc} Hz (mode {i}) did not converge")
-                })?;
-                if best
-                    .as_ref()
-                    .is_some_and(|b| b.growth_per_s >= root.growth_per_s)
-                {
-                    continue;
-                }
-                best = Some(MapPoint {
-                    speed_hz: speed,
-                    cover_speed_hz: fc,
-                    stable: root.growth_per_s < 0.0,
-                    growth_per_s: root.growth_per_s,
-                    growth_per_rev: root.growth_per_rev,
-                    frequency_hz: root.frequency_hz,
-                    waves_per_rev: root.waves_per_rev,
-                    polygon_order: root.waves_per_rev.round() as u64,
-                    mode: i,
-                    contact_stiffness_n_per_m: kc,
-                    overlap: mu,
-                });
-            }
-            points.push(best.ok_or("no roll mode takes part in the nip")?);
+            points.push(rolling_point(
+                &sys,
+                (ni, &nip, &cover),
+                &q0,
+                &m,
+                speed * cover_factor,
+                speed,
+            )?);
         }
         let onset = points.iter().position(|p| !p.stable).map(|i| {
             let p = &points[i];

@@ -30,6 +30,10 @@
 //! - [`barring`]: the barring (regenerative) stability of a roll mode on a cover with one
 //!   revolution's memory: the limiting nip contact stiffness over speed, polygon order at onset
 //!   and growth rates (a delay equation, Chebyshev collocation);
+//! - [`barring_coupled`]: the barring roots of a machine's coupled rolls in a viscoelastic nip
+//!   (the characteristic equation over every coordinate, Newton's method on its determinant);
+//! - [`barring_machine`]: the barring map of a machine over speed × nip load (the `barring`
+//!   command);
 //! - [`scene_system`]: a scene's system for the commands, failures as input errors naming the
 //!   scene.
 //!
@@ -43,6 +47,7 @@
 //! coordinates), exact for an axisymmetric rotor.
 
 pub mod barring;
+pub mod barring_coupled;
 pub mod barring_machine;
 pub mod basis;
 pub mod campbell;

@@ -15,9 +15,10 @@ use crate::store;
 /// end): group `barring/<nip>` with the axes `loads_kn_per_m` [kN/m] and `speeds_hz` [Hz] as
 /// dimension scales, the [loads × speeds] datasets `growth_per_s` [1/s], `growth_per_rev` [-],
 /// `frequency_hz` [Hz], `waves_per_rev` [-], `polygon_order` [-], `stable` [1 stable, 0 not],
-/// `contact_stiffness_n_per_m` [N/m], `overlap` [-], and per load `onset_speed_hz` [Hz] and
-/// `onset_polygon_order` [-] (NaN: stable over the grid); the JSON of the map as the group's
-/// `json` attribute.
+/// `contact_stiffness_n_per_m` [N/m] and `overlap` [-] (the nip's quasi-static rolling
+/// stiffness and mean overlap at each point's rolling equilibrium), and per load
+/// `onset_speed_hz` [Hz] and `onset_polygon_order` [-] (NaN: stable over the grid); the JSON of
+/// the map as the group's `json` attribute.
 pub fn write_h5(
     map: &BarringMap,
     path: &Path,

@@ -17,6 +17,7 @@ fn no_hdf5_file_locks() {
 mod analysis_study;
 mod balancing;
 mod barring;
+mod barring_machine_time;
 mod barring_time;
 mod bdf_tolerance;
 mod beam_closed_forms;

@@ -5,13 +5,15 @@
 //! with a trailing `rpm` in rev/min), `--loads-kn-per-m A,B,…` (default the nip's own line
 //! load), `--nip NAME` (default the first viscoelastic nip), `--set KEY=VALUE`, `--json`,
 //! `-o MAP.h5` (`--overwrite`). Out: a table per load (speed, covered roll's revolution
-//! frequency, stable or not, growth rate [1/s], waves per revolution, polygon order, mode) and
+//! frequency, stable or not, growth rate [1/s], frequency [Hz], waves per revolution, polygon
+//! order, the nip's share of the root, closed segments at the rolling equilibrium) and
 //! the onset speed with its polygon order; with `--json` the [`BarringMap`] as one object
 //! (`nip`, `covered_roll`, `cover_speed_per_speed`, `speeds_hz`, `loads_kn_per_m`, `loads`: per
 //! load `line_load_kn_per_m`, `nip_force_n`, `closed_segments`, `max_penetration_um`, `modes`
 //! {`freq_hz`, `damping_ratio`, `nip_share`}, `points` {`speed_hz`, `cover_speed_hz`, `stable`,
-//! `growth_per_s`, `growth_per_rev`, `frequency_hz`, `waves_per_rev`, `polygon_order`, `mode`,
-//! `contact_stiffness_n_per_m`, `overlap`}, `onset` {`speed_hz`, `last_stable_hz`,
+//! `growth_per_s`, `growth_per_rev`, `frequency_hz`, `waves_per_rev`, `polygon_order`,
+//! `nip_share`, `closed_segments`, `max_penetration_um`, `contact_stiffness_n_per_m`,
+//! `overlap`}, `onset` {`speed_hz`, `last_stable_hz`,
 //! `cover_speed_hz`, `polygon_order`, `waves_per_rev`, `growth_per_s`} or null); `-o` the HDF5
 //! layout of [`rotorsweep::results::barring_file::write_h5`].
 
@@ -62,26 +64,28 @@ fn print(map: &BarringMap) {
     );
     for l in &map.loads {
         println!(
-            "\nline load {} kN/m: nip force {:.0} N, {} closed segments, largest penetration {:.1} um",
+            "\nline load {} kN/m: nip force {:.0} N, at standstill {} closed segments, largest penetration {:.1} um",
             l.line_load_kn_per_m, l.nip_force_n, l.closed_segments, l.max_penetration_um
         );
         for (i, m) in l.modes.iter().enumerate() {
             println!(
-                "  mode {i}: {:.3} Hz, damping ratio {:.4}, nip share {:.3}",
+                "  roll mode {i} (nip open): {:.3} Hz, damping ratio {:.4}, nip share {:.3}",
                 m.freq_hz, m.damping_ratio, m.nip_share
             );
         }
-        println!("  speed Hz   cover Hz  stable  growth 1/s  waves/rev  order  mode");
+        println!("  speed Hz   cover Hz  stable  growth 1/s   freq Hz  waves/rev  order  nip share  closed");
         for p in &l.points {
             println!(
-                "  {:8.3}  {:8.3}  {:6}  {:10.4}  {:9.3}  {:5}  {:4}",
+                "  {:8.3}  {:8.3}  {:6}  {:10.4}  {:8.3}  {:9.3}  {:5}  {:9.3}  {:6}",
                 p.speed_hz,
                 p.cover_speed_hz,
                 if p.stable { "yes" } else { "no" },
                 p.growth_per_s,
+                p.frequency_hz,
                 p.waves_per_rev,
                 p.polygon_order,
-                p.mode
+                p.nip_share,
+                p.closed_segments
             );
         }
         match &l.onset {
