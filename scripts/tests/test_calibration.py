@@ -7,8 +7,9 @@ fitted k must follow the closed form's scaling k = k0 (8 Hz / f(k0))^2 from the 
 The binary is $ROTORSWEEP_BIN (scripts/python-test sets it), as in test_results.py.
 
 The same file's figures (``python -m rotorsweep.figures CAL.h5``, module
-rotorsweep/figures/calibration.py) are written and non-empty; the records figure, which this
-calibration has no rows for, is drawn from rows as a record calibration stores them.
+rotorsweep/figures/calibration.py) are written and non-empty; the records and resonance
+figures, which this calibration has no rows for, are drawn from rows as a calibration with
+``[[records]]`` and ``[[resonances]]`` stores them.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import pytest
 
 import rotorsweep as rs
 from rotorsweep import figures
-from rotorsweep.figures.calibration import record_rows, residuals
+from rotorsweep.figures.calibration import record_rows, resonances, residuals
 from test_plots import check_png
 from test_results import ROOT, binary, run_ok
 
@@ -86,7 +87,8 @@ def test_calibration_figures_are_written(calibrated: Path, tmp_path: Path) -> No
 
 def record_table() -> pd.DataFrame:
     """Rows as a ``[[records]]`` calibration stores them (src/calibration/record.rs): the real
-    and imaginary part of two channels' 1x at 20 speeds, then one resonance row."""
+    and imaginary part of two channels' 1x at 20 speeds, then one resonance table's speed and
+    amplitude rows."""
     rows = []
     for channel in ("disk/vertical", "disk/horizontal"):
         for k, speed in enumerate(np.linspace(40.0, 48.0, 20)):
@@ -99,6 +101,9 @@ def record_table() -> pd.DataFrame:
     rows.append(dict(target="resonances[0].speed_hz", line=3,
                      output="peak_speed_hz:disk/vertical:1x", job=0, measured=44.0, std=0.1,
                      weight=1.0, initial=43.5, model=44.05, residual=0.5))
+    rows.append(dict(target="resonances[0].amplitude_um", line=5,
+                     output="peak_amplitude_um:disk/vertical:1x", job=0, measured=1500.0,
+                     std=30.0, weight=1.0, initial=1300.0, model=1490.0, residual=-1.0 / 3.0))
     return pd.DataFrame(rows)
 
 
@@ -119,4 +124,14 @@ def test_record_rows_are_drawn_over_speed(tmp_path: Path) -> None:
     # The residuals: the stored residual at the fit, grouped by channel and kind.
     fig = residuals(rows, "records")
     labels = fig.axes[0].get_legend_handles_labels()[1]
-    assert labels == ["record disk/vertical 1x", "record disk/horizontal 1x", "peak_speed_hz"]
+    assert labels == ["record disk/vertical 1x", "record disk/horizontal 1x", "peak_speed_hz",
+                      "peak_amplitude_um"]
+    # The resonance table's point: measured, start and fit at (speed, amplitude) as stored.
+    fig = resonances(rows, "records")
+    ax = fig.axes[0]
+    points = [(ln.get_marker(), float(ln.get_xdata()[0]), float(ln.get_ydata()[0]))
+              for ln in ax.get_lines() if len(ln.get_xdata())]
+    assert ("o", 44.0, 1500.0) in points
+    assert ("s", 43.5, 1300.0) in points
+    assert ("D", 44.05, 1490.0) in points
+    assert ax.get_legend_handles_labels()[1][0] == "disk/vertical:1x"

@@ -93,7 +93,9 @@ the corrections (plane z, mass, angle) in the title.
 Of a calibration results file (``rotorsweep calibrate -o``, :mod:`.calibration`, from
 :func:`rotorsweep.calibration`), only its own: ``calibration_rows.png`` (the rows of resonance,
 frequency and output targets, a panel per kind of output, grouped by order: measured ± σ and the
-model at the start and at the fit), ``calibration_records.png`` (a record's rows, the real and
+model at the start and at the fit), ``calibration_resonances.png`` (each resonance table's
+speed and amplitude as a point: measured ± σ, the model from the start to the fit),
+``calibration_records.png`` (a record's rows, the real and
 imaginary part of the complex order amplitude [µm] over the block's speed [Hz], a column per
 channel and order), ``calibration_residuals.png`` (every row's √w (model − measured)/σ at the
 start and at the fit), ``calibration_cost.png`` (the cost of every evaluation by role, the

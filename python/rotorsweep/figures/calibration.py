@@ -3,7 +3,7 @@ measured and modelled, their normalised residuals, the cost over the evaluations
 parameter's path.
 
 In: the calibration results file, read with :func:`rotorsweep.calibration` (every number as the
-calibration wrote it; docs/calibration.md lists the layout). Out: up to five figures, each only
+calibration wrote it; docs/calibration.md lists the layout). Out: up to six figures, each only
 when the file holds its rows:
 
 * ``calibration_rows.png``: every row that is not a record's (``[[targets]]``,
@@ -12,6 +12,10 @@ when the file holds its rows:
   grouped by order (``2x`` rows together, then ``3x``, …) and sensor: measured ± σ (black, error
   bar), the model at the start (grey square) and at the fit (blue diamond); a log scale where the
   panel's values are positive and span more than a decade;
+* ``calibration_resonances.png``: each ``[[resonances]]`` table that gives both a speed and an
+  amplitude as a point in the plane of resonance speed [Hz] and amplitude [µm]: measured with
+  ± σ in both, the model at the start (square) and at the fit (diamond) joined by an arrow, a
+  colour per table (its channel and order);
 * ``calibration_records.png``: the rows of ``[[records]]`` (``order_re_um`` / ``order_im_um``,
   the real and imaginary part of a measured block's complex order amplitude [µm]) over the
   block's speed [Hz], a column per record channel, order and job, the real part above the
@@ -195,6 +199,66 @@ def record_rows(rows: pd.DataFrame, title: str) -> Figure | None:
     return fig
 
 
+#: A resonance row's target key: ``resonances[<k>].speed_hz`` or ``….amplitude_um``.
+RESONANCE_TARGET = re.compile(r"^(?P<table>resonances\[\d+\])\.(?P<what>speed_hz|amplitude_um)$")
+
+
+def resonance_pairs(rows: pd.DataFrame) -> pd.DataFrame:
+    """The ``[[resonances]]`` tables that give both a speed and an amplitude row: one row each
+    with the table, its channel and order (``centre/vertical:2x``), and per quantity (``speed``,
+    ``amplitude``) its ``measured``, ``std``, ``initial`` and ``model``."""
+    m = rows["target"].str.extract(RESONANCE_TARGET)
+    on = m["table"].notna()
+    if not on.any():
+        return pd.DataFrame()
+    r = rows[on].assign(table=m.loc[on, "table"], what=m.loc[on, "what"])
+    wide = r.pivot(index="table", columns="what",
+                   values=["measured", "std", "initial", "model", "output"])
+    if ("measured", "speed_hz") not in wide or ("measured", "amplitude_um") not in wide:
+        return pd.DataFrame()
+    wide = wide.dropna(subset=[("measured", "speed_hz"), ("measured", "amplitude_um")])
+    out = pd.DataFrame(index=wide.index)
+    out["label"] = wide[("output", "amplitude_um")].str.partition(":")[2]
+    for q, what in (("speed", "speed_hz"), ("amplitude", "amplitude_um")):
+        for c in ("measured", "std", "initial", "model"):
+            out[f"{q}_{c}"] = wide[(c, what)].astype(float)
+    # The file's order of the tables.
+    return out.loc[[t for t in dict.fromkeys(r["table"]) if t in out.index]]
+
+
+def resonances(rows: pd.DataFrame, title: str) -> Figure | None:
+    """``calibration_resonances.png`` (module doc); None without a resonance table that gives
+    both a speed and an amplitude."""
+    pairs = resonance_pairs(rows)
+    if pairs.empty:
+        return None
+    fig = figure(figsize=(8.0, 5.6))
+    ax = fig.subplots()
+    for i, (_, p) in enumerate(pairs.iterrows()):
+        colour = f"C{i % 10}"
+        ax.errorbar(p["speed_measured"], p["amplitude_measured"], xerr=p["speed_std"],
+                    yerr=p["amplitude_std"], fmt="o", color=colour, ms=6, capsize=3,
+                    label=p["label"])
+        ax.plot(p["speed_initial"], p["amplitude_initial"], "s", mfc="none", mec=colour, ms=7)
+        ax.plot(p["speed_model"], p["amplitude_model"], "D", color=colour, ms=6)
+        ax.annotate("", xy=(p["speed_model"], p["amplitude_model"]),
+                    xytext=(p["speed_initial"], p["amplitude_initial"]),
+                    arrowprops=dict(arrowstyle="->", color=colour, lw=0.8, alpha=0.7))
+    values = pairs[["amplitude_measured", "amplitude_initial", "amplitude_model"]].to_numpy(float)
+    if _log_fit(values.ravel()):
+        ax.set_yscale("log")
+    ax.set_xlabel("resonance speed [Hz]")
+    ax.set_ylabel("resonance amplitude [µm]")
+    ax.grid(alpha=0.3, which="both")
+    handles, labels = ax.get_legend_handles_labels()
+    handles += [ax.plot([], [], "s", mfc="none", mec="k")[0], ax.plot([], [], "D", color="k")[0]]
+    labels += ["model at start", "model at fit"]
+    fig.legend(handles, labels, fontsize="small", ncols=min(len(labels), 4),
+               loc="outside lower center")
+    fig.suptitle(f"{title}: resonances, measured ± σ, model from the start (□) to the fit (◆)")
+    return fig
+
+
 def residuals(rows: pd.DataFrame, title: str) -> Figure | None:
     """``calibration_residuals.png`` (module doc); None without rows."""
     if rows.empty:
@@ -357,6 +421,7 @@ def calibration_figures(path: PathLike) -> list[tuple[str, Figure | None]]:
     rows, ev, params = c["rows"], c["evaluations"], c["parameters"]
     return [
         ("calibration_rows.png", target_rows(rows, title)),
+        ("calibration_resonances.png", resonances(rows, title)),
         ("calibration_records.png", record_rows(rows, title)),
         ("calibration_residuals.png", residuals(rows, title)),
         ("calibration_cost.png", cost(ev, c["attrs"], title)),
