@@ -43,10 +43,12 @@ def calibration(path: PathLike) -> dict[str, Any]:
         evaluations = _table(g["evaluations"])
         values = g["values"][()]
         outputs = g["outputs"][()]
-    for k, name in enumerate(names):
-        evaluations[f"value:{name}"] = values[:, k] if len(evaluations) else []
-    for i, target in enumerate(rows["target"]):
-        evaluations[f"output:{target}"] = outputs[:, i] if len(evaluations) else []
+    # One concat, not a column at a time (hundreds of record rows fragment the frame).
+    extra = {f"value:{name}": values[:, k] if len(evaluations) else []
+             for k, name in enumerate(names)}
+    extra.update({f"output:{target}": outputs[:, i] if len(evaluations) else []
+                  for i, target in enumerate(rows["target"])})
+    evaluations = pd.concat([evaluations, pd.DataFrame(extra, index=evaluations.index)], axis=1)
     return {
         "parameters": parameters,
         "rows": rows,

@@ -2,12 +2,14 @@
 //! table it holds data for, in the report's order (`solver`, `resonances`, `trial_mass`,
 //! `balancing` and `balancing_residual`, `orders`, `order_resonances`, `stability`, `nips`,
 //! `linear`,
-//! and of a sampled study `statistics`, `sensitivity` and `samples`).
+//! and of a sampled study `statistics`, `sensitivity` and `samples`), or of a calibration its
+//! four `calibration_*` tables.
 //!
 //! In: an assembled results file of `rotorsweep run` or `merge` (attribute `study_name`, group
 //! `jobs`; the stored study text gives the `[analysis]` baseline and the labelled axes), or of
 //! `rotorsweep linear -o` (a `linear` group without `study_name`; its study name is its
-//! systems' names). Out: the [`Report`] with a one-line overview (job count by status, the
+//! systems' names), or of `rotorsweep calibrate -o` (attribute `kind = "calibration"`; its
+//! name, the fit's summary as the overview, `tables/calibration.rs`). Out: the [`Report`] with a one-line overview (job count by status, the
 //! varying keys). Errors name the file: missing, not HDF5, not a results file, or unreadable.
 
 use std::path::Path;
@@ -17,9 +19,10 @@ use hdf5::File;
 use super::jobs::{read_jobs, Job, INTEGRATOR_KEY};
 use super::table::{position_or_push, Report};
 use super::tables::{
-    balancing_tables, linear_table, nips_table, order_resonance_table, orders_table,
-    per_grid_point, resonance_table, samples_table, sensitivity_table, solver_table,
-    stability_table, statistics_table, trial_mass_table, Builder,
+    balancing_tables, calibration_overview, calibration_tables, is_calibration, linear_table,
+    nips_table, order_resonance_table, orders_table, per_grid_point, resonance_table,
+    samples_table, sensitivity_table, solver_table, stability_table, statistics_table,
+    trial_mass_table, Builder,
 };
 use crate::error::InputError;
 use crate::results::request::{analysis_of_text, StudyAnalysis};
@@ -70,9 +73,19 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
         InputError::new(
             path,
             "not a study results file of `rotorsweep run` (no `study_name` attribute or no \
-             `jobs` group) nor a `rotorsweep linear -o` file (no `linear` group)",
+             `jobs` group), a `rotorsweep linear -o` file (no `linear` group) nor a `rotorsweep \
+             calibrate -o` file (no `kind = \"calibration\"` attribute)",
         )
     };
+    let failed = |e: hdf5::Error| InputError::new(path, format!("reading the results: {e}"));
+    if is_calibration(&f) {
+        return Ok(Report {
+            file: path.to_path_buf(),
+            study: store::read_str(&f, "name").map_err(failed)?,
+            overview: calibration_overview(&f).map_err(failed)?,
+            tables: calibration_tables(&f).map_err(failed)?,
+        });
+    }
     let linear_only = store::read_str(&f, "study_name").is_err() && f.group("linear").is_ok();
     let study = if linear_only {
         let names = f.group("linear").and_then(|g| g.member_names());
@@ -98,7 +111,6 @@ pub fn read(path: &Path) -> Result<Report, InputError> {
             .map(|a| a.keys[0].as_str())
     });
     let varying = store::varying_keys(&f);
-    let failed = |e: hdf5::Error| InputError::new(path, format!("reading the results: {e}"));
     let jobs = read_jobs(&f, &varying, &axes).map_err(failed)?;
     let mut tables = Vec::new();
     if !jobs.is_empty() {

@@ -25,13 +25,29 @@ fn study(dir: &std::path::Path) -> std::path::PathBuf {
     )
 }
 
-fn options(out: &std::path::Path) -> Options {
+/// Calibration options for a test: `out`, two threads, no overwrite.
+pub(crate) fn options(out: &std::path::Path) -> Options {
     Options {
         output: out.to_path_buf(),
         threads: 2,
         overwrite: false,
         command: "test".into(),
     }
+}
+
+/// Writes `study.toml` in `dir`: the rigid Jeffcott rotor (studies/scenes/rigid-jeffcott.toml)
+/// at 5 Hz for `t_end_s` (0.1 s settling), then `tail` (more tables).
+pub(crate) fn rigid_study(dir: &std::path::Path, t_end_s: f64, tail: &str) -> std::path::PathBuf {
+    let scene = support::repo().join("studies/scenes/rigid-jeffcott.toml");
+    write_file(
+        dir,
+        "study.toml",
+        &format!(
+            "name = \"rigid\"\nscene = {:?}\n[set]\n\"simulation.t_end_s\" = {t_end_s:?}\n\
+             \"simulation.settle_s\" = 0.1\n[[axes]]\nkey = \"speed.hz\"\nvalues = [5.0]\n{tail}",
+            scene.display().to_string()
+        ),
+    )
 }
 
 /// Writes `body` (a study without its scene) as `file` in `dir` with the Jeffcott scene
@@ -132,16 +148,7 @@ fn a_killed_calibration_resumes_to_the_fit_of_an_uninterrupted_one() {
     use std::process::Command;
     use std::time::{Duration, Instant};
     let d = scratch("calibration-kill");
-    let scene = support::repo().join("studies/scenes/rigid-jeffcott.toml");
-    write_file(
-        &d,
-        "study.toml",
-        &format!(
-            "name = \"rigid\"\nscene = {:?}\n[set]\n\"simulation.t_end_s\" = 10.0\n\
-             \"simulation.settle_s\" = 0.1\n[[axes]]\nkey = \"speed.hz\"\nvalues = [5.0]\n",
-            scene.display().to_string()
-        ),
-    );
+    rigid_study(&d, 10.0, "");
     let keys = "[\"supports[0].spring.kx_n_per_m\", \"supports[0].spring.ky_n_per_m\", \
                 \"supports[1].spring.kx_n_per_m\", \"supports[1].spring.ky_n_per_m\"]";
     write_file(

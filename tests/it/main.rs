@@ -55,6 +55,7 @@ mod mutation;
 mod nips;
 mod reduction;
 mod report;
+mod report_calibration;
 mod report_html;
 mod report_linear;
 mod report_nips;

@@ -1,8 +1,8 @@
 """PNG figures of a rotorsweep results file.
 
 In: an HDF5 results file of ``rotorsweep run`` or ``merge`` (a study), of ``rotorsweep
-simulate -o`` (laid out as a study of one job) or of ``rotorsweep linear -o`` (linearised
-systems); optionally the JSON of ``rotorsweep balance FILE --json [--check]`` (``--balance``), a
+simulate -o`` (laid out as a study of one job), of ``rotorsweep linear -o`` (linearised
+systems) or of ``rotorsweep calibrate -o`` (a calibration); optionally the JSON of ``rotorsweep balance FILE --json [--check]`` (``--balance``), a
 simulated results file to compare a measured record with (``--compare``), and the JSON of
 ``rotorsweep report FILE --format json`` (``--tables``: the error classes and the text of the
 numbers the labels write, below).
@@ -89,6 +89,18 @@ Last, with ``--balance JSON`` (:mod:`.balance`): ``balancing.png``, the 1× ampl
 per sensor and direction, one panel per speed: the reference run, the influence coefficients'
 prediction after the corrections and, with ``--check``, the check run with its reduction [%];
 the corrections (plane z, mass, angle) in the title.
+
+Of a calibration results file (``rotorsweep calibrate -o``, :mod:`.calibration`, from
+:func:`rotorsweep.calibration`), only its own: ``calibration_rows.png`` (the rows of resonance,
+frequency and output targets, a panel per kind of output, grouped by order: measured ± σ and the
+model at the start and at the fit), ``calibration_resonances.png`` (each resonance table's
+speed and amplitude as a point: measured ± σ, the model from the start to the fit),
+``calibration_records.png`` (a record's rows, the real and
+imaginary part of the complex order amplitude [µm] over the block's speed [Hz], a column per
+channel and order), ``calibration_residuals.png`` (every row's √w (model − measured)/σ at the
+start and at the fit), ``calibration_cost.png`` (the cost of every evaluation by role, the
+accepted path, and the cost per iteration) and ``calibration_parameters.png`` (each parameter's
+value at every evaluation, the accepted path, its bounds and the fit ± standard error).
 
 With ``--compare SIMULATED.h5`` instead (:mod:`.compare`; FILE a measured record of ``rotorsweep
 import``, SIMULATED the model's run-up, one ramp job each, as ``rotorsweep report MEASURED

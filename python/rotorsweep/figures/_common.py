@@ -73,8 +73,8 @@ def check_results_file(path: PathLike) -> bool:
     if tool != "rotorsweep" or not (has_summary or has_linear):
         raise PlotError(
             f"{path}: not a rotorsweep study results file (no /summary table; "
-            "`rotorsweep run STUDY -o OUT.h5` writes one) nor a `rotorsweep linear -o` file "
-            "(no /linear group)"
+            "`rotorsweep run STUDY -o OUT.h5` writes one), a `rotorsweep linear -o` file "
+            "(no /linear group) nor a `rotorsweep calibrate -o` file (no kind = calibration)"
         )
     return has_summary
 

@@ -26,6 +26,7 @@ from ._common import (
     settings,
 )
 from .balance import balancing, read_balance
+from .calibration import calibration_figures, is_calibration
 from .compare import compare_figures
 from .jobs import stability, timing, work_precision_pages
 from .linear import campbell, linear_figures, linear_groups, study_systems
@@ -69,6 +70,11 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
         figures = compare_figures(path, compare, None if channel is None
                                   else channel.partition("/")[0], report.numbers)
         return _write(figures, outdir)
+    if is_calibration(path):
+        if balance is not None:
+            raise PlotError(f"{balance}: balancing needs a study results file, not the "
+                            f"calibration {path}")
+        return _write(calibration_figures(path), outdir)
     study_file = check_results_file(path)
     balanced = None if balance is None else read_balance(balance)
     if balanced is not None and not study_file:
@@ -192,10 +198,12 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         "trial-mass response, work-precision, timing, stability, Campbell; per ramp job a "
         "waterfall, order map and order-tracked Bode plot) or of a "
         "`rotorsweep linear -o` file (Campbell, mode shapes, Bode, polar, critical-speed map, "
-        "Floquet). Prints the paths written, one a line.",
+        "Floquet), or of a `rotorsweep calibrate -o` file (target rows, records, residuals, "
+        "cost and parameter paths). Prints the paths written, one a line.",
     )
     p.add_argument(
-        "results", type=Path, help="results file of `rotorsweep run`, `merge` or `linear -o`"
+        "results", type=Path,
+        help="results file of `rotorsweep run`, `merge`, `linear -o` or `calibrate -o`"
     )
     p.add_argument(
         "-o", "--outdir", type=Path, help="folder for the PNGs (default: OUT-plots beside OUT.h5)"

@@ -1,5 +1,5 @@
-//! `rotorsweep report`: the tables of a study results file (or a `rotorsweep linear -o` or
-//! `simulate -o` file) on standard output, or as one self-contained HTML page.
+//! `rotorsweep report`: the tables of a study results file (or a `rotorsweep linear -o`,
+//! `simulate -o` or `calibrate -o` file) on standard output, or as one self-contained HTML page.
 //!
 //! `--format html` adds the figures of the Python package (`python -m rotorsweep.figures`;
 //! which Python, the time limit and what happens without one: `rotorsweep::report::figures`),
@@ -24,7 +24,8 @@ use crate::error::CliError;
 /// Arguments of `rotorsweep report`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Results file (HDF5) of `rotorsweep run`, `merge`, `simulate -o` or `linear -o`.
+    /// Results file (HDF5) of `rotorsweep run`, `merge`, `simulate -o`, `linear -o` or
+    /// `calibrate -o`.
     file: PathBuf,
     /// Output format: md (markdown), csv (each table after `# title` and `# legend` lines),
     /// json, or html (one self-contained page with the figures; give -o).
@@ -32,8 +33,10 @@ pub struct Args {
     format: Format,
     /// Only this table: solver, resonances, trial_mass, balancing, balancing_residual,
     /// stability, linear, orders, order_resonances, nips, or of a sampled study statistics,
-    /// sensitivity or samples; with --compare, compare or compare_resonances (in CSV without
-    /// the title lines, so that pandas.read_csv reads it).
+    /// sensitivity or samples, or of a calibration (`calibrate -o`) calibration_parameters,
+    /// calibration_rows, calibration_correlation or calibration_evaluations; with --compare,
+    /// compare or compare_resonances (in CSV without the title lines, so that pandas.read_csv
+    /// reads it).
     #[arg(long, value_name = "NAME")]
     table: Option<String>,
     /// Write the HTML page to this file (with --format html) instead of standard output.

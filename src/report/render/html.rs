@@ -46,7 +46,7 @@ fn esc_code(text: &str) -> String {
 }
 
 /// What each figure of `scripts/plots.py` shows, by the start of its file name.
-const FIGURE_CAPTIONS: [(&str, &str); 19] = [
+const FIGURE_CAPTIONS: [(&str, &str); 25] = [
     ("spectral_map", "Spectral map: amplitude of the runout's fluctuating part (mean removed) over frequency and speed, the roll's orders solid, the rollers' lines dashed"),
     ("harmonics", "Amplitude of each analysed order over speed"),
     ("trial_mass", "1× response to the trial masses against the baseline"),
@@ -66,6 +66,12 @@ const FIGURE_CAPTIONS: [(&str, &str); 19] = [
     ("balancing", "Balancing: 1× before, predicted after and in the check run, per sensor and speed"),
     ("compare_waterfall", "Measured and simulated waterfalls side by side over frequency and speed, on one colour scale"),
     ("compare_orders", "Tracked order amplitudes over speed, measured solid, simulated dashed"),
+    ("calibration_rows", "Calibration: each target row measured ± σ and the model at the start and at the fit, a panel per kind of output, grouped by order"),
+    ("calibration_resonances", "Calibration: each resonance (speed and amplitude) measured ± σ, and the model's moving from the start to the fit"),
+    ("calibration_records", "Calibration: a measured record's complex order amplitude (real and imaginary part) over speed, measured ± σ and the model at the start and at the fit"),
+    ("calibration_residuals", "Calibration: each row's normalised residual √w (model − measured)/σ at the start and at the fit"),
+    ("calibration_cost", "Calibration: the cost of every evaluation and the accepted path, and the cost per iteration"),
+    ("calibration_parameters", "Calibration: each parameter's value over the evaluations, its bounds and the fit ± its standard error"),
 ];
 
 /// The caption of a figure file.

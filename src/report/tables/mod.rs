@@ -4,6 +4,7 @@
 //! [`Table`](super::Table), or none when the file holds nothing for it.
 
 mod balancing;
+mod calibration;
 mod linear;
 mod nips;
 pub(crate) mod orders;
@@ -18,6 +19,9 @@ mod statistics;
 mod trial_mass;
 
 pub(crate) use balancing::balancing_tables;
+pub(crate) use calibration::{
+    calibration_overview, calibration_tables, is_calibration, CALIBRATION_TABLES,
+};
 pub(crate) use linear::linear_table;
 pub(crate) use nips::nips_table;
 pub(crate) use orders::{order_resonance_table, orders_table, records, OrderRow};
