@@ -13,11 +13,16 @@ In: the model kind and size, an output folder (new). Out, SI units (kg, m, N, s,
   neighbours a node), lumped mass 0.01 kg a node. DOFs = 3 nx ny nz. Interface: three corner
   nodes of the z = 0 face and three of the far face. A 3-D pattern: the factor fills in far
   more than the chain's.
+With `--nastran` the same matrices also as Nastran files with their scenes: `body.bdf` (DMIG
+cards MAAX and KAAX, free field, IFO 6 (the lower triangle), TIN 2, values in their shortest
+round-trip form) with `dmig.toml`, and `body.op4` (ASCII OUTPUT4, BIGMAT sparse strings, both
+triangles, `1P,3E23.16`: 17 significant digits) with `op4.toml`: the same numbers as the
+Matrix Market files, so `rotorsweep reduce` gives the same reduction from each.
 Method: numpy and scipy.sparse (duplicates summed), scipy.io.mmwrite's lower triangle with a
 `% units: SI` line. Do not commit the output: 100 000 DOFs are some 100 MB of text.
 
 Usage: make-fe-model.py chain --dofs 100000 -o DIR
-       make-fe-model.py lattice --dofs 100000 -o DIR
+       make-fe-model.py lattice --dofs 100000 [--nastran] -o DIR
 """
 
 import argparse
@@ -114,11 +119,59 @@ def lattice(dofs):
     return k, m, xyz, node_dofs, named
 
 
+def write_dmig(path, mats, node, dof):
+    """DMIG cards (module doc): one column card per column, two entries a continuation."""
+    with open(path, "w") as f:
+        f.write("$ units: SI\n")
+        for name, mat in mats:
+            low = sp.tril(mat).tocsc()
+            low.eliminate_zeros()
+            f.write(f"DMIG,{name},0,6,2,0\n")
+            for j in range(low.shape[0]):
+                rows = low.indices[low.indptr[j]:low.indptr[j + 1]]
+                vals = low.data[low.indptr[j]:low.indptr[j + 1]]
+                if len(rows) == 0:
+                    continue
+                cells = [f"{node[i] + 1},{dof[i] + 1},{float(v)!r},"
+                         for i, v in zip(rows, vals)]
+                lines = [",".join(cells[:1])] + [",".join(cells[n:n + 2])
+                                                  for n in range(1, len(cells), 2)]
+                f.write(f"DMIG,{name},{node[j] + 1},{dof[j] + 1},," + "\n,".join(lines) + "\n")
+
+
+def write_op4(path, mats):
+    """ASCII OP4, BIGMAT sparse strings (module doc): each run of consecutive non-zero rows of a
+    column is a string, its header L + 1 and IROW (L in words, two per value)."""
+    with open(path, "w") as f:
+        for name, mat in mats:
+            # Both triangles from the lower one (the one the other files hold): an assembled
+            # matrix's triangles may differ in the last bits.
+            low = sp.tril(mat).tocsr()
+            low.eliminate_zeros()
+            full = (low + sp.tril(low, -1).T).tocsc()
+            full.sort_indices()
+            n = full.shape[0]
+            f.write(f"{n:>8}{-n:>8}{6:>8}{2:>8}{name:<8}1P,3E23.16\n")
+            for j in range(n):
+                rows = full.indices[full.indptr[j]:full.indptr[j + 1]]
+                vals = full.data[full.indptr[j]:full.indptr[j + 1]]
+                breaks = np.flatnonzero(np.diff(rows) != 1) + 1
+                runs = list(zip(np.split(rows, breaks), np.split(vals, breaks)))
+                nw = sum(2 + 2 * len(r) for r, _ in runs)
+                f.write(f"{j + 1:>8}{0:>8}{nw:>8}\n")
+                for r, v in runs:
+                    f.write(f"{2 * len(r) + 1:>8}{r[0] + 1:>8}\n")
+                    for c in range(0, len(v), 3):
+                        f.write("".join(f"{x:23.16E}" for x in v[c:c + 3]) + "\n")
+            f.write(f"{n + 1:>8}{1:>8}{1:>8}\n{1.0:23.16E}\n")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("kind", choices=["chain", "lattice"])
     p.add_argument("--dofs", type=int, required=True, help="about this many DOFs")
     p.add_argument("-o", "--output", type=Path, required=True, help="new folder")
+    p.add_argument("--nastran", action="store_true", help="also DMIG and OP4 files and scenes")
     a = p.parse_args()
     if a.output.exists():
         sys.exit(f"{a.output}: exists")
@@ -142,6 +195,16 @@ def main():
     (a.output / "scene.toml").write_text(
         f'name = "{a.kind}-{k.shape[0]}"\n[fe]\nmass = "mass.mtx"\nstiffness = "stiffness.mtx"\n'
         f'nodes = "nodes.csv"\ndofs = "dofs.csv"\nunits = "SI"\nnamed = {{ {named_text} }}\n')
+    if a.nastran:
+        write_dmig(a.output / "body.bdf", [("MAAX", m), ("KAAX", k)], node, dof)
+        write_op4(a.output / "body.op4", [("MAAX", m), ("KAAX", k)])
+        names = 'mass_matrix = "MAAX"\nstiffness_matrix = "KAAX"\n'
+        for fmt, file, dofs in [("dmig", "body.bdf", ""), ("op4", "body.op4",
+                                                           'dofs = "dofs.csv"\n')]:
+            (a.output / f"{fmt}.toml").write_text(
+                f'name = "{a.kind}-{k.shape[0]}-{fmt}"\n[fe]\nformat = "{fmt}"\n'
+                f'mass = "{file}"\nstiffness = "{file}"\n{names}nodes = "nodes.csv"\n{dofs}'
+                f'units = "SI"\nnamed = {{ {named_text} }}\n')
     print(f"{a.output}: {a.kind}, {k.shape[0]} DOFs, {sp.tril(k).nnz} + {sp.tril(m).nnz} "
           f"stored entries (K, M lower triangles)")
 

@@ -35,7 +35,9 @@
 //! - [`barring_machine`]: the barring map of a machine over speed × nip load (the `barring`
 //!   command);
 //! - [`scene_system`]: a scene's system for the commands, failures as input errors naming the
-//!   scene.
+//!   scene;
+//! - [`solid_supported`]: a solid body's own modes on the scene's supports at standstill, the
+//!   whole imported model's rather than its reduction's (`rotorsweep reduce --supported`).
 //!
 //! Frames and approximations: every analysis except Floquet works in the **stationary frame**
 //! with the rotor's stationary-frame gyroscopic matrix and its stiffness frozen at roll angle 0:
@@ -60,6 +62,7 @@ pub mod peaks;
 pub mod request;
 pub mod response;
 pub mod scene_system;
+pub mod solid_supported;
 pub mod standstill;
 pub mod statics;
 

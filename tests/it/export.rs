@@ -127,24 +127,76 @@ fn export_command_writes_the_model_folder_and_the_plant_files() {
 /// every write past it fails, as on a full disk) is an I/O error (exit 74) naming the output,
 /// and leaves nothing: neither a part of the file under the name given nor its temporary file.
 /// The reference roll's plant is 60–100 kB in each format, above the 20 KiB limit.
+/// `rotorsweep export ARGS` in `dir` under a file-size limit of 10 kB (`ulimit -f 20`: 512-byte
+/// blocks), a disk that fills up.
+fn export_limited(dir: &std::path::Path, args: &str) -> std::process::Output {
+    std::process::Command::new("sh")
+        .current_dir(dir)
+        .args([
+            "-c",
+            &format!(
+                "ulimit -f 20 && exec {} export {args}",
+                env!("CARGO_BIN_EXE_rotorsweep")
+            ),
+        ])
+        .output()
+        .unwrap()
+}
+
+/// `export --model` on a disk that fills up (a file-size limit of 10 kB, which the first
+/// matrix files of the reference roll exceed) into `a/b/out`, whose parents do not exist: an I/O error (exit 74)
+/// naming the output, and nothing left: not `out`, not the temporary folder beside it, not the
+/// parents it made. Then without the limit the same command writes `a/b/out` whole, with the
+/// permissions of a new folder (not a temporary's 0700), and a second export to it is refused.
+#[test]
+fn a_model_export_that_does_not_fit_leaves_no_folder() {
+    let dir = scratch("export-model-full");
+    let scene = repo().join("studies/scenes/reference-roll.toml");
+    for model in ["full", "reduced"] {
+        let out = export_limited(
+            &dir,
+            &format!("{} --model {model} -o a/b/out", scene.display()),
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(74), "{model}: {err}");
+        assert!(err.contains("error: a/b/out/"), "{model}: {err}");
+        assert!(
+            err.contains("nothing written: a/b/out not created"),
+            "{model}: {err}"
+        );
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert!(left.is_empty(), "{model}: {left:?}");
+    }
+    let out = dir.join("a/b/out");
+    let o = out.to_str().unwrap();
+    rotorsweep_ok(&[
+        "export",
+        scene.to_str().unwrap(),
+        "--model",
+        "full",
+        "-o",
+        o,
+    ]);
+    assert!(out.join("scene.toml").is_file() && out.join("model.h5").is_file());
+    let mode =
+        std::os::unix::fs::PermissionsExt::mode(&std::fs::metadata(&out).unwrap().permissions());
+    assert_ne!(
+        mode & 0o777,
+        0o700,
+        "the folder keeps a temporary's permissions"
+    );
+    let left: Vec<_> = std::fs::read_dir(dir.join("a/b")).unwrap().collect();
+    assert_eq!(left.len(), 1, "{left:?}");
+}
+
 #[test]
 fn a_plant_that_does_not_fit_leaves_no_file() {
     let dir = scratch("export-full");
     let scene = repo().join("studies/scenes/reference-roll.toml");
     for ext in ["mat", "npz", "h5"] {
         let name = format!("plant.{ext}");
-        let out = std::process::Command::new("sh")
-            .current_dir(&dir)
-            .args([
-                "-c",
-                &format!(
-                    "ulimit -f 20 && exec {} export {} --state-space --speed-hz 12 -o {name}",
-                    env!("CARGO_BIN_EXE_rotorsweep"),
-                    scene.display()
-                ),
-            ])
-            .output()
-            .unwrap();
+        let args = format!("{} --state-space --speed-hz 12 -o {name}", scene.display());
+        let out = export_limited(&dir, &args);
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(74), "{name}: {err}");
         assert!(err.contains(&format!("error: {name}: ")), "{name}: {err}");

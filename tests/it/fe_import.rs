@@ -82,6 +82,7 @@ fn abaqus_chain_in_millimetres_has_the_closed_form_eigenvalues() {
     let ns = tables::read_nodes(&nodes, Units::MmTonne).unwrap();
     assert_eq!(ns[1].x, [0.0, 0.0, 0.1], "node coordinates in metres");
     let (mm, kk, dofs) = abaqus::read_pair(&m, &k, &ns, &nodes).unwrap();
+    let (mm, kk) = (mm.dense(&m).unwrap(), kk.dense(&k).unwrap());
     assert_eq!(dofs, vec![Dof { node: 1, dof: 0 }, Dof { node: 2, dof: 0 }]);
     // Both in the same units: the eigenvalues (1/s²) need no scaling.
     let got = eigenvalues(&kk, &mm);

@@ -32,6 +32,7 @@ mod cvode;
 mod dynamics_checks;
 mod error_trust;
 mod export;
+mod fe_formats;
 mod fe_import;
 mod fe_nastran;
 mod fe_rings;

@@ -5,13 +5,15 @@
 //! new folder DIR (with `--model full` also `DIR/scene.toml`, a scene on the exported body), or
 //! the state-space model of [`rotorsweep::export::plant`] in one new file, the format by its
 //! extension; a line saying what was written and how long it took. An existing output is
-//! refused (exit 64).
+//! refused (exit 64). Either output is written whole under a temporary name beside it and takes
+//! its name only when complete ([`write_folder`] for the folder): a failed export leaves nothing.
 
-use std::path::PathBuf;
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use rotorsweep::dynamics::model::Model;
-use rotorsweep::export::model::{write_model, Which};
+use rotorsweep::export::model::{write_model, ExportError, Which, Written};
 use rotorsweep::export::plant::plant;
 use rotorsweep::linear::scene_system::{in_scene, scene_system};
 use rotorsweep::scene::source::Source;
@@ -82,7 +84,7 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         let tmp = tempfile::Builder::new()
             .prefix(".rotorsweep-export-")
             .suffix(".tmp")
-            .permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666))
+            .permissions(std::fs::Permissions::from_mode(0o666))
             .tempfile_in(dir)
             .map_err(|e| {
                 // The folder and the OS's reason: the temporary name is not the user's business.
@@ -116,8 +118,9 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         Some("reduced") => Which::Reduced,
         _ => Which::Full,
     };
-    let w = write_model(&scene, &model, &table, which, &a.output)
-        .map_err(|e| CliError::Io(e.to_string().into()))?;
+    let w = write_folder(&a.output, |dir| {
+        write_model(&scene, &model, &table, which, dir)
+    })?;
     println!(
         "{}: {} model, {} DOFs -> {}/ ({}) in {:.3} s",
         scene.name,
@@ -128,4 +131,107 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         t0.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// Runs `write` on a temporary folder beside `out` (`.rotorsweep-export-…`, in `out`'s parent,
+/// the parents created here if missing) and gives it `out`'s name only when complete and only if
+/// that name is still free (renameat2 with RENAME_NOREPLACE), with the permissions of a new
+/// folder (0777 less the umask). A failure (a full disk, a file-size limit, a folder not
+/// writable, a concurrent export to the same name) removes the temporary folder and every parent
+/// created here, so no half-written folder is left under any name, and is an I/O error (exit 74)
+/// naming `out` (and the file within it that failed).
+fn write_folder(
+    out: &Path,
+    write: impl FnOnce(&Path) -> Result<Written, ExportError>,
+) -> Result<Written, CliError> {
+    let parent = match out.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let made = create_parents(&parent).map_err(|e| {
+        CliError::Io(format!("{}: cannot create its folder: {e}", out.display()).into())
+    })?;
+    let result = (|| {
+        let tmp = tempfile::Builder::new()
+            .prefix(".rotorsweep-export-")
+            // mkdir's mode, less the umask: a new folder's permissions, not a temporary's 0700.
+            .permissions(std::fs::Permissions::from_mode(0o777))
+            .tempdir_in(&parent)
+            .map_err(|e| {
+                CliError::Io(
+                    format!(
+                        "{}: cannot write in the folder {} ({})",
+                        out.display(),
+                        parent.display(),
+                        e.kind()
+                    )
+                    .into(),
+                )
+            })?;
+        let named = |p: &Path| out.join(p.strip_prefix(tmp.path()).unwrap_or(p));
+        let w = write(tmp.path()).map_err(|e| {
+            let what = match &e {
+                ExportError::Io(p, err) => format!("{}: {err}", named(p).display()),
+                ExportError::Hdf5(p, err) => format!("{}: {err}", named(p).display()),
+                other => other.to_string(),
+            };
+            CliError::Io(format!("{what} (nothing written: {} not created)", out.display()).into())
+        })?;
+        let io = |e: std::io::Error| CliError::Io(format!("{}: {e}", out.display()).into());
+        rename_noreplace(tmp.path(), out).map_err(io)?;
+        // The folder now has the output's name: the temporary's guard must not remove it.
+        let _ = tmp.keep();
+        Ok(w)
+    })();
+    if result.is_err() {
+        for d in made.iter().rev() {
+            let _ = std::fs::remove_dir(d);
+        }
+    }
+    result
+}
+
+/// Creates the missing folders of `dir`, returning those it created (outermost first).
+fn create_parents(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut missing = Vec::new();
+    let mut d = Some(dir);
+    while let Some(p) = d.filter(|p| !p.as_os_str().is_empty() && !p.exists()) {
+        missing.push(p.to_path_buf());
+        d = p.parent();
+    }
+    missing.reverse();
+    for (i, p) in missing.iter().enumerate() {
+        if let Err(e) = std::fs::create_dir(p) {
+            for q in missing[..i].iter().rev() {
+                let _ = std::fs::remove_dir(q);
+            }
+            return Err(e);
+        }
+    }
+    Ok(missing)
+}
+
+/// Renames `from` to `to` unless `to` exists (then `AlreadyExists`), atomically.
+fn rename_noreplace(from: &Path, to: &Path) -> std::io::Result<()> {
+    use std::os::unix::ffi::OsStrExt;
+    let c = |p: &Path| {
+        std::ffi::CString::new(p.as_os_str().as_bytes())
+            .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidInput, e))
+    };
+    let (f, t) = (c(from)?, c(to)?);
+    // SAFETY: two valid NUL-terminated paths, relative to the working folder.
+    let r = unsafe {
+        libc::renameat2(
+            libc::AT_FDCWD,
+            f.as_ptr(),
+            libc::AT_FDCWD,
+            t.as_ptr(),
+            libc::RENAME_NOREPLACE,
+        )
+    };
+    if r == 0 {
+        Ok(())
+    } else {
+        Err(std::io::Error::last_os_error())
+    }
 }

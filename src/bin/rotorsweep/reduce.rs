@@ -11,7 +11,9 @@
 //! `attachments.mtx` (array: the attachments' motion from the reduced coordinates, m or rad
 //! per coordinate: a ring's row is its interpolation, [`rotorsweep::rotor::import::rings`]),
 //! `frequencies.csv` (`set,index,hz`: the fixed-interface normal modes, the reduced body's
-//! modes free at its interface and, with `--free`, the whole body's free modes `free-body`)
+//! modes free at its interface, with `--free` the whole body's free modes `free-body` and
+//! with `--supported` the whole body's modes on the scene's supports at standstill
+//! `supported-body`, [`rotorsweep::linear::solid_supported`])
 //! and, with `--free`, `free_modes.mtx` (array, DOFs × modes in the DOF table's order,
 //! M-normalised, m per unit modal coordinate); a line per step with its time. Method:
 //! [`rotorsweep::rotor::import::sparse_body`] and [`rotorsweep::rotor::sparse_reduction`].
@@ -21,15 +23,17 @@
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Instant;
 
 use rotorsweep::error::InputError;
+use rotorsweep::linear::solid_supported::supported_modes;
 use rotorsweep::rotor::import::matrix_market::{format, format_array, Symmetry};
 use rotorsweep::rotor::import::solid::{self, SolidBody};
 use rotorsweep::rotor::import::sparse_body;
 use rotorsweep::rotor::import::tables::DOF_NAMES;
 use rotorsweep::rotor::sparse_reduction::{body_modes, craig_bampton};
-use rotorsweep::scene::{fe_body_files, fe_body_rings};
+use rotorsweep::scene::{fe_body_files, fe_body_rings, Scene};
 
 use crate::error::CliError;
 
@@ -45,6 +49,11 @@ pub struct Args {
     /// `free-body` set and free_modes.mtx.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=1000))]
     free: u32,
+    /// Also the lowest N modes of the whole body on the scene's linear supports and drive at
+    /// standstill (0–1000; 0: none): frequencies.csv's `supported-body` set. The scene must be
+    /// a complete scene (supports, drive) on a solid body.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=1000))]
+    supported: u32,
     /// Output folder (new).
     #[arg(short, long)]
     output: PathBuf,
@@ -68,27 +77,54 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         )
         .into());
     }
-    let body = sparse_body::load(&files)?;
-    let n = body.dofs.len();
+    // With --supported the scene is read whole (its supports and drive), and its solid body
+    // (read once, by the scene) is the one reduced.
+    let scene = if a.supported > 0 {
+        Some(Scene::load(&a.scene, &[])?)
+    } else {
+        None
+    };
+    let scene_solid = scene
+        .as_ref()
+        .and_then(|s| s.body.as_ref())
+        .and_then(|b| b.solid.clone());
+    if scene.is_some() && scene_solid.is_none() {
+        return Err(InputError::new(
+            &a.scene,
+            "--supported needs a solid or shell body (fe.rings): the whole body on the scene's \
+             supports",
+        )
+        .with_key("fe.rings")
+        .into());
+    }
+    let solid: Arc<SolidBody> = match scene_solid {
+        Some(s) => s,
+        None => {
+            let body = sparse_body::load(&files)?;
+            let rings = fe_body_rings(&a.scene, &body.nodes, files.units)?;
+            if named.is_empty() && rings.is_empty() {
+                return Err(InputError::new(
+                    &a.scene,
+                    "fe.named and fe.rings are empty: the named nodes and the rings are the \
+                     reduction's interface",
+                )
+                .with_key("fe.named")
+                .into());
+            }
+            Arc::new(
+                solid::attach(body, &named, &rings, &files.dofs_file())
+                    .map_err(|(key, reason)| InputError::new(&a.scene, reason).with_key(key))?,
+            )
+        }
+    };
+    let n = solid.body.dofs.len();
     println!(
         "read {} DOFs, {} + {} stored entries (M, K) in {:.2} s",
         n,
-        body.mass.nnz(),
-        body.stiffness.nnz(),
+        solid.body.mass.nnz(),
+        solid.body.stiffness.nnz(),
         t0.elapsed().as_secs_f64()
     );
-    let rings = fe_body_rings(&a.scene, &body.nodes, files.units)?;
-    if named.is_empty() && rings.is_empty() {
-        return Err(InputError::new(
-            &a.scene,
-            "fe.named and fe.rings are empty: the named nodes and the rings are the reduction's \
-             interface",
-        )
-        .with_key("fe.named")
-        .into());
-    }
-    let solid = solid::attach(body, &named, &rings, &files.dofs_file())
-        .map_err(|(key, reason)| InputError::new(&a.scene, reason).with_key(key))?;
     let body = &solid.body;
     let boundary = &solid.interface;
     let r = craig_bampton(
@@ -121,6 +157,19 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         Some(f)
     } else {
         None
+    };
+    let supported = match &scene {
+        Some(sc) => {
+            let t = Instant::now();
+            let f = supported_modes(sc, a.supported as usize)
+                .map_err(|(key, reason)| InputError::new(&a.scene, reason).with_key(key))?;
+            println!(
+                "  modes of the whole body on its supports: {:.2} s",
+                t.elapsed().as_secs_f64()
+            );
+            Some(f)
+        }
+        None => None,
     };
     std::fs::create_dir(&a.output)?;
     let write = |name: &str, text: String| -> Result<(), CliError> {
@@ -173,6 +222,12 @@ pub fn run(a: &Args) -> Result<(), CliError> {
                 ),
             ),
         )?;
+    }
+    if let Some(sm) = &supported {
+        for (i, l) in sm.values.iter().enumerate() {
+            let hz = l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
+            let _ = writeln!(f, "supported-body,{},{hz:e}", i + 1);
+        }
     }
     write("frequencies.csv", f)?;
     let (table, rows) = attachments(&solid);

@@ -3,27 +3,26 @@
 //!
 //! In: two files, the mass and the stiffness, each line `row node, row dof, column node, column
 //! dof, value` (DOFs 1–6: u_x, u_y, u_z, θ_x, θ_y, θ_z; comment lines start with `*`), one
-//! triangle or both; the node table, whose ids every line must name. Out: the two dense matrices
-//! over the DOFs that occur in either file, ordered by node id then DOF, and those DOFs; or an
-//! [`InputError`] naming the file and line (a line without five fields, a DOF outside 1–6, a
-//! node the table lacks, an entry given twice, a value that is not a finite number, an empty
-//! file). Method: two passes, the DOFs first, then the entries; an entry whose mirror is not in
-//! the file is mirrored (symmetric storage), both given are kept (the symmetry check of
-//! [`super::body`] then compares them). A third file on the same DOFs (the stress stiffness)
+//! triangle or both; the node table, whose ids every line must name. Out: the two matrices'
+//! [`Entries`] over the DOFs that occur in either file, ordered by node id then DOF, and those
+//! DOFs; or an [`InputError`] naming the file and line (a line without five fields, a DOF
+//! outside 1–6, a node the table lacks, an entry given twice, a value that is not a finite
+//! number, an empty file). Method: two passes, the DOFs first, then the entries; an entry whose mirror is not in
+//! the file is mirrored (symmetric storage), both given are kept (the symmetry checks of
+//! [`super::body`] and [`super::sparse_body`] then compare them). A third file on the same DOFs (the stress stiffness)
 //! is read by [`read_on`].
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use nalgebra::DMatrix;
-
+use super::entries::Entries;
 use super::tables::{Dof, Node};
 use crate::error::{read_text, InputError};
 
 type Entry = ((i64, usize), (i64, usize), f64);
 
 /// The mass and stiffness matrices and their DOFs.
-pub type Pair = (DMatrix<f64>, DMatrix<f64>, Vec<Dof>);
+pub type Pair = (Entries, Entries, Vec<Dof>);
 
 fn entries(
     path: &Path,
@@ -86,13 +85,12 @@ fn assemble(
     path: &Path,
     e: &[(usize, Entry)],
     index: &BTreeMap<(i64, usize), usize>,
-) -> Result<DMatrix<f64>, InputError> {
+) -> Result<Entries, InputError> {
     let n = index.len();
-    let mut a = DMatrix::zeros(n, n);
-    let mut given: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+    let mut given: BTreeMap<(usize, usize), (usize, f64)> = BTreeMap::new();
     for &(no, (r, c, x)) in e {
         let (i, j) = (index[&r], index[&c]);
-        if let Some(first) = given.insert((i, j), no) {
+        if let Some((first, _)) = given.insert((i, j), (no, x)) {
             return Err(InputError::new(
                 path,
                 format!(
@@ -105,14 +103,15 @@ fn assemble(
             )
             .at_line(no));
         }
-        a[(i, j)] = x;
     }
-    for (&(i, j), _) in given.iter() {
+    let mut entries = Vec::with_capacity(2 * given.len());
+    for (&(i, j), &(_, x)) in &given {
+        entries.push((i, j, x));
         if !given.contains_key(&(j, i)) {
-            a[(j, i)] = a[(i, j)];
+            entries.push((j, i, x));
         }
     }
-    Ok(a)
+    Ok(Entries { n, entries })
 }
 
 /// Reads the mass and stiffness files (module doc).
@@ -146,7 +145,7 @@ pub fn read_on(
     dofs: &[Dof],
     nodes: &[Node],
     nodes_file: &Path,
-) -> Result<DMatrix<f64>, InputError> {
+) -> Result<Entries, InputError> {
     let e = entries(path, nodes, nodes_file)?;
     let index: BTreeMap<(i64, usize), usize> = dofs
         .iter()

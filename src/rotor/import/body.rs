@@ -29,6 +29,7 @@ use std::path::Path;
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
+use super::files::{dof_table, same_size, units_check};
 pub use super::files::{BodyFiles, Format, RotatingFiles, StressFiles, StressKind};
 use super::invariants::{invariants, rigid_modes, rotating_terms, Invariants};
 use super::tables::{self, Dof, Node, Units, DOF_NAMES};
@@ -68,24 +69,6 @@ const SYMMETRY_TOLERANCE: f64 = 1e-10;
 struct Read {
     matrix: DMatrix<f64>,
     dofs: Vec<Dof>,
-}
-
-fn units_check(
-    path: &Path,
-    found: &Option<(String, usize)>,
-    units: Units,
-) -> Result<(), InputError> {
-    match found {
-        Some((u, line)) if !u.starts_with(units.name()) => Err(InputError::new(
-            path,
-            format!(
-                "the file is in units `{u}`, the scene says `{}`",
-                units.name()
-            ),
-        )
-        .at_line(*line)),
-        _ => Ok(()),
-    }
 }
 
 fn read_market(path: &Path, units: Units) -> Result<DMatrix<f64>, InputError> {
@@ -135,74 +118,17 @@ fn read_pair(f: &BodyFiles, nodes: &[Node]) -> Result<(Read, DMatrix<f64>), Inpu
         Format::MatrixMarket => {
             let m = read_market(&f.mass, f.units)?;
             let k = read_market(&f.stiffness, f.units)?;
-            same_size(f, &m, &k)?;
-            let dofs = table(f, m.nrows(), nodes)?;
+            same_size(f, m.nrows(), k.nrows())?;
+            let dofs = dof_table(f, m.nrows(), nodes)?;
             Ok((Read { matrix: m, dofs }, k))
         }
-        Format::Abaqus => {
-            let (m, k, dofs) = super::abaqus::read_pair(&f.mass, &f.stiffness, nodes, &f.nodes)?;
-            Ok((Read { matrix: m, dofs }, k))
-        }
-        Format::Dmig => {
-            let ((m, um), (k, uk), dofs) = dmig::read_pair(
-                dmig::Named {
-                    path: &f.mass,
-                    name: f.names.mass.as_deref(),
-                    key: "fe.mass_matrix",
-                },
-                dmig::Named {
-                    path: &f.stiffness,
-                    name: f.names.stiffness.as_deref(),
-                    key: "fe.stiffness_matrix",
-                },
-                nodes,
-                &f.nodes,
-            )?;
-            units_check(&f.mass, &um, f.units)?;
-            units_check(&f.stiffness, &uk, f.units)?;
-            Ok((Read { matrix: m, dofs }, k))
-        }
-        Format::Op4 => {
-            let m = op4::read(&f.mass, f.names.mass.as_deref(), "fe.mass_matrix")?;
-            let k = op4::read(
-                &f.stiffness,
-                f.names.stiffness.as_deref(),
-                "fe.stiffness_matrix",
-            )?;
-            same_size(f, &m, &k)?;
-            let dofs = table(f, m.nrows(), nodes)?;
-            Ok((Read { matrix: m, dofs }, k))
+        // The other formats by the one reader of every format (their entries), made dense.
+        _ => {
+            let ((m, _), (k, _), dofs) = super::sparse_body::read_pair(f, nodes)?;
+            let matrix = m.dense(&f.mass)?;
+            Ok((Read { matrix, dofs }, k.dense(&f.stiffness)?))
         }
     }
-}
-
-/// The stiffness's size against the mass's.
-fn same_size(f: &BodyFiles, m: &DMatrix<f64>, k: &DMatrix<f64>) -> Result<(), InputError> {
-    if k.nrows() == m.nrows() {
-        return Ok(());
-    }
-    Err(InputError::new(
-        &f.stiffness,
-        format!(
-            "the stiffness matrix is {} × {}, the mass matrix {} is {} × {}",
-            k.nrows(),
-            k.nrows(),
-            f.mass.display(),
-            m.nrows(),
-            m.nrows()
-        ),
-    ))
-}
-
-/// The DOF table of a Matrix Market or OP4 body of `n` rows.
-fn table(f: &BodyFiles, n: usize, nodes: &[Node]) -> Result<Vec<Dof>, InputError> {
-    let dofs_path = f.dofs.as_ref().ok_or_else(|| {
-        InputError::new(
-            &f.mass,
-            "a Matrix Market or OP4 body needs a DOF table (`dofs`)",
-        )
-    })?;
-    tables::read_dofs(dofs_path, n, nodes, &f.nodes)
 }
 
 fn read_loads(
@@ -299,7 +225,7 @@ fn read_stress(
     let n = dofs.len();
     let mut a = match f.format {
         Format::MatrixMarket => read_market(path, f.units)?,
-        Format::Abaqus => super::abaqus::read_on(path, dofs, nodes, &f.nodes)?,
+        Format::Abaqus => super::abaqus::read_on(path, dofs, nodes, &f.nodes)?.dense(path)?,
         Format::Dmig => {
             let named = dmig::Named {
                 path,
@@ -308,13 +234,14 @@ fn read_stress(
             };
             let (a, u) = dmig::read_on(named, dofs, nodes, &f.nodes)?;
             units_check(path, &u, f.units)?;
-            a
+            a.dense(path)?
         }
         Format::Op4 => op4::read(
             path,
             f.names.stress.as_deref(),
             "fe.stress_stiffness_matrix",
-        )?,
+        )?
+        .dense(path)?,
     };
     if a.nrows() != n {
         return Err(InputError::new(

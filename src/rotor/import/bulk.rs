@@ -61,8 +61,9 @@ pub struct Card {
 /// A units comment (`$ units: …`) and its line.
 pub type UnitsComment = Option<(String, usize)>;
 
-/// The largest bulk-data file read: 1 GiB (a 20 000-DOF matrix as DMIG cards is ~0.1 GB).
-pub const MAX_BYTES: u64 = 1 << 30;
+/// The largest bulk-data file read: 4 GiB, as the sparse Matrix Market reader's (a 20 000-DOF
+/// matrix as DMIG cards is ~0.1 GB).
+pub const MAX_BYTES: u64 = super::matrix_market::MAX_SPARSE_BYTES;
 
 fn expand_tabs(l: &str) -> String {
     let mut s = String::with_capacity(l.len() + 16);

@@ -7,7 +7,7 @@
 //! `DMIG NAME GJ CJ _ G1 C1 A1 B1` with continuations `G2 C2 A2 B2 G3 C3 A3 B3 …`: the entries
 //! (row G_i C_i, column GJ CJ) = A_i, each DOF a GRID id and a component 1–6 (u_x, u_y, u_z,
 //! θ_x, θ_y, θ_z); the matrix to read by name (the file's only DMIG if no name is given); the
-//! node table, whose ids every GRID must be. Out: the mass and stiffness matrices dense over
+//! node table, whose ids every GRID must be. Out: the mass and stiffness matrices' [`Entries`] over
 //! the DOFs that occur in either, ordered by node id then component, with those DOFs
 //! ([`read_pair`]), or a third matrix on the same DOFs ([`read_on`], the stress stiffness), in
 //! the file's units, and the `$ units:` comment; or an [`InputError`] naming the file and the
@@ -25,9 +25,8 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
 
-use nalgebra::DMatrix;
-
 use super::bulk::{self, Card, Field, UnitsComment};
+use super::entries::Entries;
 use super::tables::{Dof, Node, DOF_NAMES};
 use crate::error::{read_text_up_to, InputError};
 
@@ -456,19 +455,23 @@ pub struct Named<'a> {
 }
 
 /// A matrix with its units comment.
-pub type WithUnits = (DMatrix<f64>, Option<(String, usize)>);
+pub type WithUnits = (Entries, Option<(String, usize)>);
 
-fn assemble(m: &Dmig, index: &BTreeMap<GridDof, usize>) -> DMatrix<f64> {
-    let n = index.len();
-    let mut a = DMatrix::zeros(n, n);
+/// The entries of `m` on the DOFs `index`, a symmetric (IFO 6) matrix's other triangle mirrored
+/// (the checks of [`read_file`] leave each position once).
+fn assemble(m: &Dmig, index: &BTreeMap<GridDof, usize>) -> Entries {
+    let mut entries = Vec::with_capacity(2 * m.entries.len());
     for e in &m.entries {
         let (i, j) = (index[&e.row], index[&e.col]);
-        a[(i, j)] = e.x;
-        if m.form == 6 {
-            a[(j, i)] = e.x;
+        entries.push((i, j, e.x));
+        if m.form == 6 && i != j {
+            entries.push((j, i, e.x));
         }
     }
-    a
+    Entries {
+        n: index.len(),
+        entries,
+    }
 }
 
 fn read_one(

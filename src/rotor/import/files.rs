@@ -2,11 +2,16 @@
 //! optional rotating terms and stress stiffness ([`BodyFiles`]), as a scene's `[fe]` names them.
 //!
 //! In: nothing read yet (paths). Out: the descriptions the readers take
-//! ([`super::body::load`], [`super::sparse_body::load`]). Method: plain data.
+//! ([`super::body::load`], [`super::sparse_body::load`]), and the two checks both readers make
+//! of what the files hold against them: a file's `% units:` comment against the scene's units,
+//! the stiffness's size against the mass's, and the DOF table read for the matrices' size (an
+//! [`InputError`] naming the file and line).
+//! Method: plain data.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use super::tables::Units;
+use crate::error::InputError;
 
 /// The file format of an FE body's matrices.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -112,4 +117,52 @@ impl BodyFiles {
             .display()
             .to_string()
     }
+}
+
+/// The `% units:` comment of a file against the scene's units.
+pub(super) fn units_check(
+    path: &Path,
+    found: &Option<(String, usize)>,
+    units: Units,
+) -> Result<(), InputError> {
+    match found {
+        Some((u, line)) if !u.starts_with(units.name()) => Err(InputError::new(
+            path,
+            format!(
+                "the file is in units `{u}`, the scene says `{}`",
+                units.name()
+            ),
+        )
+        .at_line(*line)),
+        _ => Ok(()),
+    }
+}
+
+/// The stiffness's size `k` against the mass's `m`.
+pub(super) fn same_size(f: &BodyFiles, m: usize, k: usize) -> Result<(), InputError> {
+    if k == m {
+        return Ok(());
+    }
+    Err(InputError::new(
+        &f.stiffness,
+        format!(
+            "the stiffness matrix is {k} × {k}, the mass matrix {} is {m} × {m}",
+            f.mass.display()
+        ),
+    ))
+}
+
+/// The DOF table of a Matrix Market or OP4 body of `n` rows, read against the node table.
+pub(super) fn dof_table(
+    f: &BodyFiles,
+    n: usize,
+    nodes: &[super::tables::Node],
+) -> Result<Vec<super::tables::Dof>, InputError> {
+    let dofs_path = f.dofs.as_ref().ok_or_else(|| {
+        InputError::new(
+            &f.mass,
+            "a Matrix Market or OP4 body needs a DOF table (`dofs`)",
+        )
+    })?;
+    super::tables::read_dofs(dofs_path, n, nodes, &f.nodes)
 }

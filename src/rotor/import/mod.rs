@@ -7,7 +7,8 @@
 //! OUTPUT4 ASCII files with a DOF table ([`op4`]), in SI or mm-t-s units. Out: an [`ImportedBody`](body::ImportedBody) in SI and
 //! the rotor's DOF order, with its inertia invariants ([`invariants`]); or an
 //! [`InputError`](crate::error::InputError) naming the file and the line or entry.
-//! Large bodies are read sparse ([`sparse_body`]) for the sparse reduction
+//! Every reader gives a matrix's [`Entries`](entries::Entries); a body is read dense
+//! ([`body`]) or, in any format, sparse ([`sparse_body`]) for the sparse reduction
 //! ([`crate::rotor::sparse_reduction`]).
 //! Method: dense matrices (the reduction's dense eigen-solvers bound a body to
 //! [`MAX_FE_NODES`](crate::scene::MAX_FE_NODES) nodes), checked for symmetry, size, nodes,
@@ -17,6 +18,7 @@ pub mod abaqus;
 pub mod body;
 pub mod bulk;
 pub mod dmig;
+pub mod entries;
 pub mod files;
 pub mod invariants;
 pub mod matrix_market;

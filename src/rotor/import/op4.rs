@@ -11,9 +11,9 @@
 //! format's field width (they may run together: `1.0E+00-2.0E+00`), with `E` or `D`
 //! exponents. Real single (NTYPE 1) or double (NTYPE 2) precision, forms 1 (square),
 //! 2 (rectangular, read when square) and 6 (symmetric). The matrix to read by name (the file's
-//! only one if no name is given). Out: the dense square matrix (units as written; OP4 carries
-//! none) in the file's row order, which a DOF table names as for Matrix Market; or an
-//! [`InputError`] naming the file and the line (and the scene key of the matrix name where it
+//! only one if no name is given). Out: the square matrix's [`Entries`] (units as written; OP4
+//! carries none; every entry stored, as the file stores both triangles) in the file's row
+//! order, which a DOF table names as for Matrix Market; or an [`InputError`] naming the file and the line (and the scene key of the matrix name where it
 //! is at fault): a header that does not parse, a matrix not square, complex or of another
 //! form, a row or column outside the matrix, a dense column whose value count is not its NW
 //! (in words or values, below), a string whose value count is not its header's L, an entry given twice, a value that is no number, the file ending before a
@@ -31,19 +31,18 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use nalgebra::DMatrix;
-
 use super::bulk;
+use super::entries::Entries;
 use crate::error::{read_text_up_to, InputError};
 
 /// Relative asymmetry a matrix may have (of its largest entry).
 const SYMMETRY_TOLERANCE: f64 = 1e-10;
 
-/// The largest OP4 file read: 1 GiB.
-pub const MAX_BYTES: u64 = 1 << 30;
+/// The largest OP4 file read: 4 GiB (as the sparse Matrix Market reader's).
+pub const MAX_BYTES: u64 = super::matrix_market::MAX_SPARSE_BYTES;
 
-/// The largest dimension read (the dense path's, [`super::matrix_market::MAX_DIM`]).
-const MAX_DIM: usize = super::matrix_market::MAX_DIM;
+/// The largest dimension read (the sparse path's, [`super::matrix_market::MAX_SPARSE_DIM`]).
+const MAX_DIM: usize = super::matrix_market::MAX_SPARSE_DIM;
 
 /// A matrix of the file: name, header line, dimension, entries (row, column, value, line).
 struct Op4 {
@@ -337,7 +336,7 @@ fn matrix(path: &Path, lines: &mut Lines) -> Result<Op4, InputError> {
 }
 
 /// Entries given twice, and a matrix that is not symmetric (module doc).
-fn check(path: &Path, m: &Op4) -> Result<DMatrix<f64>, InputError> {
+fn check(path: &Path, m: Op4) -> Result<Entries, InputError> {
     let mut at: HashMap<(usize, usize), (f64, usize)> = HashMap::new();
     for &(i, j, x, line) in &m.entries {
         if let Some((_, first)) = at.insert((i, j), (x, line)) {
@@ -354,7 +353,6 @@ fn check(path: &Path, m: &Op4) -> Result<DMatrix<f64>, InputError> {
         }
     }
     let scale = m.entries.iter().fold(0.0f64, |s, e| s.max(e.2.abs()));
-    let mut a = DMatrix::zeros(m.n, m.n);
     for &(i, j, x, line) in &m.entries {
         let (y, mirror) = at.get(&(j, i)).copied().unwrap_or((0.0, 0));
         if (x - y).abs() > SYMMETRY_TOLERANCE * scale {
@@ -378,14 +376,20 @@ fn check(path: &Path, m: &Op4) -> Result<DMatrix<f64>, InputError> {
             )
             .at_line(line.max(mirror)));
         }
-        a[(i, j)] = x;
     }
-    Ok(a)
+    Ok(Entries {
+        n: m.n,
+        entries: m
+            .entries
+            .into_iter()
+            .map(|(i, j, x, _)| (i, j, x))
+            .collect(),
+    })
 }
 
 /// Reads the matrix `name` (`None`: the file's only one) of an ASCII OP4 file, square and
 /// symmetric (module doc); `key` is the scene key that names it.
-pub fn read(path: &Path, name: Option<&str>, key: &str) -> Result<DMatrix<f64>, InputError> {
+pub fn read(path: &Path, name: Option<&str>, key: &str) -> Result<Entries, InputError> {
     let text = read_text_up_to(path, MAX_BYTES)
         .map_err(|e| InputError::new(path, format!("cannot read the OP4 file: {e}")))?;
     if text.as_bytes().iter().take(64).any(|&b| b == 0) {
@@ -433,6 +437,6 @@ pub fn read(path: &Path, name: Option<&str>, key: &str) -> Result<DMatrix<f64>, 
             format!("the file holds the matrices {names}: name one"),
         )
         .with_key(key)),
-        (Some(m), _) => check(path, &m),
+        (Some(m), _) => check(path, m),
     }
 }

@@ -1,25 +1,32 @@
 //! A large FE body read sparse: the matrices as entries, checked, in SI, for the sparse
 //! reduction ([`crate::rotor::sparse_reduction`]).
 //!
-//! In: the [`BodyFiles`] of a Matrix Market body (mass, stiffness, node and DOF tables, units).
+//! In: the [`BodyFiles`] of a body in any format the dense path reads (Matrix Market, Abaqus,
+//! DMIG, OP4: mass, stiffness, node table, DOF table where the format needs one, units).
 //! Out: a [`SparseBody`]: M and K as [`Sparse`] matrices in the files' DOF order, SI (kg, N/m,
 //! kg m², N m/rad …), with the node and DOF tables; or an [`InputError`] naming the file and the
 //! line or entry: a truncated file, an entry given twice, a size that does not match the DOF
 //! table or the other matrix, a matrix not symmetric, wrong units (`% units:` differing from
 //! the scene's), a node the DOF table names that the node table lacks, a mass matrix that is
-//! not positive definite, an Abaqus, DMIG or OP4 body (read dense only).
-//! Method: the Matrix Market entries ([`super::matrix_market::read_sparse`]); symmetry of a
-//! `general` file checked entry by entry against its mirror (binary search), to 1e-10 of the
-//! largest entry, as the dense reader does; the same unit scaling as [`super::body`] (mass ×
-//! length^r, r the rotation DOFs among row and column); positive-definite mass by its sparse
+//! not positive definite, and every error of the format's reader.
+//! Method: each format's reader gives its [`Entries`] (the same readers as the dense path's:
+//! [`super::matrix_market::read_sparse`], [`super::abaqus`], [`super::dmig`], [`super::op4`]),
+//! so a body reads alike in every format; symmetry of a Matrix Market `general` file and of an
+//! Abaqus file checked entry by entry against its mirror (binary search), to 1e-10 of the
+//! largest entry, as the dense reader does (the DMIG and OP4 readers check their own); stored
+//! zeros dropped (OP4 stores none), so a body has one pattern whatever its format; the
+//! same unit scaling as [`super::body`] (mass × length^r, r the rotation DOFs among row and
+//! column); positive-definite mass by its sparse
 //! Cholesky factor. Nodes may lie anywhere (no axis check: the reduction does not need one).
 //! Memory: the entries (24 bytes each, both triangles) and the compressed matrices.
 
 use std::path::Path;
 
-use super::files::{BodyFiles, Format};
+use super::entries::Entries;
+use super::files::{dof_table, same_size, units_check, BodyFiles, Format};
 use super::matrix_market::{self, Symmetry};
 use super::tables::{self, Dof, Node, Units, DOF_NAMES};
+use super::{abaqus, dmig, op4};
 use crate::error::InputError;
 use crate::numerics::sparse::Sparse;
 
@@ -68,25 +75,11 @@ fn symmetric(path: &Path, a: &Sparse, dofs: &[Dof]) -> Result<(), InputError> {
     Ok(())
 }
 
-/// The matrix of a file, checked symmetric and scaled to SI (module doc).
-fn read_matrix(
-    path: &Path,
-    units: Units,
-    dofs_of: &mut dyn FnMut(usize) -> Result<Vec<Dof>, InputError>,
-) -> Result<(Sparse, Vec<Dof>), InputError> {
+/// A Matrix Market file's entries, its units checked; whether its symmetry is still to check
+/// (a `general` file).
+fn read_market(path: &Path, units: Units) -> Result<(Entries, bool), InputError> {
     let m = matrix_market::read_sparse(path)?;
-    if let Some((u, line)) = &m.units {
-        if !u.starts_with(units.name()) {
-            return Err(InputError::new(
-                path,
-                format!(
-                    "the file is in units `{u}`, the scene says `{}`",
-                    units.name()
-                ),
-            )
-            .at_line(*line));
-        }
-    }
+    units_check(path, &m.units, units)?;
     if m.symmetry == Symmetry::SkewSymmetric {
         return Err(InputError::new(
             path,
@@ -94,49 +87,99 @@ fn read_matrix(
         )
         .at_line(1));
     }
-    let dofs = dofs_of(m.n)?;
-    let mut a = Sparse::from_entries(m.n, m.entries);
-    if m.symmetry == Symmetry::General {
-        symmetric(path, &a, &dofs)?;
+    let e = Entries {
+        n: m.n,
+        entries: m.entries,
+    };
+    Ok((e, m.symmetry == Symmetry::General))
+}
+
+/// A reader's entries as a sparse matrix, checked symmetric when `check` (module doc) and
+/// scaled to SI.
+fn finish(
+    path: &Path,
+    e: Entries,
+    dofs: &[Dof],
+    units: Units,
+    check: bool,
+) -> Result<Sparse, InputError> {
+    // A stored zero is no entry (OP4 stores none): the same pattern, so the same fill-reducing
+    // order and the same numbers, from every format.
+    let mut entries = e.entries;
+    entries.retain(|&(_, _, x)| x != 0.0);
+    let mut a = Sparse::from_entries(e.n, entries);
+    if check {
+        symmetric(path, &a, dofs)?;
     }
     let rot = |k: usize| i32::from(dofs[k].dof >= 3);
     a.map(|i, j, x| x * units.mass() * units.length().powi(rot(i) + rot(j)));
-    Ok((a, dofs))
+    Ok(a)
+}
+
+/// A matrix's entries and whether its symmetry is still to check.
+type ToCheck = (Entries, bool);
+
+/// The mass and stiffness entries of any format (the dense path reads Abaqus, DMIG and OP4
+/// bodies by it too), the DOFs, and whether each one's symmetry is still to check.
+pub(super) fn read_pair(
+    f: &BodyFiles,
+    nodes: &[Node],
+) -> Result<(ToCheck, ToCheck, Vec<Dof>), InputError> {
+    let table = |n: usize| dof_table(f, n, nodes);
+    match f.format {
+        Format::MatrixMarket => {
+            let m = read_market(&f.mass, f.units)?;
+            let dofs = table(m.0.n)?;
+            let k = read_market(&f.stiffness, f.units)?;
+            same_size(f, m.0.n, k.0.n)?;
+            Ok((m, k, dofs))
+        }
+        Format::Op4 => {
+            // The reader checks symmetry (OP4 stores every entry).
+            let m = op4::read(&f.mass, f.names.mass.as_deref(), "fe.mass_matrix")?;
+            let dofs = table(m.n)?;
+            let k = op4::read(
+                &f.stiffness,
+                f.names.stiffness.as_deref(),
+                "fe.stiffness_matrix",
+            )?;
+            same_size(f, m.n, k.n)?;
+            Ok(((m, false), (k, false), dofs))
+        }
+        Format::Dmig => {
+            // The reader checks symmetry (IFO 1 both triangles, IFO 6 mirrored).
+            let ((m, um), (k, uk), dofs) = dmig::read_pair(
+                dmig::Named {
+                    path: &f.mass,
+                    name: f.names.mass.as_deref(),
+                    key: "fe.mass_matrix",
+                },
+                dmig::Named {
+                    path: &f.stiffness,
+                    name: f.names.stiffness.as_deref(),
+                    key: "fe.stiffness_matrix",
+                },
+                nodes,
+                &f.nodes,
+            )?;
+            units_check(&f.mass, &um, f.units)?;
+            units_check(&f.stiffness, &uk, f.units)?;
+            Ok(((m, false), (k, false), dofs))
+        }
+        Format::Abaqus => {
+            // Both triangles kept where both are given: checked here.
+            let (m, k, dofs) = abaqus::read_pair(&f.mass, &f.stiffness, nodes, &f.nodes)?;
+            Ok(((m, true), (k, true), dofs))
+        }
+    }
 }
 
 /// Reads and checks a body sparse (module doc).
 pub fn load(f: &BodyFiles) -> Result<SparseBody, InputError> {
-    if f.format != Format::MatrixMarket {
-        return Err(InputError::new(
-            &f.mass,
-            "the sparse reduction reads Matrix Market bodies (`format = \"matrix-market\"`); \
-             Abaqus, DMIG and OP4 files are read dense",
-        ));
-    }
-    let dofs_path = f.dofs.as_ref().ok_or_else(|| {
-        InputError::new(&f.mass, "a Matrix Market body needs a DOF table (`dofs`)")
-    })?;
     let nodes = tables::read_nodes(&f.nodes, f.units)?;
-    let mut table = None;
-    let mut dofs_of = |n: usize| -> Result<Vec<Dof>, InputError> {
-        if let Some((m, d)) = &table {
-            if *m != n {
-                return Err(InputError::new(
-                    &f.stiffness,
-                    format!(
-                        "the stiffness matrix is {n} × {n}, the mass matrix {} is {m} × {m}",
-                        f.mass.display()
-                    ),
-                ));
-            }
-            return Ok(Vec::clone(d));
-        }
-        let d = tables::read_dofs(dofs_path, n, &nodes, &f.nodes)?;
-        table = Some((n, d.clone()));
-        Ok(d)
-    };
-    let (mass, dofs) = read_matrix(&f.mass, f.units, &mut dofs_of)?;
-    let (stiffness, _) = read_matrix(&f.stiffness, f.units, &mut dofs_of)?;
+    let ((m, check_m), (k, check_k), dofs) = read_pair(f, &nodes)?;
+    let mass = finish(&f.mass, m, &dofs, f.units, check_m)?;
+    let stiffness = finish(&f.stiffness, k, &dofs, f.units, check_k)?;
     if mass.cholesky().is_none() {
         let at = (0..mass.n())
             .find(|&i| !mass.column(i).any(|(r, x)| r == i && x > 0.0))

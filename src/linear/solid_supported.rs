@@ -1,0 +1,145 @@
+//! A solid or shell body's own modes on its scene's supports at standstill: the whole imported
+//! model's, not its Craig–Bampton reduction's, to check the reduction against (or to use where
+//! the reduction's truncation is too coarse).
+//!
+//! In: a [`Scene`] whose body is a solid or shell body (`[fe]` with `[fe.rings]`,
+//! [`crate::rotor::import::solid`]) and a count. Out: [`Modes`]: the lowest `count` undamped
+//! eigenpairs of the body on its linear supports and drive at standstill, λ = ω² [(rad/s)²]
+//! ascending, M-normalised vectors over the body's DOFs (the DOF table's order) and then two
+//! coordinates (x, y [m]) per support mass in the scene's support order; or a reason naming the
+//! scene key at fault: a roller support (`supports[i].type`: a stand's contact has no linear
+//! stiffness), unequal cross stiffnesses (`supports[i].spring`: the problem would not be
+//! symmetric), a scene whose body is not a solid one.
+//! Method: K_s = K + Σ_supports Pᵀ k P and M_s = M ⊕ the support masses, P the spring's
+//! elongation: the attachment point's u_x, u_y rows (a ring's RBE3 interpolation, a named
+//! node's own DOFs) less the support mass's x, y when there is one, k the spring at Ω = 0
+//! ([`LinearSupport::spring_at`]); a support mass adds its ground spring on its own
+//! coordinates; the drive adds its axial spring on the drive point's u_z row. The lowest pairs by
+//! the shift-invert Lanczos solver of `rotorsweep reduce --free`
+//! ([`crate::rotor::sparse_reduction::body_modes`], σ = −(2π · 1 Hz)², below the spin mode the
+//! supports leave free), so these are the frequencies of the same linear model `modes` reports
+//! `supported_hz` for, before the reduction. Memory and time: those of one sparse factor of
+//! K_s − σM_s and the Lanczos basis, as `reduce`.
+
+use crate::numerics::lanczos::Modes;
+use crate::numerics::sparse::Sparse;
+use crate::rotor::import::solid::SolidBody;
+use crate::rotor::sparse_reduction::body_modes;
+use crate::scene::{LinearSupport, Scene, SupportModel};
+
+/// The shift of the solver [Hz]: σ = −(2π · 1 Hz)², below the free spin mode's 0.
+const SHIFT_HZ: f64 = 1.0;
+
+/// A failure: (scene key, reason).
+pub type Failure = (String, String);
+
+/// The rows (body DOF, coefficient) of `name`'s motion `dof` (0 u_x … 5 θ_z).
+fn rows<'a>(
+    solid: &'a SolidBody,
+    name: &str,
+    key: &str,
+) -> Result<[&'a [(usize, f64)]; 6], Failure> {
+    let a = solid
+        .attachments
+        .iter()
+        .find(|a| a.name == name)
+        .ok_or_else(|| {
+            (
+                key.to_string(),
+                format!("`{name}` is not an attachment point of the body"),
+            )
+        })?;
+    Ok(std::array::from_fn(|d| a.rows[d].as_slice()))
+}
+
+/// Adds ½ eᵀ k e for the elongations e_a = Σ (row, coefficient) to `out` (k symmetric 2 × 2 or
+/// 1 × 1, row-major `k[a][b]`).
+fn spring(out: &mut Vec<(usize, usize, f64)>, e: &[Vec<(usize, f64)>], k: &[[f64; 2]; 2]) {
+    for (a, ea) in e.iter().enumerate() {
+        for (b, eb) in e.iter().enumerate() {
+            for &(i, x) in ea {
+                for &(j, y) in eb {
+                    out.push((i, j, k[a][b] * x * y));
+                }
+            }
+        }
+    }
+}
+
+/// The lowest `count` modes of the scene's solid body on its supports (module doc).
+pub fn supported_modes(scene: &Scene, count: usize) -> Result<Modes, Failure> {
+    let solid = scene
+        .body
+        .as_ref()
+        .and_then(|b| b.solid.as_ref())
+        .ok_or_else(|| {
+            (
+                "fe.rings".to_string(),
+                "the body is not a solid or shell body (no fe.rings): its model is reduced dense"
+                    .to_string(),
+            )
+        })?;
+    let body = &solid.body;
+    let n = body.dofs.len();
+    let masses = scene.supports.iter().filter(|s| s.has_mass()).count();
+    let total = n + 2 * masses;
+    let entries = |a: &Sparse| -> Vec<(usize, usize, f64)> {
+        (0..a.n())
+            .flat_map(|j| a.column(j).map(move |(i, x)| (i, j, x)))
+            .collect()
+    };
+    let mut k = entries(&body.stiffness);
+    let mut m = entries(&body.mass);
+    let mut next = n;
+    for (i, s) in scene.supports.iter().enumerate() {
+        let key = format!("supports[{i}]");
+        let l: &LinearSupport =
+            match &s.model {
+                SupportModel::Linear(l) => l,
+                SupportModel::Rollers(_) => return Err((
+                    format!("{key}.type"),
+                    "a roller support has no linear stiffness: the whole body's supported modes \
+                     take linear supports"
+                        .to_string(),
+                )),
+            };
+        let r = rows(solid, &s.node, &format!("{key}.node"))?;
+        let at = l.spring_at(0.0);
+        if at.kxy != at.kyx {
+            return Err((
+                format!("{key}.spring"),
+                format!(
+                    "kxy = {:e} and kyx = {:e} differ: the whole body's supported modes need a \
+                     symmetric stiffness",
+                    at.kxy, at.kyx
+                ),
+            ));
+        }
+        let kk = [[at.kx, at.kxy], [at.kyx, at.ky]];
+        let mut e: Vec<Vec<(usize, f64)>> = vec![r[0].to_vec(), r[1].to_vec()];
+        if let Some((mass, ground)) = &l.mass {
+            e[0].push((next, -1.0));
+            e[1].push((next + 1, -1.0));
+            let kg = [[ground.kx, ground.kxy], [ground.kyx, ground.ky]];
+            if ground.kxy != ground.kyx {
+                return Err((
+                    format!("{key}.mass"),
+                    "the support mass's ground spring has unequal cross stiffnesses".to_string(),
+                ));
+            }
+            spring(&mut k, &[vec![(next, 1.0)], vec![(next + 1, 1.0)]], &kg);
+            m.push((next, next, *mass));
+            m.push((next + 1, next + 1, *mass));
+            next += 2;
+        }
+        spring(&mut k, &e, &kk);
+    }
+    if let Some(d) = &scene.drive {
+        let r = rows(solid, &d.node, "drive.node")?;
+        let kd = [[d.axial_stiffness, 0.0], [0.0, 0.0]];
+        spring(&mut k, &[r[2].to_vec()], &kd);
+    }
+    let k = Sparse::from_entries(total, k);
+    let m = Sparse::from_entries(total, m);
+    body_modes(&k, &m, count, SHIFT_HZ).map_err(|e| ("supports".to_string(), e.to_string()))
+}
