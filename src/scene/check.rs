@@ -29,7 +29,8 @@ pub(super) struct Check<'a> {
 impl Check<'_> {
     pub(super) fn err(&self, key: &str, reason: impl Into<String>) -> InputError {
         if self.overridden.iter().any(|k| key.starts_with(k.as_str())) {
-            return InputError::new(Path::new("<command line --set>"), reason).with_key(key);
+            return InputError::new(Path::new(super::overrides::COMMAND_LINE), reason)
+                .with_key(key);
         }
         self.source.err(key, reason)
     }

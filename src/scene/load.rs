@@ -14,7 +14,7 @@ use super::build::build;
 use super::check::Check;
 use super::file::SceneFile;
 use super::locate;
-use super::overrides::{override_error_key, with_override_values, with_overrides};
+use super::overrides::{override_error_key, with_override_values, with_overrides, COMMAND_LINE};
 use super::source::Source;
 use super::types::Scene;
 use crate::error::InputError;
@@ -100,7 +100,7 @@ impl Scene {
             // Read from the table itself (no copy); on an error the table is made again to
             // find the key the error is about.
             let raw = SceneFile::deserialize(table).map_err(|e: toml::de::Error| {
-                let err = InputError::new(Path::new("<command line --set>"), e.message());
+                let err = InputError::new(Path::new(COMMAND_LINE), e.message());
                 match overridden_table()
                     .ok()
                     .and_then(|(t, _)| override_error_key(&t))

@@ -44,7 +44,7 @@ use super::contact_fit::ContactGeometry;
 use super::locate;
 use super::machine_file::{MachineFile, NipFile};
 use super::machine_loads;
-use super::overrides::{override_error_key, parse_override, with_overrides};
+use super::overrides::{override_error_key, parse_override, with_overrides, COMMAND_LINE};
 use super::source::Source;
 use super::types::{CoverSpec, Machine, MachineRoll, Nip, NipLaw, Scene};
 use crate::error::InputError;
@@ -114,7 +114,7 @@ fn split_overrides(overrides: &[String]) -> Result<(Vec<String>, Vec<String>), I
             own.push(o.clone());
         } else {
             return Err(InputError::new(
-                Path::new("<command line --set>"),
+                Path::new(COMMAND_LINE),
                 format!(
                     "`{k}` is not a key of a machine file ({}): a roll's scene keys go in its \
                      `rolls[i].set`; `simulation.*`, `solver.*`, `outputs.*` (the machine's run \

@@ -51,7 +51,9 @@ pub use contact_fit::{ContactFit, ContactGeometry};
 pub use geometry::{fe_body_files, fe_body_rings};
 pub use limits::{MAX_FE_NODES, MAX_RECORD_VALUES, MAX_SAMPLES_PER_CHANNEL};
 pub use machine_loads::{LoadHistory, Variation, Web};
-pub use overrides::{parse_override, replaces, set_path, with_override_values, with_overrides};
+pub use overrides::{
+    parse_override, replaces, set_path, with_override_values, with_overrides, COMMAND_LINE,
+};
 pub use settings::{DampingBands, Outputs, SimulationSettings};
 pub use speed::{SpeedProfile, MAX_SPEED_HZ};
 pub use types::{

@@ -14,6 +14,10 @@ use super::locate;
 use super::source::Source;
 use crate::error::InputError;
 
+/// The file errors of `--set` overrides (and of a study's job overrides, before the study
+/// relocates them) name.
+pub const COMMAND_LINE: &str = "<command line --set>";
+
 /// Parses `key=value` of `--set`: the value as a TOML value, or as a string if it is not one.
 pub fn parse_override(s: &str) -> Result<(String, toml::Value), String> {
     let (k, v) = s
@@ -109,9 +113,6 @@ pub fn with_override_values(
         overrides.iter().map(|(k, v)| Ok((k.clone(), v.clone()))),
     )
 }
-
-/// Where errors of overrides point.
-const COMMAND_LINE: &str = "<command line --set>";
 
 /// The merged table with `overrides` applied in order (the first error, in order, stops it).
 fn apply(

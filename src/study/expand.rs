@@ -25,7 +25,7 @@ use super::reference::References;
 use super::values::{normal_text, Override};
 use crate::error::InputError;
 use crate::scene::source::Source;
-use crate::scene::Scene;
+use crate::scene::{Scene, COMMAND_LINE};
 
 /// A job after its own checks (`Expansion::check`), with its ids.
 struct Checked {
@@ -198,7 +198,7 @@ impl Expansion<'_> {
     fn scene(&self, index: usize, overrides: &[Override]) -> Result<Scene, InputError> {
         Scene::from_source_values(self.source, overrides).map_err(|mut e| {
             let key = override_key(&e, overrides);
-            if e.file.as_os_str() == "<command line --set>" {
+            if e.file.as_os_str() == COMMAND_LINE {
                 let mut err = self.c.err(
                     &self.locate_key(index, &key),
                     format!("job {index}: {}", e.reason),
