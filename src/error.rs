@@ -3,7 +3,7 @@
 //! In: a path, an optional 1-based line, an optional dotted key, and a reason.
 //! Out: an error whose `Display` reads `FILE:LINE: key `KEY`: REASON`, ready for the CLI.
 
-use std::fmt;
+use std::fmt::{self, Write as _};
 use std::path::{Path, PathBuf};
 
 /// A problem with an input file (scene, study, thickness map): where it is and why.
@@ -51,10 +51,26 @@ impl fmt::Display for InputError {
         }
         write!(f, ":")?;
         if let Some(key) = &self.key {
-            write!(f, " key `{key}`:")?;
+            write!(f, " key `")?;
+            shown(f, key)?;
+            write!(f, "`:")?;
         }
-        write!(f, " {}", self.reason)
+        write!(f, " ")?;
+        shown(f, &self.reason)
     }
+}
+
+/// Writes `text` (a key or reason, which may quote what a user wrote) with its control
+/// characters escaped (`\u{7f}`), so an invisible one is seen; line breaks and tabs are kept.
+fn shown(f: &mut fmt::Formatter<'_>, text: &str) -> fmt::Result {
+    for c in text.chars() {
+        if c.is_control() && c != '\n' && c != '\t' {
+            write!(f, "{}", c.escape_default())?;
+        } else {
+            f.write_char(c)?;
+        }
+    }
+    Ok(())
 }
 
 impl std::error::Error for InputError {}
@@ -149,4 +165,21 @@ pub fn regular_file(path: &Path, max_bytes: u64) -> std::io::Result<()> {
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A control character a user wrote (here DEL, U+007F, in a study's string value) is shown
+    /// escaped, so `bd\u{7f}f` is not printed as an apparent `bdf`; line breaks stay.
+    #[test]
+    fn control_characters_of_a_message_are_shown_escaped() {
+        let e = InputError::new(Path::new("s.toml"), "`bd\u{7f}f`: expected bdf\nsee docs")
+            .with_key("solver.integr\u{1b}ator");
+        assert_eq!(
+            e.to_string(),
+            "s.toml: key `solver.integr\\u{1b}ator`: `bd\\u{7f}f`: expected bdf\nsee docs"
+        );
+    }
 }
