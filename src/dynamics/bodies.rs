@@ -315,19 +315,25 @@ impl MachineSystem {
 
     /// Static equilibrium at standstill from `q0` (module doc).
     fn static_equilibrium(&self, q0: DVector<f64>) -> Result<DVector<f64>, String> {
+        self.equilibrium(q0, "static equilibrium of the machine", |_, _, _| {})
+    }
+
+    /// Newton's method at standstill from `q0` on the residual and matrix of the scene's laws
+    /// with `change(q, f, jac)` applied to them; `what` names the problem in the errors.
+    fn equilibrium(
+        &self,
+        q0: DVector<f64>,
+        what: &str,
+        mut change: impl FnMut(&DVector<f64>, &mut DVector<f64>, &mut DMatrix<f64>),
+    ) -> Result<DVector<f64>, String> {
         let v = DVector::zeros(self.n);
         let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
         let eval = |q: &DVector<f64>, f: &mut DVector<f64>, jac: &mut DMatrix<f64>| {
             self.force_with((0.0, None), &st, q, &v, f);
             self.newton_with((0.0, &st), q, &v, (0.0, 1.0, 0.0), true, jac);
+            change(q, f, jac);
         };
-        newton::solve(
-            q0,
-            &self.weights,
-            eval,
-            "static equilibrium of the machine",
-            "is every roll supported?",
-        )
+        newton::solve(q0, &self.weights, eval, what, "is every roll supported?")
     }
 }
 
@@ -451,9 +457,7 @@ impl MachineSystem {
         let v = DVector::zeros(self.n);
         let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
         let mut failure: Option<String> = None;
-        let eval = |q: &DVector<f64>, f: &mut DVector<f64>, jac: &mut DMatrix<f64>| {
-            self.force_with((0.0, None), &st, q, &v, f);
-            self.newton_with((0.0, &st), q, &v, (0.0, 1.0, 0.0), true, jac);
+        let change = |q: &DVector<f64>, f: &mut DVector<f64>, jac: &mut DMatrix<f64>| {
             let seg = &self.segments(0.0, &st, q, &v)[k];
             for (j, (s, row)) in seg.iter().zip(self.nip_rows_at_rest(k, q)).enumerate() {
                 let (force, stiffness) = match law(j, s.delta) {
@@ -467,12 +471,10 @@ impl MachineSystem {
                 jac.ger(stiffness - s.stiffness, &row, &row, 1.0);
             }
         };
-        let q = newton::solve(
+        let q = self.equilibrium(
             q0,
-            &self.weights,
-            eval,
             "static equilibrium of the machine with the rolling nip",
-            "is every roll supported?",
+            change,
         );
         match failure {
             Some(e) => Err(e),

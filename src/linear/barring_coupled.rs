@@ -102,13 +102,20 @@ impl CoupledNip<'_> {
         }
     }
 
-    /// T(λ) (module doc).
-    pub fn matrix(&self, cover: &CoverSpec, cover_hz: f64, l: C64) -> DMatrix<C64> {
+    /// Each closed segment's H_j(λ) (module doc).
+    fn responses(&self, cover: &CoverSpec, cover_hz: f64, l: C64) -> Vec<C64> {
+        (self.segments.iter())
+            .map(|(_, _, r)| response(cover, r, cover_hz, l))
+            .collect()
+    }
+
+    /// T(λ) with the segments' responses `hs` = H_j(λ) (module doc).
+    fn matrix(&self, l: C64, hs: &[C64]) -> DMatrix<C64> {
         let n = self.m.nrows();
         let mut t = DMatrix::from_fn(n, n, |a, b| {
             l * l * self.m[(a, b)] + l * self.c[(a, b)] + self.k[(a, b)]
         });
-        self.add_nip(&mut t, |j| response(cover, self.segments[j].2, cover_hz, l));
+        self.add_nip(&mut t, |j| hs[j]);
         t
     }
 
@@ -116,9 +123,7 @@ impl CoupledNip<'_> {
     pub fn frozen(&self, cover: &CoverSpec, cover_hz: f64) -> Result<Vec<FrozenMode>, String> {
         let n = self.m.nrows();
         let w = TAU * FROZEN_HZ;
-        let hs: Vec<C64> = (self.segments.iter())
-            .map(|(_, _, r)| response(cover, r, cover_hz, C64::new(0.0, w)))
-            .collect();
+        let hs = self.responses(cover, cover_hz, C64::new(0.0, w));
         let mut k = self.k.clone();
         let mut c = self.c.clone();
         let mut kn = DMatrix::zeros(n, n);
@@ -168,7 +173,8 @@ impl CoupledNip<'_> {
         let n = self.m.nrows();
         let mut l = start;
         for _ in 0..ROOT_ITERATIONS {
-            let inv = self.matrix(cover, cover_hz, l).lu().try_inverse()?;
+            let hs = self.responses(cover, cover_hz, l);
+            let inv = self.matrix(l, &hs).lu().try_inverse()?;
             let h = 1e-7 * l.norm().max(1.0);
             let mut tr = C64::new(0.0, 0.0);
             for a in 0..n {
@@ -177,8 +183,7 @@ impl CoupledNip<'_> {
                 }
             }
             let mut nip = C64::new(0.0, 0.0);
-            for (len, row, r) in &self.segments {
-                let hl = response(cover, r, cover_hz, l);
+            for ((len, row, r), hl) in self.segments.iter().zip(&hs) {
                 let dh = (response(cover, r, cover_hz, l + h)
                     - response(cover, r, cover_hz, l - h))
                     / (2.0 * h);
@@ -192,7 +197,7 @@ impl CoupledNip<'_> {
                     }
                 }
                 tr += dh * *len * s;
-                nip += hl * *len * s;
+                nip += *hl * *len * s;
             }
             let step = C64::new(1.0, 0.0) / tr;
             if !step.re.is_finite() || !step.im.is_finite() {

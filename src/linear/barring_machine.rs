@@ -300,6 +300,13 @@ fn without_nip(sys: &MachineSystem, ni: usize, q: &DVector<f64>) -> Linearised {
     (m, k, c, seg, rows)
 }
 
+/// The cover's steady rolling state at segment `j`'s penetration `delta` [m] with the covered
+/// roll at `fc` [Hz] ([`rolling`]); not reached: an error naming the speed and the segment.
+fn rolling_at(cover: &CoverSpec, delta: f64, fc: f64, j: usize) -> Result<Rolling, String> {
+    rolling(cover, delta, fc)
+        .ok_or_else(|| format!("the cover's rolling state at {fc} Hz, segment {j}, not reached"))
+}
+
 /// Roots whose nip share ([`super::barring_coupled::CoupledRoot::nip_share`]) is below this are the rolls' own modes,
 /// which the nip does not touch, and are not barring roots.
 pub const ROOT_SHARE: f64 = 0.01;
@@ -317,11 +324,7 @@ fn rolling_equilibrium(
         if d <= 0.0 {
             return Ok((0.0, 0.0));
         }
-        let force = |x: f64| {
-            (rolling(cover, x, fc).map(|r| r.force_n_per_m * len)).ok_or_else(|| {
-                format!("the cover's rolling state at {fc} Hz, segment {j}, not reached")
-            })
-        };
+        let force = |x: f64| rolling_at(cover, x, fc, j).map(|r| r.force_n_per_m * len);
         let h = 1e-6 * d;
         Ok((force(d)?, (force(d + h)? - force(d - h)?) / (2.0 * h)))
     })
@@ -334,29 +337,23 @@ fn rolling_point(
     sys: &MachineSystem,
     (ni, nip, cover): (usize, &Nip, &CoverSpec),
     q0: &DVector<f64>,
-    m: &DMatrix<f64>,
     fc: f64,
     speed: f64,
 ) -> Result<MapPoint, String> {
     let len = nip.segment_length;
     let q = rolling_equilibrium(sys, (ni, len, cover), q0, fc)?;
-    let (_, k_free, c, seg, rows) = without_nip(sys, ni, &q);
-    let seg = &seg;
+    let (m, k_free, c, seg, rows) = without_nip(sys, ni, &q);
     let closed = closed_segments(
-        seg,
+        &seg,
         &nip.name,
         &format!("{} Hz", number_text(speed)),
         "rolling",
     )?;
     let states: Vec<Rolling> = (closed.iter())
-        .map(|j| {
-            rolling(cover, seg[*j].delta, fc).ok_or_else(|| {
-                format!("the cover's rolling state at {fc} Hz, segment {j}, not reached")
-            })
-        })
+        .map(|j| rolling_at(cover, seg[*j].delta, fc, *j))
         .collect::<Result<_, _>>()?;
     let coupled = CoupledNip {
-        m: m.clone(),
+        m,
         c,
         k: k_free,
         segments: (closed.iter().zip(&states))
@@ -368,7 +365,10 @@ fn rolling_point(
         .filter(|r| r.nip_share >= ROOT_SHARE)
         .max_by(|a, b| a.lambda.re.total_cmp(&b.lambda.re))
         .ok_or_else(|| format!("no barring root at {} Hz converged", number_text(speed)))?;
-    let root_ = root_at(root.lambda.re, root.lambda.im, 1.0 / fc, 0);
+    let (nip_share, root) = (
+        root.nip_share,
+        root_at(root.lambda.re, root.lambda.im, 1.0 / fc, 0),
+    );
     let kc: f64 = states.iter().map(|r| r.stiffness_n_per_m2 * len).sum();
     let mu = states
         .iter()
@@ -378,13 +378,13 @@ fn rolling_point(
     Ok(MapPoint {
         speed_hz: speed,
         cover_speed_hz: fc,
-        stable: root_.growth_per_s < 0.0,
-        growth_per_s: root_.growth_per_s,
-        growth_per_rev: root_.growth_per_rev,
-        frequency_hz: root_.frequency_hz,
-        waves_per_rev: root_.waves_per_rev,
-        polygon_order: root_.waves_per_rev.round() as u64,
-        nip_share: root.nip_share,
+        stable: root.growth_per_s < 0.0,
+        growth_per_s: root.growth_per_s,
+        growth_per_rev: root.growth_per_rev,
+        frequency_hz: root.frequency_hz,
+        waves_per_rev: root.waves_per_rev,
+        polygon_order: root.waves_per_rev.round() as u64,
+        nip_share,
         closed_segments: closed.len(),
         max_penetration_um: 1e6 * closed.iter().map(|j| seg[*j].delta).fold(0.0, f64::max),
         contact_stiffness_n_per_m: kc,
@@ -421,29 +421,33 @@ pub fn barring_map(
         let sys = MachineSystem::new(&machine, &models);
         let q0 = sys.initial(&machine, &models, true)?;
         let (m, k_free, c, seg, jrows) = without_nip(&sys, ni, &q0);
-        let seg = &seg;
         let k_sym = 0.5 * (&k_free + k_free.transpose());
         let eig = eigen::generalized_symmetric(&k_sym, &m).map_err(|e| e.to_string())?;
         let at = format!("{} kN/m", number_text(q));
-        let closed = closed_segments(seg, &nip.name, &at, "static")?;
-        // Candidate modes: (ω, φ, participations J_j φ of the closed segments).
-        let mut cand: Vec<(f64, DVector<f64>, Vec<f64>, f64)> = Vec::new();
+        let closed = closed_segments(&seg, &nip.name, &at, "static")?;
+        // Candidate modes: (ω, φ, static share Σ_j (J_j φ)²/ω² of the closed segments).
+        let mut cand: Vec<(f64, DVector<f64>, f64)> = Vec::new();
         for i in 0..eig.values.len() {
             let w2 = eig.values[i];
             if w2 <= ZERO_RAD_S * ZERO_RAD_S {
                 continue;
             }
             let phi = eig.vectors.column(i).into_owned();
-            let part: Vec<f64> = closed.iter().map(|j| jrows[*j].dot(&phi)).collect();
-            let share = part.iter().map(|p| p * p).sum::<f64>() / w2;
-            cand.push((w2.sqrt(), phi, part, share));
+            let share = (closed.iter())
+                .map(|j| {
+                    let p = jrows[*j].dot(&phi);
+                    p * p
+                })
+                .sum::<f64>()
+                / w2;
+            cand.push((w2.sqrt(), phi, share));
         }
-        cand.sort_by(|a, b| b.3.total_cmp(&a.3));
-        let top = cand.first().map_or(0.0, |c| c.3);
-        cand.retain(|c| c.3 >= MODE_SHARE * top);
+        cand.sort_by(|a, b| b.2.total_cmp(&a.2));
+        let top = cand.first().map_or(0.0, |c| c.2);
+        cand.retain(|c| c.2 >= MODE_SHARE * top);
         cand.truncate(MAX_MODES);
         let modes: Vec<MapMode> = (cand.iter())
-            .map(|(w, phi, _, share)| MapMode {
+            .map(|(w, phi, share)| MapMode {
                 freq_hz: w / TAU,
                 damping_ratio: phi.dot(&(&c * phi)) / (2.0 * w),
                 nip_share: share / top,
@@ -455,7 +459,6 @@ pub fn barring_map(
                 &sys,
                 (ni, &nip, &cover),
                 &q0,
-                &m,
                 speed * cover_factor,
                 speed,
             )?);
