@@ -40,7 +40,6 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import h5py
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
@@ -62,18 +61,6 @@ ROLES = {"start": ("o", "k", "start"), "jacobian": (".", "0.55", "finite differe
 MAX_NAMED_ROWS = 40
 #: Record groups per row of panels in ``calibration_records.png``.
 RECORD_COLUMNS = 3
-
-
-def is_calibration(path: PathLike) -> bool:
-    """Whether ``path`` is a calibration results file (root attribute ``kind =
-    "calibration"``); :class:`PlotError` when it is missing or not HDF5."""
-    if not Path(path).is_file():
-        raise PlotError(f"{path}: no such file")
-    try:
-        with h5py.File(path, "r") as f:
-            return f.attrs.get("kind") == "calibration" and "calibration" in f
-    except OSError as e:
-        raise PlotError(f"{path}: not an HDF5 file ({e})") from None
 
 
 def _unit(kind: str) -> str:
