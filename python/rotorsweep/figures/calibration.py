@@ -297,14 +297,18 @@ def _accepted(ev: pd.DataFrame) -> pd.Series:
     return pd.Series(out, index=ev.index)
 
 
-def _roles(ax, ev: pd.DataFrame, y: pd.Series) -> None:
-    """The evaluations' values ``y`` over their index, marker and colour by role."""
+def _history(ax, ev: pd.DataFrame, y: pd.Series, path: pd.Series, label: str) -> None:
+    """The evaluations' values ``y`` over their index, marker and colour by role, and along the
+    accepted ``path`` (:func:`_accepted`) as a step line labelled ``label``."""
     base = ev["role"].str.partition(":")[0]
-    for role, (marker, colour, label) in ROLES.items():
+    for role, (marker, colour, name) in ROLES.items():
         on = base == role
         if on.any():
             ax.plot(ev.loc[on, "index"], y[on], marker, color=colour, ms=5, ls="none",
-                    label=label, zorder=3)
+                    label=name, zorder=3)
+    ok = path >= 0
+    ax.step(ev.loc[ok, "index"], y.to_numpy()[path[ok]], where="post", color="C0", lw=1.2,
+            label=label)
 
 
 def cost(ev: pd.DataFrame, attrs: dict, title: str) -> Figure | None:
@@ -313,11 +317,7 @@ def cost(ev: pd.DataFrame, attrs: dict, title: str) -> Figure | None:
         return None
     fig = figure(figsize=(11.5, 4.6))
     left, right = fig.subplots(1, 2, width_ratios=(3, 2))
-    _roles(left, ev, ev["cost"])
-    path = _accepted(ev)
-    ok = path >= 0
-    left.step(ev.loc[ok, "index"], ev["cost"].to_numpy()[path[ok]], where="post", color="C0",
-              lw=1.2, label="accepted (lowest so far)")
+    _history(left, ev, ev["cost"], _accepted(ev), "accepted (lowest so far)")
     left.set_yscale("log")
     left.set_xlabel("evaluation")
     left.set_ylabel("cost ½ Σ r² [1]")
@@ -351,12 +351,9 @@ def parameters(params: pd.DataFrame, ev: pd.DataFrame, title: str) -> Figure | N
     fig = figure(figsize=(4.8 * cols + 0.6, 3.9 * bands + 0.8))
     axes = fig.subplots(bands, cols, squeeze=False).ravel()
     path = _accepted(ev)
-    ok = path >= 0
     for ax, (_, p) in zip(axes, params.iterrows()):
         y = ev[f"value:{p['name']}"]
-        _roles(ax, ev, y)
-        ax.step(ev.loc[ok, "index"], y.to_numpy()[path[ok]], where="post", color="C0", lw=1.2,
-                label="accepted")
+        _history(ax, ev, y, path, "accepted")
         value, err = float(p["value"]), float(p["std_error"])
         if np.isfinite(err) and err > 0:
             ax.axhspan(value - err, value + err, color="C2", alpha=0.25, lw=0,
