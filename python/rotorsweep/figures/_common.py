@@ -1,6 +1,6 @@
-"""What every figure family shares: the error type, the canvas, the constants of the layout, the
-check of the input file, the jobs' setting text and measured numbers as text (:func:`significant`,
-the report's rule)."""
+"""What every figure family shares: the error type, the canvas, the constants of the layout and
+the panels' grid, the input file's kind, the jobs' setting text and measured numbers as text
+(:func:`significant`, the report's rule)."""
 
 from __future__ import annotations
 
@@ -49,6 +49,12 @@ def figure(**kw: object) -> "Figure":
     fig = Figure(layout="constrained", **kw)
     FigureCanvasAgg(fig)
     return fig
+
+
+def grid(n: int, most: int = 3) -> tuple[int, int]:
+    """The rows and columns of a grid of ``n`` panels, at most ``most`` a row."""
+    cols = min(n, most)
+    return -(-n // cols), cols
 
 
 def save(fig: "Figure", path: Path) -> Path:

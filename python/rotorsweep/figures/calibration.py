@@ -47,7 +47,7 @@ from matplotlib.figure import Figure
 import rotorsweep as rp
 from rotorsweep import PathLike
 
-from ._common import PlotError, figure, significant
+from ._common import PlotError, figure, grid, significant
 
 #: A record row's output: ``order_re_um:<sensor>/<dir>:<order>x@<speed>Hz``.
 RECORD_OUTPUT = re.compile(r"^order_(re|im)_um:(?P<channel>[^:]+):(?P<order>[^:@]+)x"
@@ -157,8 +157,7 @@ def record_rows(rows: pd.DataFrame, title: str) -> Figure | None:
     if records["job"].nunique() > 1:
         records["group"] += " (job " + records["job"].astype(str) + ")"
     groups = list(dict.fromkeys(records["group"]))
-    cols = min(len(groups), RECORD_COLUMNS)
-    bands = -(-len(groups) // cols)
+    bands, cols = grid(len(groups), RECORD_COLUMNS)
     fig = figure(figsize=(4.6 * cols + 0.8, 5.6 * bands + 0.6))
     axes = fig.subplots(2 * bands, cols, squeeze=False, sharex="col")
     for n, group in enumerate(groups):
@@ -346,8 +345,7 @@ def parameters(params: pd.DataFrame, ev: pd.DataFrame, title: str) -> Figure | N
     if ev.empty or params.empty:
         return None
     n = len(params)
-    cols = min(n, 3)
-    bands = -(-n // cols)
+    bands, cols = grid(n)
     fig = figure(figsize=(4.8 * cols + 0.6, 3.9 * bands + 0.8))
     axes = fig.subplots(bands, cols, squeeze=False).ravel()
     path = _accepted(ev)
