@@ -95,6 +95,11 @@ impl Report {
     }
 }
 
+/// A text cell of a stored variable-length string.
+pub(crate) fn text_cell(s: &hdf5::types::VarLenUnicode) -> Cell {
+    Cell::Text(s.as_str().to_string())
+}
+
 /// A cell as markdown shows it: 4 significant digits, `–` for no value.
 pub(crate) fn md_cell(c: &Cell) -> String {
     match c {

@@ -1,6 +1,6 @@
-"""What every figure family shares: the error type, the canvas, the constants of the layout, the
-check of the input file, the jobs' setting text and measured numbers as text (:func:`significant`,
-the report's rule)."""
+"""What every figure family shares: the error type, the canvas, the constants of the layout and
+the panels' grid, the input file's kind, the jobs' setting text and measured numbers as text
+(:func:`significant`, the report's rule)."""
 
 from __future__ import annotations
 
@@ -51,32 +51,57 @@ def figure(**kw: object) -> "Figure":
     return fig
 
 
+def grid(n: int, most: int = 3) -> tuple[int, int]:
+    """The rows and columns of a grid of ``n`` panels, at most ``most`` a row."""
+    cols = min(n, most)
+    return -(-n // cols), cols
+
+
 def save(fig: "Figure", path: Path) -> Path:
     """Writes ``fig`` as a PNG of :data:`DPI` to ``path``; returns ``path``."""
     fig.savefig(path, dpi=DPI)
     return path
 
 
-def check_results_file(path: PathLike) -> bool:
-    """Raises :class:`PlotError` naming ``path`` unless it is an HDF5 file written by
-    ``rotorsweep run`` or ``merge`` (tool attribute "rotorsweep" and a ``/summary`` table) or by
-    ``rotorsweep linear -o`` (a ``/linear`` group); True for a study results file."""
+def file_kind(path: PathLike) -> str:
+    """What the results file ``path`` is, read once: ``"calibration"`` (root attribute ``kind =
+    "calibration"`` and a ``/calibration`` group, ``rotorsweep calibrate -o``), ``"study"``
+    (tool attribute "rotorsweep" and a ``/summary`` table, ``rotorsweep run`` or ``merge``) or
+    ``"linear"`` (a ``/linear`` group, ``rotorsweep linear -o``); :class:`PlotError` naming
+    ``path`` when it is missing, not HDF5 or none of these."""
     if not Path(path).is_file():
         raise PlotError(f"{path}: no such file")
     try:
         with h5py.File(path, "r") as f:
+            calibration = f.attrs.get("kind") == "calibration" and "calibration" in f
             tool = f.attrs.get("tool")
             has_summary = "summary" in f
             has_linear = "linear" in f
     except OSError as e:
         raise PlotError(f"{path}: not an HDF5 file ({e})") from None
+    if calibration:
+        return "calibration"
     if tool != "rotorsweep" or not (has_summary or has_linear):
-        raise PlotError(
-            f"{path}: not a rotorsweep study results file (no /summary table; "
-            "`rotorsweep run STUDY -o OUT.h5` writes one), a `rotorsweep linear -o` file "
-            "(no /linear group) nor a `rotorsweep calibrate -o` file (no kind = calibration)"
-        )
-    return has_summary
+        raise _not_results(path)
+    return "study" if has_summary else "linear"
+
+
+def _not_results(path: PathLike) -> PlotError:
+    return PlotError(
+        f"{path}: not a rotorsweep study results file (no /summary table; "
+        "`rotorsweep run STUDY -o OUT.h5` writes one), a `rotorsweep linear -o` file "
+        "(no /linear group) nor a `rotorsweep calibrate -o` file (no kind = calibration)"
+    )
+
+
+def check_results_file(path: PathLike) -> bool:
+    """Raises :class:`PlotError` naming ``path`` unless it is an HDF5 file written by
+    ``rotorsweep run`` or ``merge`` (tool attribute "rotorsweep" and a ``/summary`` table) or by
+    ``rotorsweep linear -o`` (a ``/linear`` group); True for a study results file."""
+    kind = file_kind(path)
+    if kind == "calibration":
+        raise _not_results(path)
+    return kind == "study"
 
 
 def settings(summary: pd.DataFrame, labels: pd.DataFrame, keys: list[str],

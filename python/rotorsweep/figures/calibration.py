@@ -40,7 +40,6 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import h5py
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
@@ -48,7 +47,7 @@ from matplotlib.figure import Figure
 import rotorsweep as rp
 from rotorsweep import PathLike
 
-from ._common import PlotError, figure, significant
+from ._common import PlotError, figure, grid, significant
 
 #: A record row's output: ``order_re_um:<sensor>/<dir>:<order>x@<speed>Hz``.
 RECORD_OUTPUT = re.compile(r"^order_(re|im)_um:(?P<channel>[^:]+):(?P<order>[^:@]+)x"
@@ -62,18 +61,6 @@ ROLES = {"start": ("o", "k", "start"), "jacobian": (".", "0.55", "finite differe
 MAX_NAMED_ROWS = 40
 #: Record groups per row of panels in ``calibration_records.png``.
 RECORD_COLUMNS = 3
-
-
-def is_calibration(path: PathLike) -> bool:
-    """Whether ``path`` is a calibration results file (root attribute ``kind =
-    "calibration"``); :class:`PlotError` when it is missing or not HDF5."""
-    if not Path(path).is_file():
-        raise PlotError(f"{path}: no such file")
-    try:
-        with h5py.File(path, "r") as f:
-            return f.attrs.get("kind") == "calibration" and "calibration" in f
-    except OSError as e:
-        raise PlotError(f"{path}: not an HDF5 file ({e})") from None
 
 
 def _unit(kind: str) -> str:
@@ -170,8 +157,7 @@ def record_rows(rows: pd.DataFrame, title: str) -> Figure | None:
     if records["job"].nunique() > 1:
         records["group"] += " (job " + records["job"].astype(str) + ")"
     groups = list(dict.fromkeys(records["group"]))
-    cols = min(len(groups), RECORD_COLUMNS)
-    bands = -(-len(groups) // cols)
+    bands, cols = grid(len(groups), RECORD_COLUMNS)
     fig = figure(figsize=(4.6 * cols + 0.8, 5.6 * bands + 0.6))
     axes = fig.subplots(2 * bands, cols, squeeze=False, sharex="col")
     for n, group in enumerate(groups):
@@ -310,14 +296,18 @@ def _accepted(ev: pd.DataFrame) -> pd.Series:
     return pd.Series(out, index=ev.index)
 
 
-def _roles(ax, ev: pd.DataFrame, y: pd.Series) -> None:
-    """The evaluations' values ``y`` over their index, marker and colour by role."""
+def _history(ax, ev: pd.DataFrame, y: pd.Series, path: pd.Series, label: str) -> None:
+    """The evaluations' values ``y`` over their index, marker and colour by role, and along the
+    accepted ``path`` (:func:`_accepted`) as a step line labelled ``label``."""
     base = ev["role"].str.partition(":")[0]
-    for role, (marker, colour, label) in ROLES.items():
+    for role, (marker, colour, name) in ROLES.items():
         on = base == role
         if on.any():
             ax.plot(ev.loc[on, "index"], y[on], marker, color=colour, ms=5, ls="none",
-                    label=label, zorder=3)
+                    label=name, zorder=3)
+    ok = path >= 0
+    ax.step(ev.loc[ok, "index"], y.to_numpy()[path[ok]], where="post", color="C0", lw=1.2,
+            label=label)
 
 
 def cost(ev: pd.DataFrame, attrs: dict, title: str) -> Figure | None:
@@ -326,11 +316,7 @@ def cost(ev: pd.DataFrame, attrs: dict, title: str) -> Figure | None:
         return None
     fig = figure(figsize=(11.5, 4.6))
     left, right = fig.subplots(1, 2, width_ratios=(3, 2))
-    _roles(left, ev, ev["cost"])
-    path = _accepted(ev)
-    ok = path >= 0
-    left.step(ev.loc[ok, "index"], ev["cost"].to_numpy()[path[ok]], where="post", color="C0",
-              lw=1.2, label="accepted (lowest so far)")
+    _history(left, ev, ev["cost"], _accepted(ev), "accepted (lowest so far)")
     left.set_yscale("log")
     left.set_xlabel("evaluation")
     left.set_ylabel("cost ½ Σ r² [1]")
@@ -359,17 +345,13 @@ def parameters(params: pd.DataFrame, ev: pd.DataFrame, title: str) -> Figure | N
     if ev.empty or params.empty:
         return None
     n = len(params)
-    cols = min(n, 3)
-    bands = -(-n // cols)
+    bands, cols = grid(n)
     fig = figure(figsize=(4.8 * cols + 0.6, 3.9 * bands + 0.8))
     axes = fig.subplots(bands, cols, squeeze=False).ravel()
     path = _accepted(ev)
-    ok = path >= 0
     for ax, (_, p) in zip(axes, params.iterrows()):
         y = ev[f"value:{p['name']}"]
-        _roles(ax, ev, y)
-        ax.step(ev.loc[ok, "index"], y.to_numpy()[path[ok]], where="post", color="C0", lw=1.2,
-                label="accepted")
+        _history(ax, ev, y, path, "accepted")
         value, err = float(p["value"]), float(p["std_error"])
         if np.isfinite(err) and err > 0:
             ax.axhspan(value - err, value + err, color="C2", alpha=0.25, lw=0,

@@ -21,12 +21,12 @@ from ._common import (
     DEFAULT_CHANNEL,
     DIRECTIONS,
     PlotError,
-    check_results_file,
+    file_kind,
     save,
     settings,
 )
 from .balance import balancing, read_balance
-from .calibration import calibration_figures, is_calibration
+from .calibration import calibration_figures
 from .compare import compare_figures
 from .jobs import stability, timing, work_precision_pages
 from .linear import campbell, linear_figures, linear_groups, study_systems
@@ -70,12 +70,13 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
         figures = compare_figures(path, compare, None if channel is None
                                   else channel.partition("/")[0], report.numbers)
         return _write(figures, outdir)
-    if is_calibration(path):
+    kind = file_kind(path)
+    if kind == "calibration":
         if balance is not None:
             raise PlotError(f"{balance}: balancing needs a study results file, not the "
                             f"calibration {path}")
         return _write(calibration_figures(path), outdir)
-    study_file = check_results_file(path)
+    study_file = kind == "study"
     balanced = None if balance is None else read_balance(balance)
     if balanced is not None and not study_file:
         raise PlotError(f"{balance}: balancing needs a study results file, not {path}")

@@ -35,7 +35,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from ._common import figure
+from ._common import figure, grid
 
 #: Most outputs drawn (panels of the histograms and sensitivity figures, rows of the scatter).
 MAX_OUTPUTS = 9
@@ -84,17 +84,12 @@ def chosen_outputs(samples: pd.DataFrame, parameters: list[str], channel: str) -
     return sorted(out, key=rank)[:MAX_OUTPUTS]
 
 
-def _grid(n: int) -> tuple[int, int]:
-    cols = min(n, 3)
-    return math.ceil(n / cols), cols
-
-
 def histograms(samples: pd.DataFrame, outputs: list[str], statistics: pd.DataFrame | None,
                study: str) -> Figure | None:
     """``histograms.png`` (module doc); None without outputs."""
     if not outputs:
         return None
-    rows, cols = _grid(len(outputs))
+    rows, cols = grid(len(outputs))
     fig = figure(figsize=(4.2 * cols, 3.0 * rows + 0.5))
     axes = fig.subplots(rows, cols, squeeze=False).ravel()
     # Of a sampled study on grid axes the statistics hold a row per output and grid point
@@ -158,7 +153,7 @@ def sensitivity(indices: pd.DataFrame | None, outputs: list[str], study: str) ->
     names = [o for o in outputs if o in set(indices["output"])]
     if not names:
         return None
-    rows, cols = _grid(len(names))
+    rows, cols = grid(len(names))
     fig = figure(figsize=(4.6 * cols, 3.2 * rows + 0.5))
     axes = fig.subplots(rows, cols, squeeze=False).ravel()
     for ax, name in zip(axes, names):

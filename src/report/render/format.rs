@@ -11,7 +11,7 @@ use serde::Serialize;
 use super::{csv, markdown};
 use crate::error::InputError;
 use crate::report::table::{Report, Table};
-use crate::report::tables::CALIBRATION_TABLES;
+use crate::report::tables::calibration_hint;
 use crate::report::Labels;
 
 /// Output formats.
@@ -69,18 +69,7 @@ impl Report {
         Ok(match only {
             None => self.tables.iter().collect(),
             Some(name) => vec![self.tables.iter().find(|t| t.name == name).ok_or_else(|| {
-                // A calibration's table asked of another file, or the other way round: say
-                // which kind of file has it.
-                let calibration = |n: &str| CALIBRATION_TABLES.contains(&n);
-                let has_calibration = self.tables.iter().any(|t| calibration(&t.name));
-                let why = if calibration(name) && !has_calibration {
-                    " (a table of a calibration results file, `rotorsweep calibrate -o`; this \
-                     file is not one)"
-                } else if !calibration(name) && has_calibration {
-                    " (this file is a calibration results file, `rotorsweep calibrate -o`)"
-                } else {
-                    ""
-                };
+                let why = calibration_hint(name, &self.tables);
                 InputError::new(
                     &self.file,
                     format!(

@@ -19,11 +19,14 @@
 //!   `step`), iteration, batch file, study job ids, `ok`, cost ½ Σ r² and one column
 //!   `value:<parameter>` per parameter (the model's outputs per row are in the file's
 //!   `/calibration/outputs` and in Python's `rotorsweep.calibration`).
+//!
+//! Also the note `report --table NAME` adds when a calibration's table is asked of another file
+//! or another table of a calibration file ([`calibration_hint`]).
 
 use hdf5::types::VarLenUnicode;
 use hdf5::File;
 
-use crate::report::table::{Cell, Table};
+use crate::report::table::{text_cell, Cell, Table};
 use crate::store;
 use crate::text::significant;
 
@@ -38,6 +41,21 @@ pub(crate) const CALIBRATION_TABLES: [&str; 4] = [
 /// Whether `f` is a calibration results file (root attribute `kind = "calibration"`).
 pub(crate) fn is_calibration(f: &File) -> bool {
     store::read_str(f, "kind").is_ok_and(|k| k == "calibration")
+}
+
+/// What to add to "no table `name`" of a file with `tables`: which kind of file has the table,
+/// when it is a calibration's table asked of another file or the other way round; "" else.
+pub(crate) fn calibration_hint(name: &str, tables: &[Table]) -> &'static str {
+    let calibration = |n: &str| CALIBRATION_TABLES.contains(&n);
+    let has_calibration = tables.iter().any(|t| calibration(&t.name));
+    if calibration(name) && !has_calibration {
+        " (a table of a calibration results file, `rotorsweep calibrate -o`; this file is not \
+         one)"
+    } else if !calibration(name) && has_calibration {
+        " (this file is a calibration results file, `rotorsweep calibrate -o`)"
+    } else {
+        ""
+    }
 }
 
 /// A row of `/calibration/parameters` (HDF5 converts records member by member by name).
@@ -101,10 +119,6 @@ fn names_of(columns: &[&str]) -> Vec<String> {
     columns.iter().map(|c| c.to_string()).collect()
 }
 
-fn text(s: &VarLenUnicode) -> Cell {
-    Cell::Text(s.as_str().to_string())
-}
-
 /// The records of the table `name` under `/calibration`.
 fn records<T: hdf5::H5Type>(f: &File, name: &str) -> hdf5::Result<Vec<T>> {
     f.dataset(&format!("calibration/{name}"))?.read_raw()
@@ -164,7 +178,7 @@ pub(crate) fn calibration_tables(f: &File) -> hdf5::Result<Vec<Table>> {
         params
             .iter()
             .map(|p| {
-                let mut r = vec![text(&p.name), text(&p.keys), text(&p.scale)];
+                let mut r = vec![text_cell(&p.name), text_cell(&p.keys), text_cell(&p.scale)];
                 r.extend([p.lower, p.upper, p.initial, p.value, p.std_error].map(Cell::Number));
                 r.push(Cell::Count(p.at_bound));
                 r
@@ -187,9 +201,9 @@ pub(crate) fn calibration_tables(f: &File) -> hdf5::Result<Vec<Table>> {
             .iter()
             .map(|t| {
                 let mut r = vec![
-                    text(&t.target),
+                    text_cell(&t.target),
                     Cell::Count(t.line),
-                    text(&t.output),
+                    text_cell(&t.output),
                     Cell::Count(t.job),
                 ];
                 r.extend(
@@ -250,10 +264,10 @@ pub(crate) fn calibration_tables(f: &File) -> hdf5::Result<Vec<Table>> {
             .map(|(i, e)| {
                 let mut r = vec![
                     Cell::Count(e.index),
-                    text(&e.role),
+                    text_cell(&e.role),
                     Cell::Count(e.iteration),
-                    text(&e.batch),
-                    text(&e.job_ids),
+                    text_cell(&e.batch),
+                    text_cell(&e.job_ids),
                     Cell::Count(e.ok),
                     Cell::Number(e.cost),
                 ];

@@ -20,7 +20,7 @@ mod trial_mass;
 
 pub(crate) use balancing::balancing_tables;
 pub(crate) use calibration::{
-    calibration_overview, calibration_tables, is_calibration, CALIBRATION_TABLES,
+    calibration_hint, calibration_overview, calibration_tables, is_calibration,
 };
 pub(crate) use linear::linear_table;
 pub(crate) use nips::nips_table;

@@ -12,7 +12,7 @@ use hdf5::types::VarLenUnicode;
 use hdf5::File;
 
 use crate::report::jobs::{job_columns, Job};
-use crate::report::table::{md_cell, Cell, Grid, Table};
+use crate::report::table::{md_cell, text_cell, Cell, Grid, Table};
 
 /// A row of `/analysis/orders` (HDF5 converts records member by member by name).
 #[derive(hdf5::H5Type, Clone)]
@@ -40,10 +40,6 @@ pub(crate) struct PeakRow {
     pub(crate) rank: u64,
     pub(crate) speed_hz: f64,
     pub(crate) amplitude_um: f64,
-}
-
-fn text(s: &VarLenUnicode) -> Cell {
-    Cell::Text(s.as_str().to_string())
 }
 
 /// The records of the table at `path`; `None` when the file has none.
@@ -131,8 +127,8 @@ pub(crate) fn orders_table(
                 Cell::Count(r.block),
                 Cell::Number(r.time_s),
                 Cell::Number(r.speed_hz),
-                text(&r.sensor),
-                text(&r.direction),
+                text_cell(&r.sensor),
+                text_cell(&r.direction),
                 Cell::Number(r.amplitude_um),
                 Cell::Number(r.phase_deg),
             ]
@@ -177,8 +173,8 @@ pub(crate) fn order_resonance_table(
         .map(|r| {
             vec![
                 Cell::Number(r.order),
-                text(&r.sensor),
-                text(&r.direction),
+                text_cell(&r.sensor),
+                text_cell(&r.direction),
                 Cell::Count(r.rank),
                 Cell::Number(r.speed_hz),
                 Cell::Number(r.amplitude_um),
