@@ -21,6 +21,8 @@
 //! `supported_hz` for, before the reduction. Memory and time: those of one sparse factor of
 //! K_s − σM_s and the Lanczos basis, as `reduce`.
 
+use nalgebra::Matrix2;
+
 use crate::numerics::lanczos::Modes;
 use crate::numerics::sparse::Sparse;
 use crate::rotor::import::solid::SolidBody;
@@ -33,33 +35,33 @@ const SHIFT_HZ: f64 = 1.0;
 /// A failure: (scene key, reason).
 pub type Failure = (String, String);
 
-/// The rows (body DOF, coefficient) of `name`'s motion `dof` (0 u_x … 5 θ_z).
+/// The rows (body DOF, coefficient) of `name`'s six motions (u_x … θ_z).
 fn rows<'a>(
     solid: &'a SolidBody,
     name: &str,
     key: &str,
-) -> Result<[&'a [(usize, f64)]; 6], Failure> {
-    let a = solid
+) -> Result<&'a [Vec<(usize, f64)>; 6], Failure> {
+    solid
         .attachments
         .iter()
         .find(|a| a.name == name)
+        .map(|a| &a.rows)
         .ok_or_else(|| {
             (
                 key.to_string(),
                 format!("`{name}` is not an attachment point of the body"),
             )
-        })?;
-    Ok(std::array::from_fn(|d| a.rows[d].as_slice()))
+        })
 }
 
-/// Adds ½ eᵀ k e for the elongations e_a = Σ (row, coefficient) to `out` (k symmetric 2 × 2 or
-/// 1 × 1, row-major `k[a][b]`).
-fn spring(out: &mut Vec<(usize, usize, f64)>, e: &[Vec<(usize, f64)>], k: &[[f64; 2]; 2]) {
+/// Adds ½ eᵀ k e for the elongations e_a = Σ (row, coefficient) to `out` (k symmetric 2 × 2, or
+/// its (0, 0) entry alone for one elongation).
+fn spring(out: &mut Vec<(usize, usize, f64)>, e: &[Vec<(usize, f64)>], k: &Matrix2<f64>) {
     for (a, ea) in e.iter().enumerate() {
         for (b, eb) in e.iter().enumerate() {
             for &(i, x) in ea {
                 for &(j, y) in eb {
-                    out.push((i, j, k[a][b] * x * y));
+                    out.push((i, j, k[(a, b)] * x * y));
                 }
             }
         }
@@ -115,29 +117,28 @@ pub fn supported_modes(scene: &Scene, count: usize) -> Result<Modes, Failure> {
                 ),
             ));
         }
-        let kk = [[at.kx, at.kxy], [at.kyx, at.ky]];
-        let mut e: Vec<Vec<(usize, f64)>> = vec![r[0].to_vec(), r[1].to_vec()];
+        let mut e: Vec<Vec<(usize, f64)>> = vec![r[0].clone(), r[1].clone()];
         if let Some((mass, ground)) = &l.mass {
             e[0].push((next, -1.0));
             e[1].push((next + 1, -1.0));
-            let kg = [[ground.kx, ground.kxy], [ground.kyx, ground.ky]];
             if ground.kxy != ground.kyx {
                 return Err((
                     format!("{key}.mass"),
                     "the support mass's ground spring has unequal cross stiffnesses".to_string(),
                 ));
             }
-            spring(&mut k, &[vec![(next, 1.0)], vec![(next + 1, 1.0)]], &kg);
+            let ground_rows = [vec![(next, 1.0)], vec![(next + 1, 1.0)]];
+            spring(&mut k, &ground_rows, &ground.k_matrix());
             m.push((next, next, *mass));
             m.push((next + 1, next + 1, *mass));
             next += 2;
         }
-        spring(&mut k, &e, &kk);
+        spring(&mut k, &e, &at.k_matrix());
     }
     if let Some(d) = &scene.drive {
         let r = rows(solid, &d.node, "drive.node")?;
-        let kd = [[d.axial_stiffness, 0.0], [0.0, 0.0]];
-        spring(&mut k, &[r[2].to_vec()], &kd);
+        let kd = Matrix2::new(d.axial_stiffness, 0.0, 0.0, 0.0);
+        spring(&mut k, std::slice::from_ref(&r[2]), &kd);
     }
     let k = Sparse::from_entries(total, k);
     let m = Sparse::from_entries(total, m);

@@ -77,23 +77,11 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         // Written whole under a temporary name beside the output (removed if the write fails,
         // e.g. a full disk), then linked to the output's name only if that is still free: a
         // failed or concurrent export never leaves a half-written file under the name given.
-        let dir = match a.output.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => std::path::Path::new("."),
-        };
-        let tmp = tempfile::Builder::new()
-            .prefix(".rotorsweep-export-")
+        let dir = parent_dir(&a.output);
+        let tmp = temporary(0o666)
             .suffix(".tmp")
-            .permissions(std::fs::Permissions::from_mode(0o666))
-            .tempfile_in(dir)
-            .map_err(|e| {
-                // The folder and the OS's reason: the temporary name is not the user's business.
-                io(format!(
-                    "cannot write in the folder {} ({})",
-                    dir.display(),
-                    e.kind()
-                ))
-            })?;
+            .tempfile_in(&dir)
+            .map_err(|e| cannot_write(&a.output, &dir, &e))?;
         match ext {
             Some("npz") => p.write_npz(tmp.path()).map_err(|e| io(e.to_string()))?,
             Some("mat") => p.write_mat(tmp.path()).map_err(|e| io(e.to_string()))?,
@@ -144,30 +132,15 @@ fn write_folder(
     out: &Path,
     write: impl FnOnce(&Path) -> Result<Written, ExportError>,
 ) -> Result<Written, CliError> {
-    let parent = match out.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
+    let parent = parent_dir(out);
     let made = create_parents(&parent).map_err(|e| {
         CliError::Io(format!("{}: cannot create its folder: {e}", out.display()).into())
     })?;
     let result = (|| {
-        let tmp = tempfile::Builder::new()
-            .prefix(".rotorsweep-export-")
-            // mkdir's mode, less the umask: a new folder's permissions, not a temporary's 0700.
-            .permissions(std::fs::Permissions::from_mode(0o777))
+        // mkdir's mode, less the umask: a new folder's permissions, not a temporary's 0700.
+        let tmp = temporary(0o777)
             .tempdir_in(&parent)
-            .map_err(|e| {
-                CliError::Io(
-                    format!(
-                        "{}: cannot write in the folder {} ({})",
-                        out.display(),
-                        parent.display(),
-                        e.kind()
-                    )
-                    .into(),
-                )
-            })?;
+            .map_err(|e| cannot_write(out, &parent, &e))?;
         let named = |p: &Path| out.join(p.strip_prefix(tmp.path()).unwrap_or(p));
         let w = write(tmp.path()).map_err(|e| {
             let what = match &e {
@@ -189,6 +162,37 @@ fn write_folder(
         }
     }
     result
+}
+
+/// The folder an output `out` is written beside: its parent, or the working folder.
+fn parent_dir(out: &Path) -> PathBuf {
+    match out.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// A temporary beside the output, under rotorsweep's working prefix, with `mode` (less the
+/// umask).
+fn temporary(mode: u32) -> tempfile::Builder<'static, 'static> {
+    let mut b = tempfile::Builder::new();
+    b.prefix(".rotorsweep-export-")
+        .permissions(std::fs::Permissions::from_mode(mode));
+    b
+}
+
+/// The error of a temporary that cannot be made in `dir`: the folder and the OS's reason (the
+/// temporary name is not the user's business).
+fn cannot_write(out: &Path, dir: &Path, e: &std::io::Error) -> CliError {
+    CliError::Io(
+        format!(
+            "{}: cannot write in the folder {} ({})",
+            out.display(),
+            dir.display(),
+            e.kind()
+        )
+        .into(),
+    )
 }
 
 /// Creates the missing folders of `dir`, returning those it created (outermost first).

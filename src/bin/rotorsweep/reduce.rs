@@ -146,31 +146,23 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     for (s, t) in steps.iter().zip(r.seconds) {
         println!("  {s}: {t:.2} s");
     }
-    let free = if a.free > 0 {
-        let t = Instant::now();
-        let f = body_modes(&body.stiffness, &body.mass, a.free as usize, FREE_SHIFT_HZ)
-            .map_err(|e| CliError::input(format!("{}: {e}", a.scene.display())))?;
-        println!(
-            "  free modes of the whole body: {:.2} s",
-            t.elapsed().as_secs_f64()
-        );
-        Some(f)
-    } else {
-        None
-    };
-    let supported = match &scene {
-        Some(sc) => {
-            let t = Instant::now();
-            let f = supported_modes(sc, a.supported as usize)
-                .map_err(|(key, reason)| InputError::new(&a.scene, reason).with_key(key))?;
-            println!(
-                "  modes of the whole body on its supports: {:.2} s",
-                t.elapsed().as_secs_f64()
-            );
-            Some(f)
-        }
-        None => None,
-    };
+    let free = (a.free > 0)
+        .then(|| {
+            timed("free modes of the whole body", || {
+                body_modes(&body.stiffness, &body.mass, a.free as usize, FREE_SHIFT_HZ)
+                    .map_err(|e| CliError::input(format!("{}: {e}", a.scene.display())))
+            })
+        })
+        .transpose()?;
+    let supported = scene
+        .as_ref()
+        .map(|sc| {
+            timed("modes of the whole body on its supports", || {
+                supported_modes(sc, a.supported as usize)
+                    .map_err(|(key, reason)| InputError::new(&a.scene, reason).with_key(key).into())
+            })
+        })
+        .transpose()?;
     std::fs::create_dir(&a.output)?;
     let write = |name: &str, text: String| -> Result<(), CliError> {
         let p = a.output.join(name);
@@ -197,17 +189,10 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     }
     write("interface.csv", t)?;
     let mut f = String::from("set,index,hz\n");
-    for (i, hz) in r.fixed_hz.iter().enumerate() {
-        let _ = writeln!(f, "fixed-interface,{},{hz:e}", i + 1);
-    }
-    for (i, hz) in r.free_hz.iter().enumerate() {
-        let _ = writeln!(f, "reduced,{},{hz:e}", i + 1);
-    }
+    hz_rows(&mut f, "fixed-interface", r.fixed_hz.iter().copied());
+    hz_rows(&mut f, "reduced", r.free_hz.iter().copied());
     if let Some(fm) = &free {
-        for (i, l) in fm.values.iter().enumerate() {
-            let hz = l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
-            let _ = writeln!(f, "free-body,{},{hz:e}", i + 1);
-        }
+        hz_rows(&mut f, "free-body", fm.values.iter().map(|&l| hz(l)));
         write(
             "free_modes.mtx",
             format_array(
@@ -224,10 +209,7 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         )?;
     }
     if let Some(sm) = &supported {
-        for (i, l) in sm.values.iter().enumerate() {
-            let hz = l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
-            let _ = writeln!(f, "supported-body,{},{hz:e}", i + 1);
-        }
+        hz_rows(&mut f, "supported-body", sm.values.iter().map(|&l| hz(l)));
     }
     write("frequencies.csv", f)?;
     let (table, rows) = attachments(&solid);
@@ -267,6 +249,26 @@ pub fn run(a: &Args) -> Result<(), CliError> {
 /// The shift of the whole body's free modes [Hz]: σ = −(2π · 1 Hz)², below the rigid-body
 /// modes' 0 (the factor of K − σM exists for a free body) and far below any elastic mode.
 const FREE_SHIFT_HZ: f64 = 1.0;
+
+/// `work` run, its time printed after `what`.
+fn timed<T>(what: &str, work: impl FnOnce() -> Result<T, CliError>) -> Result<T, CliError> {
+    let t = Instant::now();
+    let out = work()?;
+    println!("  {what}: {:.2} s", t.elapsed().as_secs_f64());
+    Ok(out)
+}
+
+/// The frequency [Hz] of an eigenvalue λ [(rad/s)²] (a negative one's as 0).
+fn hz(lambda: f64) -> f64 {
+    lambda.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)
+}
+
+/// frequencies.csv's rows `set,index,hz` of one set, numbered from 1.
+fn hz_rows(out: &mut String, set: &str, hz: impl Iterator<Item = f64>) {
+    for (i, x) in hz.enumerate() {
+        let _ = writeln!(out, "{set},{},{x:e}", i + 1);
+    }
+}
 
 /// One row of an attachment matrix: reduced coordinate → coefficient.
 type Row = HashMap<usize, f64>;
