@@ -578,8 +578,9 @@ fn check_row(c: &Ctx, r: &Row, study: &Study) -> Result<(), InputError> {
             ),
         ));
     };
+    // The job's scene (validated when the study was loaded) for its sensors.
+    let sensors = study.scene_of(&job.overrides)?.sensors;
     if let Some(p) = &r.point {
-        let sensors = &job.scene.sensors;
         if !sensors.contains(&p.sensor) {
             return Err(c.err(
                 &format!("{table}.file"),
@@ -605,7 +606,6 @@ fn check_row(c: &Ctx, r: &Row, study: &Study) -> Result<(), InputError> {
     if *placed || kind.starts_with("sag_") {
         let place = rest.split(':').next().unwrap_or("");
         let (sensor, dir) = place.split_once('/').unwrap_or((place, ""));
-        let sensors = &job.scene.sensors;
         if !sensors.iter().any(|s| s == sensor) {
             let key = if table.starts_with("resonances") {
                 format!("{table}.sensor")

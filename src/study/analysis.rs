@@ -50,10 +50,10 @@ pub(super) fn below_nyquist(c: &Ctx, a: &AnalysisSpec, jobs: &[Job]) -> Result<(
     let top = a.orders.iter().copied().fold(0.0, f64::max);
     let explicit = a.orders != default_orders();
     for j in jobs.iter().filter(|_| explicit) {
-        let sim = &j.scene.simulation;
-        if let Some((w, _)) = j.scene.speed.constant_over(sim.settle, sim.t_end) {
+        let rate = j.facts.sample_rate_hz;
+        if let Some(w) = j.facts.record_omega {
             let f = top * w / std::f64::consts::TAU;
-            if f >= 0.5 * sim.sample_rate {
+            if f >= 0.5 * rate {
                 return Err(c.err(
                     "analysis.orders",
                     format!(
@@ -61,7 +61,7 @@ pub(super) fn below_nyquist(c: &Ctx, a: &AnalysisSpec, jobs: &[Job]) -> Result<(
                          frequency {:.1} Hz of simulation.sample_rate_hz",
                         j.index,
                         w / std::f64::consts::TAU,
-                        0.5 * sim.sample_rate
+                        0.5 * rate
                     ),
                 ));
             }

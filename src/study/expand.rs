@@ -10,16 +10,17 @@
 //! it. Two jobs of the same inputs are an error, whether written alike or not (`10` and
 //! `10.0`).
 
-use std::collections::BTreeMap;
+use std::collections::hash_map::Entry;
+use std::collections::{BTreeMap, HashMap};
 use std::sync::Mutex;
 
 use rayon::prelude::*;
 
 use super::context::{override_key, Ctx};
 use super::grid::Combo;
-use super::ids::{job_id, linear_id, map_of, map_text, model_id, scene_inputs, Inputs};
+use super::ids::{fnv1a, job_id, linear_id, map_of, map_text, model_id, scene_inputs, Inputs};
 use super::job_table::{BaseTable, JobTable};
-use super::jobs::Job;
+use super::jobs::{Job, SceneFacts};
 use super::pruning::{share, PRUNE_KEY};
 use super::reference::References;
 use super::values::{normal_text, Override};
@@ -27,12 +28,15 @@ use crate::error::InputError;
 use crate::scene::source::Source;
 use crate::scene::{Scene, COMMAND_LINE};
 
+/// Jobs checked on the pool at a time.
+const CHUNK: usize = 1 << 16;
+
 /// A job after its own checks (`Expansion::check`), with its ids.
 struct Checked {
     overrides: Vec<Override>,
     prune: Option<f64>,
     labels: Vec<(String, String)>,
-    scene: Scene,
+    facts: SceneFacts,
     /// Its inputs as normalised text (two jobs of the same text are one physics).
     written: String,
     inputs: Inputs,
@@ -40,7 +44,8 @@ struct Checked {
     model_id: String,
     linear_id: String,
     reference_id: String,
-    reference_overrides: Vec<Override>,
+    /// Its reference's overrides, when the study has a `[reference]`.
+    reference_overrides: Option<Vec<Override>>,
 }
 
 /// What every job of a study is made from.
@@ -78,36 +83,43 @@ impl Expansion<'_> {
         let base = BaseTable::new(&self.source.table);
         // The inputs' hash by thickness map: each map read and hashed once.
         let inputs_of: Mutex<BTreeMap<Option<String>, Inputs>> = Mutex::default();
-        let checked: Vec<Result<Checked, InputError>> = combos
-            .into_par_iter()
-            .enumerate()
-            .map(|(index, (combo, labels))| {
-                self.check(index, combo, labels, &base, references, &inputs_of)
-            })
-            .collect();
-        let mut physics_of = BTreeMap::new();
-        let mut jobs = Vec::with_capacity(checked.len());
-        for (index, c) in checked.into_iter().enumerate() {
-            let c = c?;
-            self.new_physics(index, c.written, &mut physics_of)?;
-            references.add(
-                index,
-                &c.reference_id,
-                c.reference_overrides,
-                c.inputs,
-                &base,
-            )?;
-            jobs.push(Job {
-                index,
-                id: c.id,
-                model_id: c.model_id,
-                linear_id: c.linear_id,
-                overrides: c.overrides,
-                prune: c.prune,
-                reference_id: c.reference_id,
-                labels: c.labels,
-                scene: c.scene,
-            });
+        let mut physics_of = HashMap::new();
+        let mut jobs = Vec::with_capacity(combos.len());
+        let mut combos = combos.into_iter().enumerate();
+        // A chunk at a time, so that what a job's checks leave besides the job is held for one
+        // chunk only.
+        loop {
+            let chunk: Vec<(usize, Combo)> = combos.by_ref().take(CHUNK).collect();
+            if chunk.is_empty() {
+                break;
+            }
+            let checked: Vec<Result<Checked, InputError>> = chunk
+                .into_par_iter()
+                .map(|(index, (combo, labels))| {
+                    self.check(index, combo, labels, &base, references, &inputs_of)
+                })
+                .collect();
+            for c in checked {
+                let c = c?;
+                let index = jobs.len();
+                self.new_physics(index, &c.written, &jobs, &mut physics_of)?;
+                // Without `[reference]` a reference is its job's own physics, never run:
+                // nothing to build (its id is still the job's).
+                if let Some(ref_over) = c.reference_overrides {
+                    references.add(index, &c.reference_id, ref_over, c.inputs, &base)?;
+                }
+                jobs.push(Job {
+                    index,
+                    id: c.id,
+                    model_id: c.model_id,
+                    linear_id: c.linear_id,
+                    overrides: c.overrides,
+                    prune: c.prune,
+                    reference_id: c.reference_id,
+                    labels: c.labels,
+                    facts: c.facts,
+                });
+            }
         }
         Ok(jobs)
     }
@@ -124,7 +136,8 @@ impl Expansion<'_> {
         inputs_of: &Mutex<BTreeMap<Option<String>, Inputs>>,
     ) -> Result<Checked, InputError> {
         let (overrides, prune) = self.overrides(index, combo)?;
-        let scene = self.scene(index, &overrides)?;
+        // The scene is validated and only its facts kept (module doc of `jobs`).
+        let facts = SceneFacts::of(&self.scene(index, &overrides)?);
         let merged = JobTable::new(base, &overrides, |k, r| {
             self.c.err(&self.locate_key(index, k), r)
         })?;
@@ -138,8 +151,9 @@ impl Expansion<'_> {
         };
         let reference_overrides = references.overrides_of(&overrides);
         let reference_id = references.id_of(base, inputs, &merged, &reference_overrides)?;
+        let reference_overrides = references.named().then_some(reference_overrides);
         Ok(Checked {
-            written: normal_text(&overrides) + &format!("|{prune:?}"),
+            written: written_text(&overrides, prune),
             id: job_id(inputs, &merged, prune, self.pilot),
             model_id: model_id(inputs, &merged),
             linear_id: linear_id(inputs, &merged),
@@ -149,7 +163,7 @@ impl Expansion<'_> {
             overrides,
             prune,
             labels,
-            scene,
+            facts,
         })
     }
 
@@ -191,6 +205,8 @@ impl Expansion<'_> {
                 overrides.push((k, v));
             }
         }
+        // Held by the job for the whole study: no spare room.
+        overrides.shrink_to_fit();
         Ok((overrides, prune))
     }
 
@@ -213,36 +229,54 @@ impl Expansion<'_> {
         })
     }
 
-    /// The same physics written twice (`10` and `10.0`): one job. `physics_of` holds the jobs
-    /// before `index` by their normalised inputs; `written` is job `index`'s.
+    /// The same physics written twice (`10` and `10.0`): one job. `physics_of` holds the
+    /// jobs before `index` (`jobs`) by the hash of their normalised inputs; `written` is job
+    /// `index`'s. A hash seen before is checked against the texts of the earlier jobs (two
+    /// texts of one hash, 2⁻⁶⁴ per pair, are not the same inputs).
     fn new_physics(
         &self,
         index: usize,
-        written: String,
-        physics_of: &mut BTreeMap<String, usize>,
+        written: &str,
+        jobs: &[Job],
+        physics_of: &mut HashMap<u64, usize>,
     ) -> Result<(), InputError> {
-        if let Some(first) = physics_of.insert(written, index) {
-            let at = match index.checked_sub(self.axis_combos) {
-                Some(j) => format!("jobs[{j}]"),
-                None => "axes".to_string(),
-            };
-            return Err(self.c.err(
-                &at,
-                format!(
-                    "jobs {first} and {index} have the same inputs (values that differ only \
-                     in how they are written, such as 10 and 10.0, are the same)"
-                ),
-            ));
-        }
-        Ok(())
+        let first = match physics_of.entry(fnv1a(written.as_bytes())) {
+            Entry::Vacant(e) => {
+                e.insert(index);
+                return Ok(());
+            }
+            Entry::Occupied(_) => jobs
+                .iter()
+                .find(|j| written_text(&j.overrides, j.prune) == written),
+        };
+        let Some(first) = first else {
+            return Ok(());
+        };
+        let at = match index.checked_sub(self.axis_combos) {
+            Some(j) => format!("jobs[{j}]"),
+            None => "axes".to_string(),
+        };
+        Err(self.c.err(
+            &at,
+            format!(
+                "jobs {} and {index} have the same inputs (values that differ only in how they \
+                 are written, such as 10 and 10.0, are the same)",
+                first.index
+            ),
+        ))
     }
+}
+
+/// A job's inputs as normalised text: its overrides and its pruning share.
+fn written_text(overrides: &[Override], prune: Option<f64>) -> String {
+    normal_text(overrides) + &format!("|{prune:?}")
 }
 
 /// No two jobs may have the same id (the same inputs).
 pub(super) fn distinct_ids(c: &Ctx, jobs: &[Job]) -> Result<(), InputError> {
-    let mut seen = BTreeMap::new();
+    let mut seen = HashMap::with_capacity(jobs.len());
     for j in jobs {
-        if let Some(first) = seen.insert(j.id.clone(), j.index) {
+        if let Some(first) = seen.insert(j.id.as_str(), j.index) {
             return Err(c.err(
                 "axes",
                 format!("jobs {first} and {} are identical (same inputs)", j.index),

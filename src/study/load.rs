@@ -29,6 +29,7 @@ use super::sample;
 use super::values::flatten;
 use crate::error::InputError;
 use crate::scene::source::Source;
+use crate::scene::Scene;
 use crate::text::{number_text, scientific};
 
 /// An expanded, validated study.
@@ -44,6 +45,8 @@ pub struct Study {
     pub text: String,
     /// The base scene file.
     pub scene_path: PathBuf,
+    /// The base scene (its files read when the study was loaded).
+    pub source: Source,
     /// Keys that vary between jobs, in axis order.
     pub varying: Vec<String>,
     /// The jobs.
@@ -102,16 +105,19 @@ impl Study {
         pilots_load(&c, &source, &jobs, &pilot)?;
         analysis::below_nyquist(&c, &raw.analysis, &jobs)?;
         distinct_ids(&c, &jobs)?;
+        let has_reference = references.named();
+        let references = references.into_list();
         Ok(Study {
             name,
             description: raw.description.unwrap_or_default(),
             path: path.to_path_buf(),
             text: text.clone(),
             scene_path,
+            source,
             varying: grid.varying,
             jobs,
-            has_reference: references.named(),
-            references: references.into_list(),
+            has_reference,
+            references,
             pilot_overrides: pilot,
             linear,
         })
@@ -138,6 +144,12 @@ impl Study {
             toml::Value::Float(x) if scientific(*x) => number_text(*x),
             other => other.to_string(),
         })
+    }
+
+    /// The validated scene of a job or reference run of overrides `overrides` (its `overrides`
+    /// field), built again from the base scene read at load (it was validated then).
+    pub fn scene_of(&self, overrides: &[(String, toml::Value)]) -> Result<Scene, InputError> {
+        Scene::from_source_values(&self.source, overrides)
     }
 
     /// The jobs of shard `i` of `n` (by index modulo n).

@@ -52,7 +52,7 @@ mod values;
 
 pub use ids::fnv1a;
 pub(crate) use ids::pilot_text;
-pub use jobs::{Job, Reference};
+pub use jobs::{Job, Reference, SceneFacts};
 pub use limit::MAX_JOBS;
 pub use linear::LINEAR_SPEEDS;
 pub use load::Study;

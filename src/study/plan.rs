@@ -24,8 +24,10 @@
 //!   per segment;
 //! - memory [B]: per thread the largest record or model build (about 90 B per DOF², dense FE
 //!   matrices and eigen-solutions: 0.74 GB measured at 2958 DOFs; a machine's rolls are built
-//!   one after another, so its largest roll), times the threads, plus about 60 KB per job for
-//!   the loaded study (measured: 274 MB for 4901 jobs).
+//!   one after another, so its largest roll), times the threads, plus about 1.2 KB per job
+//!   for the loaded study (its jobs hold their overrides, ids and a few numbers, not their
+//!   scenes; measured peak of `plan`: 16.9 MB for 4901 reference-roll jobs, 126 MB for
+//!   100 000 Jeffcott jobs, 11.6 MB for one job).
 
 use std::collections::BTreeSet;
 
@@ -84,36 +86,20 @@ impl Plan {
             .map(|j| j.model_id.as_str())
             .collect();
         let pruned = study.jobs.iter().filter(|j| j.prune.is_some()).count();
-        let mut cpu_s = 0.0;
-        for j in &study.jobs {
-            cpu_s += run_cpu_s(&j.scene);
-        }
-        if study.has_reference {
-            for r in &study.references {
-                cpu_s += run_cpu_s(&r.scene);
-            }
-        }
-        let scenes: Vec<&Scene> = study
-            .jobs
-            .iter()
-            .map(|j| &j.scene)
-            .chain(
-                study
-                    .references
-                    .iter()
-                    .filter(|_| study.has_reference)
-                    .map(|r| &r.scene),
-            )
+        let references = study.references.iter().filter(|_| study.has_reference);
+        let facts: Vec<_> = (study.jobs.iter().map(|j| &j.facts))
+            .chain(references.map(|r| &r.facts))
             .collect();
-        let disk_bytes: f64 = scenes.iter().map(|sc| record_bytes(sc)).sum();
-        let per_thread = scenes
+        let cpu_s: f64 = facts.iter().map(|f| f.cpu_s).sum();
+        let disk_bytes: f64 = facts.iter().map(|f| f.record_bytes).sum();
+        let per_thread = facts
             .iter()
-            .map(|sc| {
-                let dofs = 6.0 * max_nodes(sc) as f64;
-                record_bytes(sc).max(90.0 * dofs * dofs)
+            .map(|f| {
+                let dofs = 6.0 * f.max_nodes as f64;
+                f.record_bytes.max(90.0 * dofs * dofs)
             })
             .fold(0.0, f64::max);
-        let memory_bytes = per_thread * threads.max(1) as f64 + 60e3 * study.jobs.len() as f64;
+        let memory_bytes = per_thread * threads.max(1) as f64 + 1.2e3 * study.jobs.len() as f64;
         Plan {
             varying,
             models: models.len(),
@@ -187,7 +173,7 @@ pub fn record_bytes(scene: &Scene) -> f64 {
 }
 
 /// The FE nodes of the largest model a run builds: a machine's largest roll.
-fn max_nodes(scene: &Scene) -> usize {
+pub fn max_nodes(scene: &Scene) -> usize {
     match &scene.machine {
         Some(m) => m
             .rolls

@@ -3,7 +3,8 @@
 //!
 //! In: `[reference]` (only `solver.*` keys and `reduction.modes`: the same physics), then per
 //! job its overrides, the text of its scene's files and its merged scene. Out: the job's
-//! reference id, and one [`Reference`] per distinct id with its validated scene. The study's
+//! reference id, and (when the study has a `[reference]`) one [`Reference`] per distinct id,
+//! its scene validated. The study's
 //! `[budget]` is among the job's overrides, so it binds the reference too, unless `[reference]`
 //! sets `solver.cpu_budget_s` / `solver.max_steps` itself. With its own mode set the reference
 //! is shared by jobs that differ only in their modes (their error then includes the
@@ -14,7 +15,7 @@ use std::collections::BTreeMap;
 use super::context::{override_key, Ctx};
 use super::ids::{model_id, reference_id, Inputs};
 use super::job_table::{BaseTable, JobTable};
-use super::jobs::Reference;
+use super::jobs::{Reference, SceneFacts};
 use super::values::{flatten, Override};
 use crate::error::InputError;
 use crate::scene::source::Source;
@@ -103,7 +104,7 @@ impl<'a> References<'a> {
         base: &BaseTable,
     ) -> Result<(), InputError> {
         if !self.built.contains_key(id) {
-            let scene = self.scene(index, &ref_over)?;
+            let facts = SceneFacts::of(&self.scene(index, &ref_over)?);
             let model_id = model_id(inputs, &self.table(base, &ref_over)?);
             self.built.insert(
                 id.to_string(),
@@ -111,7 +112,7 @@ impl<'a> References<'a> {
                     id: id.to_string(),
                     overrides: ref_over,
                     model_id,
-                    scene,
+                    facts,
                 },
             );
         }

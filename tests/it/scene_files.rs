@@ -278,7 +278,10 @@ fn a_study_reads_a_scene_through_extends_and_records_its_base() {
     // The scene given where a study is expected: it is a scene (it only extends another).
     let e = Study::load(&dir.join("roll.toml")).unwrap_err();
     assert!(e.reason.contains("this is a scene file"), "{e}");
-    assert_eq!(st.jobs[0].scene.simulation.t_end, 0.2);
+    assert_eq!(
+        st.scene_of(&st.jobs[0].overrides).unwrap().simulation.t_end,
+        0.2
+    );
     let id = rotorsweep::study::identity::Identity::of(&st).unwrap();
     let text = id.inputs_text();
     assert!(

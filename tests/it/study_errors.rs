@@ -244,8 +244,9 @@ fn references_obey_the_study_budget_unless_they_set_their_own() {
     let st = Study::load(&write_file(&d, "a.toml", &study_text(body))).unwrap();
     assert_eq!(st.references.len(), 2);
     for r in &st.references {
-        assert_eq!(r.scene.solver.cpu_budget, Some(30.0));
-        assert_eq!(r.scene.solver.max_steps, 1_000_000);
+        let scene = st.scene_of(&r.overrides).unwrap();
+        assert_eq!(scene.solver.cpu_budget, Some(30.0));
+        assert_eq!(scene.solver.max_steps, 1_000_000);
     }
     let own = body.replace(
         "\"solver.hmax\" = 2e-5\n",
@@ -253,11 +254,15 @@ fn references_obey_the_study_budget_unless_they_set_their_own() {
     );
     let st = Study::load(&write_file(&d, "b.toml", &study_text(&own))).unwrap();
     for r in &st.references {
-        assert_eq!(r.scene.solver.cpu_budget, Some(60.0));
-        assert_eq!(r.scene.solver.max_steps, 1_000_000);
+        let scene = st.scene_of(&r.overrides).unwrap();
+        assert_eq!(scene.solver.cpu_budget, Some(60.0));
+        assert_eq!(scene.solver.max_steps, 1_000_000);
     }
     for j in &st.jobs {
-        assert_eq!(j.scene.solver.cpu_budget, Some(30.0));
+        assert_eq!(
+            st.scene_of(&j.overrides).unwrap().solver.cpu_budget,
+            Some(30.0)
+        );
     }
 }
 

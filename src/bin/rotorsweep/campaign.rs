@@ -146,7 +146,7 @@ pub fn plan(a: &PlanArgs) -> Result<(), crate::error::CliError> {
     };
     println!(
         "memory estimate: {} on {} threads (per thread the largest record, samples × channels × \
-         8 B, or model build, about 90 B per DOF²; plus about 60 KB per job)",
+         8 B, or model build, about 90 B per DOF²; plus about 1.2 KB per job)",
         size(plan.memory_bytes),
         a.threads
     );

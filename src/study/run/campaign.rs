@@ -22,7 +22,6 @@ use super::saver::Sink;
 use super::schedule::{run_all, stopped};
 use super::stream::Stream;
 use super::work::work_list;
-use crate::results::analyse::record_speed;
 use crate::results::job_analysis::Prepared;
 use crate::store;
 use crate::store::output::{self, OutputLock};
@@ -96,11 +95,11 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     // The reference runs this run computes itself: none when they are shared.
     let own_refs: &[&Reference] = if shared.is_none() { &refs } else { &[] };
     let models = Models::prepare(&pool, study, &linear_jobs, &jobs, own_refs, &dir);
-    let mut work = work_list(study, &jobs, own_refs);
+    let mut work = work_list(&jobs, own_refs);
     // The plan order, the saved runs among them: the order the results file lists them in.
-    let order: Vec<_> = work.iter().map(|w| (w.id.clone(), w.kind)).collect();
+    let order: Vec<_> = work.iter().map(|w| (w.id.to_string(), w.kind)).collect();
     let resumed = jobs.iter().filter(|j| done.contains_key(&j.id)).count();
-    work.retain(|w| !done.contains_key(&w.id));
+    work.retain(|w| !done.contains_key(w.id));
     let total = work.len();
     let mut progress = Progress::new(
         total as u64,
@@ -116,7 +115,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
     let systems_to_compute = linear::distinct(&linear_jobs, &in_shared);
     let top_speed_hz = jobs
         .iter()
-        .map(|j| record_speed(&j.scene).0)
+        .filter_map(|j| j.facts.record_omega)
+        .map(|w| w / std::f64::consts::TAU)
         .filter(|s| s.is_finite())
         .fold(0.0, f64::max);
     let prepared = Prepared::new(&study.text, &study.varying, top_speed_hz);
@@ -127,8 +127,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         progress: &mut progress,
         stream: &mut stream,
     };
-    let ran = run_all(&pool, &work, &models, sink, || {
-        linear::compute_all(&study.linear, &systems_to_compute, &models)
+    let ran = run_all(&pool, study, &work, &models, sink, || {
+        linear::compute_all(study, &study.linear, &systems_to_compute, &models)
     });
     progress.finish();
     if let Some(e) = ran.error {

@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use super::models::Models;
 use crate::dynamics::linear_system::LinearSystem;
 use crate::linear::request::{compute, Request, Results};
-use crate::study::Job;
+use crate::study::{Job, Study};
 
 /// The computed systems by linear id: (model id, results or the cause of their failure).
 pub(super) type Systems = BTreeMap<String, (String, Result<Results, String>)>;
@@ -38,15 +38,18 @@ pub(super) fn distinct<'a>(jobs: &[&'a Job], shared: &BTreeSet<String>) -> Vec<&
 
 /// Computes the systems of `jobs` (from [`distinct`]) on the current rayon pool. A job whose
 /// model failed to build has no system (its jobs fail with that cause).
-pub(super) fn compute_all(req: &Request, jobs: &[&Job], models: &Models) -> Systems {
+pub(super) fn compute_all(study: &Study, req: &Request, jobs: &[&Job], models: &Models) -> Systems {
     jobs.par_iter()
         .filter_map(|j| {
             let Some(Ok(m)) = models.built.get(j.model_id.as_str()) else {
                 return None;
             };
-            let results = LinearSystem::of_scene(&j.scene, m)
-                .and_then(|sys| compute(req, &j.scene, m, &sys))
-                .map_err(|e| e.to_string());
+            let results =
+                (study.scene_of(&j.overrides).map_err(|e| e.to_string())).and_then(|scene| {
+                    LinearSystem::of_scene(&scene, m)
+                        .and_then(|sys| compute(req, &scene, m, &sys))
+                        .map_err(|e| e.to_string())
+                });
             Some((j.linear_id.clone(), (j.model_id.clone(), results)))
         })
         .collect::<Vec<_>>()

@@ -40,19 +40,28 @@ impl<'a> Models<'a> {
         refs: &[&'a Reference],
         dir: &Path,
     ) -> Models<'a> {
-        let mut model_scenes: BTreeMap<&str, &Scene> = BTreeMap::new();
+        // Each model's scene is the first run's that needs it (all of them describe it alike).
+        let mut model_runs: BTreeMap<&str, &[(String, toml::Value)]> = BTreeMap::new();
         for j in linear {
-            model_scenes.entry(j.model_id.as_str()).or_insert(&j.scene);
+            model_runs
+                .entry(j.model_id.as_str())
+                .or_insert(&j.overrides);
         }
         for r in refs {
-            model_scenes.entry(r.model_id.as_str()).or_insert(&r.scene);
+            model_runs
+                .entry(r.model_id.as_str())
+                .or_insert(&r.overrides);
         }
         let built: Vec<(&str, Result<Arc<Model>, String>)> = pool.install(|| {
-            model_scenes
+            model_runs
                 .par_iter()
-                .map(|(id, sc)| {
+                .map(|(id, overrides)| {
+                    let sc = match study.scene_of(overrides) {
+                        Ok(sc) => sc,
+                        Err(e) => return (*id, Err(e.to_string())),
+                    };
                     // A model that cannot be built (or whose build panics) fails its jobs alone.
-                    let built = catch_unwind(AssertUnwindSafe(|| Model::build(sc, None)))
+                    let built = catch_unwind(AssertUnwindSafe(|| Model::build(&sc, None)))
                         .map_err(|e| format!("{}: panic: {}", sc.source.display(), panic_text(&*e)))
                         .and_then(|r| {
                             r.map(Arc::new)
@@ -197,7 +206,7 @@ fn run_one(scene: &Scene, model: &Model) -> JobResult {
     }
 }
 
-fn failed_result(cause: String) -> JobResult {
+pub(super) fn failed_result(cause: String) -> JobResult {
     JobResult {
         stats: Stats::failed(cause),
         modes: String::new(),

@@ -36,12 +36,13 @@ pub(super) const BATCH_SAMPLES: usize = 4_000_000;
 /// …or this long after its first run arrived [s].
 pub(super) const BATCH_SECONDS: f64 = 1.0;
 
-/// One finished run to save: its id, its part-file attributes, its integrator's name and its
-/// result.
+/// One finished run to save: its id, its part-file attributes, its integrator's name, the name
+/// its progress line gives it, and its result.
 pub(super) struct Finished<'a> {
     pub(super) id: &'a str,
     pub(super) params: Vec<(String, Param)>,
     pub(super) integrator: &'a str,
+    pub(super) name: String,
     pub(super) result: JobResult,
 }
 

@@ -1,7 +1,7 @@
 //! The saving side of a run: finished runs gathered into batches, and batches written to one
 //! part file at a time on a writer thread, so the runs go on while a batch is written.
 //!
-//! In: finished runs as the workers hand them over (their index in the work list and result).
+//! In: finished runs as the workers hand them over ([`Finished`]).
 //! Out: the part files (`parts::save_batch`), each batch's runs written into the results file
 //! being filled (`stream`), where each run is saved, one progress line per
 //! run when its batch is written (ok, or NOT SAVED with the cause: nothing unsaved is reported
@@ -21,17 +21,14 @@ use std::time::{Duration, Instant};
 use super::error::CampaignError;
 use super::parts::{save_batch, Finished, Saved, BATCH_RUNS, BATCH_SAMPLES, BATCH_SECONDS};
 use super::stream::Stream;
-use super::work::Work;
-use crate::dynamics::simulation::JobResult;
 use crate::study::identity::Identity;
 use crate::study::progress::Progress;
 
-/// A batch: the runs' indices in the work list and what each left.
-pub(super) type Batch<'a> = Vec<(usize, Finished<'a>)>;
+/// A batch: what each of its runs left.
+pub(super) type Batch<'a> = Vec<Finished<'a>>;
 
 /// The batch being gathered (module doc).
 pub(super) struct Saver<'a> {
-    work: &'a [Work<'a>],
     batch: Batch<'a>,
     samples: usize,
     since: Option<Instant>,
@@ -39,10 +36,9 @@ pub(super) struct Saver<'a> {
 }
 
 impl<'a> Saver<'a> {
-    /// Gathers runs of `work` and hands each batch to `writer` ([`write_batches`]).
-    pub(super) fn new(work: &'a [Work<'a>], writer: SyncSender<Batch<'a>>) -> Self {
+    /// Gathers runs and hands each batch to `writer` ([`write_batches`]).
+    pub(super) fn new(writer: SyncSender<Batch<'a>>) -> Self {
         Saver {
-            work,
             batch: Vec::new(),
             samples: 0,
             since: None,
@@ -56,20 +52,12 @@ impl<'a> Saver<'a> {
             .map(|t| Duration::from_secs_f64(BATCH_SECONDS).saturating_sub(t.elapsed()))
     }
 
-    /// Adds the finished run `i` of the work list; hands the batch over when it is full.
-    pub(super) fn add(&mut self, i: usize, result: JobResult) {
-        let w = &self.work[i];
+    /// Adds a finished run; hands the batch over when it is full.
+    pub(super) fn add(&mut self, finished: Finished<'a>) {
+        let result = &finished.result;
         self.samples += result.time.len() * (result.channels.len() + 1);
         self.since.get_or_insert_with(Instant::now);
-        self.batch.push((
-            i,
-            Finished {
-                id: &w.id,
-                params: w.part_params(),
-                integrator: w.scene.solver.integrator.name(),
-                result,
-            },
-        ));
+        self.batch.push(finished);
         if self.batch.len() >= BATCH_RUNS || self.samples >= BATCH_SAMPLES {
             self.flush();
         }
@@ -106,23 +94,18 @@ pub(super) struct Written {
 /// Writes each batch from `batches` to its part file in the sink's folder, copies its runs
 /// into the results file being filled (its `stream`) and reports each of its runs (module doc); the first
 /// failed save raises `stop`. Ends when the [`Saver`] is dropped.
-pub(super) fn write_batches(
-    batches: Receiver<Batch>,
-    sink: Sink,
-    work: &[Work],
-    stop: &AtomicBool,
-) -> Written {
+pub(super) fn write_batches(batches: Receiver<Batch>, sink: Sink, stop: &AtomicBool) -> Written {
     let mut out = Written {
         saved: BTreeMap::new(),
         error: None,
     };
     for batch in batches {
-        let (index, runs): (Vec<usize>, Vec<Finished>) = batch.into_iter().unzip();
+        let runs = batch;
         let written = save_batch(sink.dir, &runs, sink.identity);
-        for (i, r) in index.iter().zip(&runs) {
+        for r in &runs {
             sink.progress.job_done(
                 r.id,
-                &work[*i].name,
+                &r.name,
                 &r.result.stats,
                 written.as_ref().err().map(|e| e as &dyn std::fmt::Display),
             );

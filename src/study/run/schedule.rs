@@ -2,7 +2,8 @@
 //!
 //! In: the run's work list (`work`: reference runs unless shared, then jobs in study order, the
 //! saved ones left out), the built [`Models`], the parts folder. Out: each item run on one
-//! thread of the pool and saved by the calling thread in batches as they finish (`saver`,
+//! thread of the pool (its scene built there, and what its part file records beside the
+//! result: `Work::run`) and saved by the calling thread in batches as they finish (`saver`,
 //! `parts`); the progress line per run. A worker hands its result over only when the saving
 //! thread takes it (memory bounded by one batch and one finished run per worker). The first
 //! failed save stops new runs from starting; running ones finish and are saved if they can be,
@@ -18,11 +19,11 @@ use rayon::prelude::*;
 
 use super::error::CampaignError;
 use super::models::Models;
-use super::parts::{saved_parts, Saved};
+use super::parts::{saved_parts, Finished, Saved};
 use super::saver::{write_batches, Batch, Saver, Sink};
 use super::work::Work;
-use crate::dynamics::simulation::JobResult;
 use crate::study::identity::Identity;
+use crate::study::Study;
 
 /// What [`run_all`] leaves: where each run it saved is, the first failed save, and what the
 /// work beside the jobs returned.
@@ -36,6 +37,7 @@ pub(super) struct Ran<T> {
 /// parts folder and the results file it fills (module doc, `saver`), with `beside` (the study's linear systems) on the same pool at the same time.
 pub(super) fn run_all<T: Send>(
     pool: &rayon::ThreadPool,
+    study: &Study,
     work: &[Work],
     models: &Models,
     sink: Sink,
@@ -44,7 +46,7 @@ pub(super) fn run_all<T: Send>(
     // A rendezvous channel: a worker hands its result over only when this thread takes it, so
     // finished runs never pile up in memory beyond the batches while saves are slower than the
     // runs, and after a failed save each worker has started at most the run it is handing over.
-    let (tx, rx) = mpsc::sync_channel::<(usize, JobResult)>(0);
+    let (tx, rx) = mpsc::sync_channel::<Finished>(0);
     let (to_writer, batches) = mpsc::sync_channel::<Batch>(0);
     // Set at the first failed save: no new job starts; running ones finish.
     let stop = AtomicBool::new(false);
@@ -54,25 +56,25 @@ pub(super) fn run_all<T: Send>(
         let beside = scope.spawn(|| pool.install(beside));
         scope.spawn(move || {
             pool.install(|| {
-                work.par_iter().enumerate().for_each_with(tx, |tx, (i, w)| {
+                work.par_iter().for_each_with(tx, |tx, w| {
                     if stop_ref.load(Ordering::SeqCst) {
                         return;
                     }
-                    let r = models.simulate(w.scene, w.model_id, w.prune);
+                    let r = w.run(study, models);
                     // The receiver lives until every sender is gone.
-                    let _ = tx.send((i, r));
+                    let _ = tx.send(r);
                 });
             });
         });
-        let writer = scope.spawn(move || write_batches(batches, sink, work, stop_ref));
-        let mut saver = Saver::new(work, to_writer);
+        let writer = scope.spawn(move || write_batches(batches, sink, stop_ref));
+        let mut saver = Saver::new(to_writer);
         loop {
             let next = match saver.due_in() {
                 None => rx.recv().map_err(|_| RecvTimeoutError::Disconnected),
                 Some(left) => rx.recv_timeout(left),
             };
             match next {
-                Ok((i, r)) => saver.add(i, r),
+                Ok(r) => saver.add(r),
                 Err(RecvTimeoutError::Timeout) => saver.flush(),
                 Err(RecvTimeoutError::Disconnected) => {
                     saver.flush();
