@@ -4,17 +4,19 @@
 //! Two identical rigid rotors (the stiff steel cylinder Ø200 × 400 mm of
 //! tests/fixtures/stiff-jeffcott.toml, bending above 1 kHz) on two supports each of stiffness k
 //! and damping c, one above the other, coupled along their length by a linear nip of total
-//! stiffness k_c. Roll a's surface has a k_a-lobe out-of-roundness of amplitude h_a turning at
-//! Ω_a, roll b's a k_b-lobe of h_b at Ω_b. Along the nip direction each rotor translates
-//! (y_a, y_b), the nip force is F = k_c (y_a − y_b + h), h = H_a + H_b, and
-//! m ÿ_a + 2c ẏ_a + 2k y_a = −F, m ÿ_b + 2c ẏ_b + 2k y_b = F. The sum y_a + y_b is not excited;
-//! the difference d = y_a − y_b obeys m d̈ + 2c ḋ + (2k + 2k_c) d = −2k_c h, so a line
-//! h = a cos(ωt + φ) gives the steady amplitudes (the single-DOF forced response, e.g. Thomson &
-//! Dahleh, *Theory of Vibration with Applications*, 5th ed., §3.1, applied to the two-mass
-//! system's anti-phase mode, §5.1)
-//!   |y_a| = |y_b| = |d|/2 = a k_c / |2k + 2k_c − mω² + 2icω|,
-//!   |F| = a k_c |2k − mω² + 2icω| / |2k + 2k_c − mω² + 2icω|,
-//! at ω = k_a Ω_a and at ω = k_b Ω_b, each line at its own roll's order.
+//! stiffness k_c and damping c_n. Roll a's surface has a k_a-lobe out-of-roundness of amplitude
+//! h_a turning at Ω_a, roll b's a k_b-lobe of h_b at Ω_b. Along the nip direction each rotor
+//! translates (y_a, y_b), the nip force is F = k_c (y_a − y_b + h) + c_n (ẏ_a − ẏ_b + ḣ),
+//! h = H_a + H_b, and m ÿ_a + 2c ẏ_a + 2k y_a = −F, m ÿ_b + 2c ẏ_b + 2k y_b = F. The sum
+//! y_a + y_b is not excited; the difference d = y_a − y_b obeys
+//! m d̈ + (2c + 2c_n) ḋ + (2k + 2k_c) d = −2(k_c h + c_n ḣ), so a line h = Re[ĥ e^{iωt}] gives,
+//! with K = k_c + iωc_n and Z = 2k + 2K − mω² + 2icω, the steady amplitudes (the single-DOF
+//! forced response, e.g. Thomson & Dahleh, *Theory of Vibration with Applications*, 5th ed.,
+//! §3.1, applied to the two-mass system's anti-phase mode, §5.1)
+//!   ŷ_b = −ŷ_a = −d̂/2 = K ĥ / Z,   F̂ = K ĥ (2k − mω² + 2icω) / Z,
+//! at ω = k_a Ω_a and at ω = k_b Ω_b, each line at its own roll's order, the phase of ĥ that of
+//! the surface point facing the other roll (so the test sees each roll's sense of rotation, and
+//! through c_n the runout's rate).
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -45,7 +47,7 @@ fn line(t: &[f64], x: &[f64], f: f64, t0: f64) -> C {
 #[test]
 fn lobed_rolls_force_the_nip_at_their_own_orders_with_the_two_mass_response() {
     let dir = support::scratch("nip-runout");
-    let (k, c, kc) = (1.0e6, 1.0e3, 1.0e6);
+    let (k, c, kc, cn) = (1.0e6, 1.0e3, 1.0e6, 2.0e3);
     let spring =
         format!("kx_n_per_m = {k:e}, ky_n_per_m = {k:e}, cx_ns_per_m = {c:e}, cy_ns_per_m = {c:e}");
     // Record 1 s from 1.5 s: the start's transient decays at c/m ≈ 10 1/s (e^−15 by then).
@@ -62,14 +64,16 @@ fn lobed_rolls_force_the_nip_at_their_own_orders_with_the_two_mass_response() {
         "b.toml",
         &support::stiff_jeffcott(&spring, "", &format!("[speed]\nhz = {fb}\n")),
     );
-    // Roll a: 3 lobes of 10 µm; roll b: 2 lobes of 6 µm. k_c over the 400 mm: 2.5e6 N/m².
+    // Roll a: 3 lobes of 10 µm; roll b: 2 lobes of 6 µm. k_c and c_n over the 400 mm:
+    // 2.5e6 N/m² and 5e3 N s/m².
     let text = "name = \"runout\"\n\
         [[rolls]]\nname = \"a\"\nscene = \"a.toml\"\nposition_mm = [0.0, 0.0]\n\
         roundness = [{ order = 3, amplitude_um = 10.0, phase_rad = 0.4 }]\n\
         [[rolls]]\nname = \"b\"\nscene = \"b.toml\"\nposition_mm = [0.0, 200.0]\n\
         roundness = [{ order = 2, amplitude_um = 6.0, phase_rad = -1.1 }]\n\
         [[nips]]\nname = \"nip\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
-        segments = 10\nlaw = \"linear\"\nstiffness_n_per_m2 = 2.5e6\n";
+        segments = 10\nlaw = \"linear\"\nstiffness_n_per_m2 = 2.5e6\n\
+        damping_ns_per_m2 = 5.0e3\n";
     let path = support::write_file(&dir, "machine.toml", text);
     let scene = Scene::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
     let model = Model::build(&scene, None).unwrap();
@@ -99,10 +103,11 @@ fn lobed_rolls_force_the_nip_at_their_own_orders_with_the_two_mass_response() {
         let fr = order * speed;
         let w = 2.0 * PI * fr;
         let h = C::from_polar(amplitude, -(order * psi0 + phase));
-        let z = C::new(2.0 * k + 2.0 * kc - m * w * w, 2.0 * c * w);
-        let force = kc * h * C::new(2.0 * k - m * w * w, 2.0 * c * w) / z;
-        // y_b = k_c h/Z upward (along n), y_a = −y_b; runout in µm.
-        let motion = 1e6 * kc * h / z;
+        let nip = C::new(kc, w * cn);
+        let z = 2.0 * nip + C::new(2.0 * k - m * w * w, 2.0 * c * w);
+        let force = nip * h * C::new(2.0 * k - m * w * w, 2.0 * c * w) / z;
+        // y_b = K h/Z upward (along n), y_a = −y_b; runout in µm.
+        let motion = 1e6 * nip * h / z;
         let got = line(&r.time, &total, fr, 1.5);
         eprintln!("{fr} Hz: nip force {got:.6} N vs {force:.6} N");
         assert!(
