@@ -13,7 +13,8 @@
 //! webs' line loads q(t) [N/m] over their ranges as Φ_wᵀ R(θ)ᵀ q(t) (Φ_w the lateral rows
 //! integrated with the linear shape functions of each element over the range), both in time
 //! as the scene's `LoadHistory` (constant, harmonic, table; the static equilibrium under their
-//! steady parts), and the nips' segment forces ([`super::nip`]); the Newton matrix adds each segment's
+//! steady parts), and the nips' segment forces ([`super::nip`], with the rolls' runout in a
+//! run, not in the static equilibrium); the Newton matrix adds each segment's
 //! Jᵀ[(b k + c c_d) J + b c_d J̃]. The run starts from the static equilibrium of the machine at
 //! standstill (each roll's own equilibrium, then Newton on the coupled force, open segments
 //! given the stiffness of a 1 µm penetration in the matrix only), or from rest at q = 0 when
@@ -185,10 +186,11 @@ impl MachineSystem {
         }
     }
 
-    /// Every nip's segment states at time `t` [s].
+    /// Every nip's segment states at time `t` [s], with the rolls' runout in a run (`runout`;
+    /// not in the static equilibrium and the linearisation, which hold round rolls).
     fn segments(
         &self,
-        t: f64,
+        (t, runout): (f64, bool),
         st: &States,
         q: &DVector<f64>,
         v: &DVector<f64>,
@@ -197,7 +199,7 @@ impl MachineSystem {
             .iter()
             .map(|n| {
                 let (a, b) = n.nip.rolls;
-                n.segments(t, &self.view(a, st, q, v), &self.view(b, st, q, v))
+                n.segments(t, &self.view(a, st, q, v), &self.view(b, st, q, v), runout)
             })
             .collect()
     }
@@ -258,7 +260,8 @@ impl MachineSystem {
             }
             out.rows_mut(b.offset, b.sys.n).copy_from(&f);
         }
-        for (nip, seg) in self.nips.iter().zip(self.segments(t, st, q, v)) {
+        let runout = load_t.is_some();
+        for (nip, seg) in self.nips.iter().zip(self.segments((t, runout), st, q, v)) {
             let (a, b) = nip.nip.rolls;
             let ra = self.view(a, st, q, v).rot;
             let rb = self.view(b, st, q, v).rot;
@@ -275,9 +278,11 @@ impl MachineSystem {
         }
     }
 
+    /// The Newton matrix at time `t`, with the runout in a run (`runout`), open segments
+    /// given a small stiffness with `floor` (the static equilibrium).
     fn newton_with(
         &self,
-        (t, st): (f64, &States),
+        (t, runout, st): (f64, bool, &States),
         q: &DVector<f64>,
         v: &DVector<f64>,
         (a, b, c): (f64, f64, f64),
@@ -292,7 +297,7 @@ impl MachineSystem {
             out.view_mut((body.offset, body.offset), (body.sys.n, body.sys.n))
                 .copy_from(&m);
         }
-        for (nip, seg) in self.nips.iter().zip(self.segments(t, st, q, v)) {
+        for (nip, seg) in self.nips.iter().zip(self.segments((t, runout), st, q, v)) {
             let (ia, ib) = nip.nip.rolls;
             let (va, vb) = (self.view(ia, st, q, v), self.view(ib, st, q, v));
             let offs = (self.bodies[ia].offset, self.bodies[ib].offset, self.n);
@@ -330,7 +335,7 @@ impl MachineSystem {
         let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
         let eval = |q: &DVector<f64>, f: &mut DVector<f64>, jac: &mut DMatrix<f64>| {
             self.force_with((0.0, None), &st, q, &v, f);
-            self.newton_with((0.0, &st), q, &v, (0.0, 1.0, 0.0), true, jac);
+            self.newton_with((0.0, false, &st), q, &v, (0.0, 1.0, 0.0), true, jac);
             change(q, f, jac);
         };
         newton::solve(q0, &self.weights, eval, what, "is every roll supported?")
@@ -358,7 +363,7 @@ impl SecondOrder for MachineSystem {
         coef: (f64, f64, f64),
         out: &mut DMatrix<f64>,
     ) {
-        self.newton_with((t, &self.states(t)), q, v, coef, false, out);
+        self.newton_with((t, true, &self.states(t)), q, v, coef, false, out);
     }
 
     fn weights(&self) -> &[f64] {
@@ -458,7 +463,7 @@ impl MachineSystem {
         let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
         let mut failure: Option<String> = None;
         let change = |q: &DVector<f64>, f: &mut DVector<f64>, jac: &mut DMatrix<f64>| {
-            let seg = &self.segments(0.0, &st, q, &v)[k];
+            let seg = &self.segments((0.0, false), &st, q, &v)[k];
             for (j, (s, row)) in seg.iter().zip(self.nip_rows_at_rest(k, q)).enumerate() {
                 let (force, stiffness) = match law(j, s.delta) {
                     Ok(x) => x,
@@ -509,9 +514,14 @@ impl MachineSystem {
         let st = vec![(0.0, 0.0, 0.0); self.bodies.len()];
         let mut k = DMatrix::zeros(self.n, self.n);
         let mut c = DMatrix::zeros(self.n, self.n);
-        self.newton_with((0.0, &st), q, &v, (0.0, 1.0, 0.0), false, &mut k);
-        self.newton_with((0.0, &st), q, &v, (0.0, 0.0, 1.0), false, &mut c);
-        (self.m.clone(), k, c, self.segments(0.0, &st, q, &v))
+        self.newton_with((0.0, false, &st), q, &v, (0.0, 1.0, 0.0), false, &mut k);
+        self.newton_with((0.0, false, &st), q, &v, (0.0, 0.0, 1.0), false, &mut c);
+        (
+            self.m.clone(),
+            k,
+            c,
+            self.segments((0.0, false), &st, q, &v),
+        )
     }
 }
 
@@ -570,7 +580,7 @@ pub fn run(machine: &Machine, first: &Model) -> JobResult {
                 rec.sample(t, &sys.part(i, &q), &sys.part(i, &v));
             }
             let st = sys.states(t);
-            for (k, seg) in sys.segments(t, &st, &q, &v).iter().enumerate() {
+            for (k, seg) in sys.segments((t, true), &st, &q, &v).iter().enumerate() {
                 for (j, sg) in seg.iter().enumerate() {
                     nip_force[k][j].push(sg.force);
                     let w = band_width(&sys.nips[k].nip.law, sg.delta, sg.force);

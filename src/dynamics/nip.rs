@@ -20,12 +20,20 @@
 //! run, once [`NipSys::start_covers`] has set each segment's cover points ([`super::cover`]),
 //! the force and dF/dδ of its [`CoverTrack`] at the time and the covered roll's angle, its
 //! points carried forward by [`NipSys::commit`] after every accepted step; band 2√(2Rδ).
+//!
+//! Runout: in a run (not in the static equilibrium or the linearisation, which hold round
+//! rolls) each roll's outer surface H(ψ) (`Nip::surfaces`: its roundness, and a cover's) adds
+//! to every segment's penetration at the body angle ψ of its point facing the other roll,
+//! ψ_a of R_aᵀ n and ψ_b of −R_bᵀ n: δ += H_a(ψ_a) + H_b(ψ_b), δ̇ −= Ω_a H_a′(ψ_a) +
+//! Ω_b H_b′(ψ_b) (ψ̇ = −Ω). It depends on the angles only, so J is unchanged. H is taken at
+//! the nip line, the same over the band: for lobes longer than the band, 2πR/k ≫ 2a.
 
 use std::sync::Mutex;
 
 use nalgebra::{DMatrix, DVector, Matrix2, RowDVector, Vector2};
 
 use super::cover::CoverTrack;
+use super::system::Profile;
 use crate::dynamics::model::Model;
 use crate::rotor::fe::NDOF;
 use crate::scene::{Nip, NipLaw};
@@ -97,6 +105,8 @@ pub struct NipSys {
     rows: Vec<(DMatrix<f64>, DMatrix<f64>)>,
     /// A viscoelastic cover's points per segment, once started.
     covers: Option<Mutex<Vec<CoverTrack>>>,
+    /// The outer surfaces of roll_a and roll_b (`Nip::surfaces`).
+    surfaces: (Profile, Profile),
 }
 
 /// A roll's kinematic state for the nips: R(θ), Ω, modal p and ṗ.
@@ -132,7 +142,22 @@ impl NipSys {
             nip: nip.clone(),
             rows,
             covers: None,
+            surfaces: (Profile::new(&nip.surfaces.0), Profile::new(&nip.surfaces.1)),
         }
+    }
+
+    /// The runout at the nip (module doc): H_a(ψ_a) + H_b(ψ_b) [m] and its rate [m/s]; `None`
+    /// for round rolls.
+    fn runout(&self, a: &RollView, b: &RollView) -> Option<(f64, f64)> {
+        let (ha, hb) = &self.surfaces;
+        if ha.is_round() && hb.is_round() {
+            return None;
+        }
+        let n = Vector2::new(self.nip.normal[0], self.nip.normal[1]);
+        let (da, db) = (a.rot.transpose() * n, b.rot.transpose() * -n);
+        let (va, sa) = ha.eval((da.y, da.x));
+        let (vb, sb) = hb.eval((db.y, db.x));
+        Some((va + vb, -(a.omega * sa + b.omega * sb)))
     }
 
     /// The body-frame angle [rad] of the nip line on the covered roll (a viscoelastic cover).
@@ -146,10 +171,12 @@ impl NipSys {
         d.y.atan2(d.x)
     }
 
-    /// Every segment's penetration δ [m] and its rate [m/s].
-    fn penetrations(&self, a: &RollView, b: &RollView) -> Vec<(f64, f64)> {
+    /// Every segment's penetration δ [m] and its rate [m/s], with the rolls' runout in a run
+    /// (`runout`; module doc).
+    fn penetrations(&self, a: &RollView, b: &RollView, runout: bool) -> Vec<(f64, f64)> {
         let n = Vector2::new(self.nip.normal[0], self.nip.normal[1]);
         let s = Matrix2::new(0.0, -1.0, 1.0, 0.0);
+        let surface = if runout { self.runout(a, b) } else { None };
         self.rows
             .iter()
             .map(|(ra, rb)| {
@@ -157,7 +184,11 @@ impl NipSys {
                 let va = a.rot * (times(ra, a.pd) + a.omega * s * ua);
                 let vb = b.rot * (times(rb, b.pd) + b.omega * s * ub);
                 let delta = n.dot(&(a.rot * ua - b.rot * ub)) - self.nip.gap;
-                (delta, n.dot(&(va - vb)))
+                let rate = n.dot(&(va - vb));
+                match surface {
+                    Some((h, dh)) => (delta + h, rate + dh),
+                    None => (delta, rate),
+                }
             })
             .collect()
     }
@@ -169,7 +200,7 @@ impl NipSys {
             return;
         };
         let psi = self.cover_angle(a, b, cover.on_b);
-        let tracks = (self.penetrations(a, b).iter())
+        let tracks = (self.penetrations(a, b, true).iter())
             .map(|(delta, _)| {
                 let mut track = CoverTrack::new(&cover, self.nip.segment_length);
                 track.start(t, psi, *delta);
@@ -186,7 +217,7 @@ impl NipSys {
         };
         let psi = self.cover_angle(a, b, cover.on_b);
         let mut tracks = covers.lock().unwrap_or_else(|e| e.into_inner());
-        for (track, (delta, _)) in tracks.iter_mut().zip(self.penetrations(a, b)) {
+        for (track, (delta, _)) in tracks.iter_mut().zip(self.penetrations(a, b, true)) {
             track.commit(t, psi, delta);
         }
     }
@@ -204,8 +235,9 @@ impl NipSys {
         (na * &self.rows[j].0, nb * &self.rows[j].1)
     }
 
-    /// The state of every segment at time `t` [s] (read by a started viscoelastic cover only).
-    pub fn segments(&self, t: f64, a: &RollView, b: &RollView) -> Vec<SegmentState> {
+    /// The state of every segment at time `t` [s] (read by a started viscoelastic cover only),
+    /// with the rolls' runout in a run (`runout`; module doc).
+    pub fn segments(&self, t: f64, a: &RollView, b: &RollView, runout: bool) -> Vec<SegmentState> {
         let nip = &self.nip;
         let tracks = self
             .covers
@@ -215,7 +247,7 @@ impl NipSys {
             NipLaw::Viscoelastic { cover } => self.cover_angle(a, b, cover.on_b),
             _ => 0.0,
         };
-        self.penetrations(a, b)
+        self.penetrations(a, b, runout)
             .into_iter()
             .enumerate()
             .map(|(j, (delta, rate))| {

@@ -28,6 +28,10 @@
 //!   moduli as above), tracked at `cover_points` points round the covered roll per segment
 //!   (`dynamics/cover.rs`).
 //!
+//! Runout: a roll's `roundness` and a cover's `cover_roundness` (harmonics as the journals',
+//! µm → m) give each roll's outer surface at the nip (`Nip::surfaces`, the cover's after the
+//! roll's own); `cover_roundness` only on a `cover` nip.
+//!
 //! `--set` on a machine: its own keys (`rolls[i].…`, `nips[i].…`); `simulation.*`, `solver.*`,
 //! `outputs.*` and `speed.*` go to the first roll's scene (after its `set`); any other key is an
 //! error saying so.
@@ -46,6 +50,7 @@ use super::machine_file::{MachineFile, NipFile};
 use super::machine_loads;
 use super::overrides::{override_error_key, parse_override, with_overrides, COMMAND_LINE};
 use super::source::Source;
+use super::supports::harmonics;
 use super::types::{CoverSpec, Machine, MachineRoll, Nip, NipLaw, Scene};
 use crate::error::InputError;
 use crate::rotor::fe::{RotorSpec, SectionSpec};
@@ -190,6 +195,7 @@ fn build(c: &Check, raw: &MachineFile, first_roll: &[String]) -> Result<Machine,
             position,
             arm,
             speed_factor: 1.0,
+            roundness: harmonics(c, &key("roundness"), &r.roundness)?,
         });
     }
     let names: Vec<&str> = raw.rolls.iter().map(|r| r.name.as_str()).collect();
@@ -265,6 +271,7 @@ fn nip(
             &key("line_load_kn_per_m"),
             n.line_load_kn_per_m.unwrap_or(0.0),
         )?;
+    let mut surfaces = (rolls[a].roundness.clone(), rolls[b].roundness.clone());
     let law = match n.law.as_str() {
         "linear" => NipLaw::Linear {
             stiffness: c.positive(
@@ -320,10 +327,13 @@ fn nip(
                 0.0,
                 0.499,
             )?;
+            let cover = harmonics(c, &key("cover_roundness"), &n.cover_roundness)?;
             if r == a {
                 ra += h;
+                surfaces.0.extend(cover);
             } else {
                 rb += h;
+                surfaces.1.extend(cover);
             }
             let foundation = e / ((1.0 - nu * nu) * h);
             let radius = ra * rb / (ra + rb);
@@ -354,6 +364,12 @@ fn nip(
             ))
         }
     };
+    if !n.cover_roundness.is_empty() && n.law != "cover" {
+        return Err(c.err(
+            &key("cover_roundness"),
+            "only for a nip with a cover (law = \"cover\")",
+        ));
+    }
     let (pa, pb) = (rolls[a].position, rolls[b].position);
     let d = ((pb[0] - pa[0]).powi(2) + (pb[1] - pa[1]).powi(2)).sqrt();
     if d == 0.0 {
@@ -375,6 +391,7 @@ fn nip(
             n.damping_ns_per_m2.unwrap_or(0.0),
         )?,
         line_load,
+        surfaces,
     })
 }
 

@@ -3,6 +3,8 @@
 
 use serde::Deserialize;
 
+use super::file::HarmonicFile;
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct MachineFile {
@@ -31,6 +33,8 @@ pub(crate) struct MachineRollFile {
     pub arm_phase_deg: Option<f64>,
     pub arm_times_s: Option<Vec<f64>>,
     pub arm_table_n: Option<Vec<Vec<f64>>>,
+    #[serde(default)]
+    pub roundness: Vec<HarmonicFile>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -53,6 +57,8 @@ pub(crate) struct NipFile {
     pub cover_loss_factor: Option<f64>,
     pub cover_loss_frequency_hz: Option<f64>,
     pub cover_points: Option<usize>,
+    #[serde(default)]
+    pub cover_roundness: Vec<HarmonicFile>,
     pub damping_ns_per_m2: Option<f64>,
     pub line_load_kn_per_m: Option<f64>,
 }

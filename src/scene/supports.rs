@@ -364,7 +364,11 @@ fn spring(c: &Check, key: &str, s: &SpringFile) -> Result<SpringDamper, InputErr
 }
 
 /// Roundness harmonics at `key`: orders 1..=256, amplitudes µm → m, phases in rad.
-fn harmonics(c: &Check, key: &str, list: &[HarmonicFile]) -> Result<Vec<Harmonic>, InputError> {
+pub(super) fn harmonics(
+    c: &Check,
+    key: &str,
+    list: &[HarmonicFile],
+) -> Result<Vec<Harmonic>, InputError> {
     list.iter()
         .enumerate()
         .map(|(i, h)| {

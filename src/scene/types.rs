@@ -300,6 +300,9 @@ pub struct MachineRoll {
     /// Its speed per speed of the roll it follows (`surface_speed_of`: −R_other/R_own), 1 for a
     /// roll with a speed of its own.
     pub speed_factor: f64,
+    /// Roundness of its outer surface H(ψ) = Σ c cos(k ψ + φ) [m] over the body angle ψ
+    /// (clockwise seen from the tending end, 0 = body +x), the same at every z.
+    pub roundness: Vec<Harmonic>,
 }
 
 /// A nip between two rolls.
@@ -325,6 +328,9 @@ pub struct Nip {
     pub damping: f64,
     /// Line load pressing roll_b toward roll_a [N/m].
     pub line_load: f64,
+    /// The outer surfaces' roundness of roll_a and roll_b at the nip over their body angles
+    /// [m]: the roll's own, and on the covered roll its cover's after it (empty: round).
+    pub surfaces: (Vec<Harmonic>, Vec<Harmonic>),
 }
 
 /// A nip's contact law per segment (`machine.rs` gives the relations).

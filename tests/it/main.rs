@@ -53,6 +53,7 @@ mod linear_supports;
 mod machine_loads;
 mod machine_plan;
 mod mutation;
+mod nip_runout;
 mod nips;
 mod reduction;
 mod report;

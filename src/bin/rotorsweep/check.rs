@@ -179,6 +179,18 @@ fn machine(m: &Machine, model: bool) -> Result<(), CliError> {
                 cover.points
             ),
         }
+        for (roll, surface) in [(a, &n.surfaces.0), (b, &n.surfaces.1)] {
+            if !surface.is_empty() {
+                let lines: Vec<String> = (surface.iter())
+                    .map(|h| format!("order {} {:.3} µm", h.order, 1e6 * h.amplitude))
+                    .collect();
+                println!(
+                    "  runout of {}'s surface at the nip: {}",
+                    m.rolls[roll].name,
+                    lines.join(", ")
+                );
+            }
+        }
     }
     for w in &m.webs {
         println!(

@@ -165,13 +165,13 @@ impl Contacts {
 
 /// A roundness profile Σ c_k cos(k x + φ_k), with the phases' sines and cosines precomputed.
 #[derive(Debug, Clone)]
-pub(super) struct Profile {
+pub(crate) struct Profile {
     /// (k, c_k cos φ_k, c_k sin φ_k), ascending k.
     terms: Vec<(u32, f64, f64)>,
 }
 
 impl Profile {
-    fn new(h: &[Harmonic]) -> Self {
+    pub(crate) fn new(h: &[Harmonic]) -> Self {
         let mut terms: Vec<(u32, f64, f64)> = h
             .iter()
             .map(|hk| {
@@ -186,9 +186,14 @@ impl Profile {
         Self { terms }
     }
 
+    /// No harmonics: a round profile.
+    pub(crate) fn is_round(&self) -> bool {
+        self.terms.is_empty()
+    }
+
     /// The profile and its derivative with respect to x, given (sin x, cos x), with the
     /// angle-addition recurrence for the multiples of x.
-    fn eval(&self, (s1, c1): (f64, f64)) -> (f64, f64) {
+    pub(crate) fn eval(&self, (s1, c1): (f64, f64)) -> (f64, f64) {
         if self.terms.is_empty() {
             return (0.0, 0.0);
         }

@@ -37,5 +37,6 @@ mod second_order;
 mod statics;
 mod supports;
 
+pub(crate) use contact::Profile;
 pub use roll_system::RollSystem;
 pub use supports::SupportState;
