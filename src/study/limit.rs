@@ -9,12 +9,11 @@ use super::context::Ctx;
 use crate::error::InputError;
 
 /// Most jobs a study may expand to. `plan` and `run` validate every job's scene before anything
-/// runs and hold every job: measured, 4901 jobs of the reference roll took 4.3 s and 274 MB to
-/// load (0.9 ms and 56 KB each); `plan` of 100 000 Jeffcott jobs took 15 s and 0.93 GB, and
-/// their run on 2 threads 10.4 min at 2.2 GB peak (2026-12-03). So the limit loads in about
-/// 1.5 min and 6 GB for jobs the size of the reference roll; beyond it, split the study (shards
-/// of several studies).
-pub const MAX_JOBS: usize = 100_000;
+/// runs and hold every job (its overrides, ids and a few numbers, about 1.2 KB): measured
+/// (2026-12-04, 2 cores shared with other work), `plan` of 1 000 000 Jeffcott jobs took 21.4 s
+/// of CPU and 0.79 GB at its peak, of 100 000 jobs 2.1 s and 0.12 GB. Beyond it, split the
+/// study (several studies, each sharded).
+pub const MAX_JOBS: usize = 1_000_000;
 
 /// The number of jobs, the product of the axes (each counted before any is expanded) plus the
 /// explicit jobs, stays within [`MAX_JOBS`].
@@ -26,7 +25,7 @@ pub(super) fn job_count(
     let limit = |n: u128| {
         format!(
             "{n} jobs, more than the limit of {MAX_JOBS}: every job is validated (and held) \
-             before anything runs, about 1 ms and 60 KB each"
+             before anything runs, about 20 µs of CPU and 1 KB each (split the study)"
         )
     };
     let mut product: u128 = 1;

@@ -29,6 +29,10 @@ mod speeds;
 
 use std::process::ExitCode;
 
+/// mimalloc instead of the system allocator (Cargo.toml says why).
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use clap::{Parser, Subcommand};
 use error::CliError;
 
