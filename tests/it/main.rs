@@ -37,6 +37,7 @@ mod fe_import;
 mod fe_nastran;
 mod fe_rings;
 mod fe_sparse;
+mod fe_sparse_stress;
 mod import;
 mod input_checks;
 mod integrator_order;
