@@ -9,7 +9,8 @@
 //! coordinates (x, y [m]) per support mass in the scene's support order; or a reason naming the
 //! scene key at fault ([`Failure::Key`]): a roller support (`supports[i].type`: a stand's contact has no linear
 //! stiffness), unequal cross stiffnesses (`supports[i].spring`: the problem would not be
-//! symmetric), a scene whose body is not a solid one ([`solid_of`]); or the solver's error
+//! symmetric), a scene whose body is not a solid one ([`solid_of`]) (a scene without
+//! supports is refused by the scene's own checks); or the solver's error
 //! ([`Failure::Solver`]: more modes asked for than the DOFs).
 //! Method: K_s = K + Σ_supports Pᵀ k P and M_s = M ⊕ the support masses, P the spring's
 //! elongation: the attachment point's u_x, u_y rows (a ring's RBE3 interpolation, a named

@@ -34,6 +34,7 @@ use rotorsweep::rotor::import::solid::{self, SolidBody};
 use rotorsweep::rotor::import::sparse_body;
 use rotorsweep::rotor::import::tables::DOF_NAMES;
 use rotorsweep::rotor::sparse_reduction::{body_modes, craig_bampton};
+use rotorsweep::scene::source::Source;
 use rotorsweep::scene::{fe_body_files, fe_body_rings, Scene};
 
 use crate::error::CliError;
@@ -79,7 +80,11 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     };
     let failed = |f: Failure| -> CliError {
         match f {
-            Failure::Key(key, reason) => InputError::new(&a.scene, reason).with_key(key).into(),
+            // In the file that writes the key (a scene may extend another), at its line.
+            Failure::Key(key, reason) => match Source::load(&a.scene) {
+                Ok(source) => source.err(&key, reason).into(),
+                Err(e) => e.into(),
+            },
             Failure::Solver(e) => CliError::input(format!("{}: {e}", a.scene.display())),
         }
     };
