@@ -1,7 +1,7 @@
 //! The scene errors of a solid or shell body (`[fe]` with `[fe.rings]`,
 //! `scene::geometry::fe`, `rotor::import::rings`): a ring naming a node the table lacks, an
-//! empty ring, weights not one per node, rotating-term files on a solid (refused); each error names the scene file, the line and the key (issue "bring your own
-//! roll", item 1).
+//! empty ring, weights not one per node, rotating-term files on a solid (refused); each error
+//! names the scene file, the line and the key (issue "bring your own roll", item 1).
 
 use std::path::Path;
 
