@@ -7,33 +7,55 @@
 //! eigenpairs of the body on its linear supports and drive at standstill, λ = ω² [(rad/s)²]
 //! ascending, M-normalised vectors over the body's DOFs (the DOF table's order) and then two
 //! coordinates (x, y [m]) per support mass in the scene's support order; or a reason naming the
-//! scene key at fault: a roller support (`supports[i].type`: a stand's contact has no linear
+//! scene key at fault ([`Failure::Key`]): a roller support (`supports[i].type`: a stand's contact has no linear
 //! stiffness), unequal cross stiffnesses (`supports[i].spring`: the problem would not be
-//! symmetric), a scene whose body is not a solid one.
+//! symmetric), a scene whose body is not a solid one ([`solid_of`]) (a scene without
+//! supports is refused by the scene's own checks); or the solver's error
+//! ([`Failure::Solver`]: more modes asked for than the DOFs).
 //! Method: K_s = K + Σ_supports Pᵀ k P and M_s = M ⊕ the support masses, P the spring's
 //! elongation: the attachment point's u_x, u_y rows (a ring's RBE3 interpolation, a named
 //! node's own DOFs) less the support mass's x, y when there is one, k the spring at Ω = 0
 //! ([`LinearSupport::spring_at`]); a support mass adds its ground spring on its own
 //! coordinates; the drive adds its axial spring on the drive point's u_z row. The lowest pairs by
 //! the shift-invert Lanczos solver of `rotorsweep reduce --free`
-//! ([`crate::rotor::sparse_reduction::body_modes`], σ = −(2π · 1 Hz)², below the spin mode the
-//! supports leave free), so these are the frequencies of the same linear model `modes` reports
+//! ([`crate::rotor::sparse_reduction::body_modes`], σ = −(2π · 1 Hz)²,
+//! [`crate::rotor::sparse_reduction::BODY_SHIFT_HZ`], below the spin mode the supports leave
+//! free; the springs added to the body's sparse K by [`crate::numerics::sparse::Sparse::with_added`]), so these are the frequencies of the same linear model `modes` reports
 //! `supported_hz` for, before the reduction. Memory and time: those of one sparse factor of
 //! K_s − σM_s and the Lanczos basis, as `reduce`.
 
 use nalgebra::Matrix2;
 
 use crate::numerics::lanczos::Modes;
-use crate::numerics::sparse::Sparse;
 use crate::rotor::import::solid::SolidBody;
+use crate::rotor::reduction::ReductionError;
 use crate::rotor::sparse_reduction::body_modes;
 use crate::scene::{LinearSupport, Scene, SupportModel};
 
-/// The shift of the solver [Hz]: σ = −(2π · 1 Hz)², below the free spin mode's 0.
-const SHIFT_HZ: f64 = 1.0;
+/// Why the supported modes were not computed.
+#[derive(Debug)]
+pub enum Failure {
+    /// A scene key at fault, and the reason.
+    Key(String, String),
+    /// The solver's (the count above the DOFs, an indefinite K_s − σM_s …).
+    Solver(ReductionError),
+}
 
-/// A failure: (scene key, reason).
-pub type Failure = (String, String);
+/// The scene's solid or shell body, or the key to blame (`fe.rings`) when it has none.
+pub fn solid_of(scene: &Scene) -> Result<&SolidBody, Failure> {
+    scene
+        .body
+        .as_ref()
+        .and_then(|b| b.solid.as_deref())
+        .ok_or_else(|| {
+            Failure::Key(
+                "fe.rings".to_string(),
+                "the body is not a solid or shell body (no fe.rings): the whole body on the \
+                 scene's supports needs one (an axis body's model is reduced dense)"
+                    .to_string(),
+            )
+        })
+}
 
 /// The rows (body DOF, coefficient) of `name`'s six motions (u_x … θ_z).
 fn rows<'a>(
@@ -47,7 +69,7 @@ fn rows<'a>(
         .find(|a| a.name == name)
         .map(|a| &a.rows)
         .ok_or_else(|| {
-            (
+            Failure::Key(
                 key.to_string(),
                 format!("`{name}` is not an attachment point of the body"),
             )
@@ -70,35 +92,20 @@ fn spring(out: &mut Vec<(usize, usize, f64)>, e: &[Vec<(usize, f64)>], k: &Matri
 
 /// The lowest `count` modes of the scene's solid body on its supports (module doc).
 pub fn supported_modes(scene: &Scene, count: usize) -> Result<Modes, Failure> {
-    let solid = scene
-        .body
-        .as_ref()
-        .and_then(|b| b.solid.as_ref())
-        .ok_or_else(|| {
-            (
-                "fe.rings".to_string(),
-                "the body is not a solid or shell body (no fe.rings): its model is reduced dense"
-                    .to_string(),
-            )
-        })?;
+    let solid = solid_of(scene)?;
     let body = &solid.body;
     let n = body.dofs.len();
     let masses = scene.supports.iter().filter(|s| s.has_mass()).count();
     let total = n + 2 * masses;
-    let entries = |a: &Sparse| -> Vec<(usize, usize, f64)> {
-        (0..a.n())
-            .flat_map(|j| a.column(j).map(move |(i, x)| (i, j, x)))
-            .collect()
-    };
-    let mut k = entries(&body.stiffness);
-    let mut m = entries(&body.mass);
+    let mut k = Vec::new();
+    let mut m = Vec::new();
     let mut next = n;
     for (i, s) in scene.supports.iter().enumerate() {
         let key = format!("supports[{i}]");
         let l: &LinearSupport =
             match &s.model {
                 SupportModel::Linear(l) => l,
-                SupportModel::Rollers(_) => return Err((
+                SupportModel::Rollers(_) => return Err(Failure::Key(
                     format!("{key}.type"),
                     "a roller support has no linear stiffness: the whole body's supported modes \
                      take linear supports"
@@ -108,7 +115,7 @@ pub fn supported_modes(scene: &Scene, count: usize) -> Result<Modes, Failure> {
         let r = rows(solid, &s.node, &format!("{key}.node"))?;
         let at = l.spring_at(0.0);
         if at.kxy != at.kyx {
-            return Err((
+            return Err(Failure::Key(
                 format!("{key}.spring"),
                 format!(
                     "kxy = {:e} and kyx = {:e} differ: the whole body's supported modes need a \
@@ -122,7 +129,7 @@ pub fn supported_modes(scene: &Scene, count: usize) -> Result<Modes, Failure> {
             e[0].push((next, -1.0));
             e[1].push((next + 1, -1.0));
             if ground.kxy != ground.kyx {
-                return Err((
+                return Err(Failure::Key(
                     format!("{key}.mass"),
                     "the support mass's ground spring has unequal cross stiffnesses".to_string(),
                 ));
@@ -140,7 +147,7 @@ pub fn supported_modes(scene: &Scene, count: usize) -> Result<Modes, Failure> {
         let kd = Matrix2::new(d.axial_stiffness, 0.0, 0.0, 0.0);
         spring(&mut k, std::slice::from_ref(&r[2]), &kd);
     }
-    let k = Sparse::from_entries(total, k);
-    let m = Sparse::from_entries(total, m);
-    body_modes(&k, &m, count, SHIFT_HZ).map_err(|e| ("supports".to_string(), e.to_string()))
+    let k = body.stiffness.with_added(total, k);
+    let m = body.mass.with_added(total, m);
+    body_modes(&k, &m, count).map_err(Failure::Solver)
 }

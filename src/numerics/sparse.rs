@@ -3,7 +3,8 @@
 //!
 //! In: entries (row, column, value) of a square matrix, 0-based, each position once (both
 //! triangles, as a symmetric matrix is used). Out: a [`Sparse`] matrix in compressed columns,
-//! its sub-blocks on index lists, its products A X with dense n × k blocks (faer `Mat`), and a
+//! its entries, the matrix grown and with entries added ([`Sparse::with_added`]), its
+//! sub-blocks on index lists, its products A X with dense n × k blocks (faer `Mat`), and a
 //! [`Cholesky`] factor A = L Lᵀ that solves A X = B in place. Units as given.
 //! Method: compressed sparse columns built by sorting the entries; the factor is faer's sparse
 //! Cholesky (`sp_cholesky`: AMD fill-reducing ordering, simplicial or supernodal by the
@@ -92,14 +93,72 @@ impl Sparse {
         }
     }
 
+    /// Every stored entry (row, column, value), column by column, rows ascending.
+    pub fn entries(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        (0..self.n).flat_map(move |j| self.column(j).map(move |(i, x)| (i, j, x)))
+    }
+
     /// self + a · other (same dimension), e.g. K − σM for a shifted factor.
     pub fn plus_scaled(&self, other: &Sparse, a: f64) -> Sparse {
         assert_eq!(self.n, other.n, "sum of mismatched sizes");
-        let entries = (0..self.n)
-            .flat_map(|j| self.column(j).map(move |(i, x)| (i, j, x)))
-            .chain((0..other.n).flat_map(|j| other.column(j).map(move |(i, x)| (i, j, a * x))))
+        let entries = self
+            .entries()
+            .chain(other.entries().map(|(i, j, x)| (i, j, a * x)))
             .collect();
         Sparse::from_entries(self.n, entries)
+    }
+
+    /// This matrix grown to `n` ≥ its dimension (the new rows and columns empty) plus
+    /// `extra` (row, column, value) entries, a position given again summed after the stored
+    /// value in the order given; only `extra` is sorted, so adding a few entries to a large
+    /// matrix costs O(nnz + e log e) (e.g. support springs on a body's stiffness).
+    pub fn with_added(&self, n: usize, mut extra: Vec<(usize, usize, f64)>) -> Sparse {
+        assert!(n >= self.n, "a matrix grown to a smaller dimension");
+        extra.sort_by_key(|&(i, j, _)| (j, i));
+        let mut col_ptr = vec![0; n + 1];
+        let mut row = Vec::with_capacity(self.nnz() + extra.len());
+        let mut val: Vec<f64> = Vec::with_capacity(self.nnz() + extra.len());
+        let mut next = extra.into_iter().peekable();
+        for j in 0..n {
+            let stored = if j < self.n {
+                self.col_ptr[j]..self.col_ptr[j + 1]
+            } else {
+                0..0
+            };
+            let mut k = stored.start;
+            loop {
+                let own = (k < stored.end).then(|| self.row[k]);
+                let add = next.peek().filter(|e| e.1 == j).map(|e| e.0);
+                let i = match (own, add) {
+                    (None, None) => break,
+                    (Some(i), None) => i,
+                    (None, Some(i)) => i,
+                    (Some(a), Some(b)) => a.min(b),
+                };
+                let mut x = 0.0;
+                if own == Some(i) {
+                    x = self.val[k];
+                    k += 1;
+                }
+                while let Some(&(_, _, y)) = next.peek().filter(|e| e.1 == j && e.0 == i) {
+                    x += y;
+                    next.next();
+                }
+                row.push(i);
+                val.push(x);
+            }
+            col_ptr[j + 1] = row.len();
+        }
+        assert!(
+            next.peek().is_none(),
+            "an added entry outside the dimension"
+        );
+        Self {
+            n,
+            col_ptr,
+            row,
+            val,
+        }
     }
 
     /// The 1-norm: the largest column sum of |entries|.
@@ -287,6 +346,35 @@ mod tests {
     fn an_indefinite_matrix_has_no_factor() {
         let a = Sparse::from_entries(2, vec![(0, 0, 1.0), (1, 1, -1.0)]);
         assert!(a.cholesky().is_none());
+    }
+
+    #[test]
+    fn added_entries_are_summed_into_a_grown_matrix() {
+        // laplacian(3) grown to 4, plus 1 at (1, 1) twice, (3, 0) and (0, 3), (3, 3): by hand.
+        let a = laplacian(3).with_added(
+            4,
+            vec![
+                (3, 3, 5.0),
+                (1, 1, 1.0),
+                (3, 0, 0.5),
+                (0, 3, 0.5),
+                (1, 1, 1.0),
+            ],
+        );
+        let want = [
+            [2.0, -1.0, 0.0, 0.5],
+            [-1.0, 4.0, -1.0, 0.0],
+            [0.0, -1.0, 2.0, 0.0],
+            [0.5, 0.0, 0.0, 5.0],
+        ];
+        for (i, r) in want.iter().enumerate() {
+            for (j, &x) in r.iter().enumerate() {
+                assert_eq!(a.get(i, j), x, "({i}, {j})");
+            }
+        }
+        assert_eq!(a.nnz(), 10);
+        let same: Vec<_> = laplacian(5).with_added(5, Vec::new()).entries().collect();
+        assert_eq!(same, laplacian(5).entries().collect::<Vec<_>>());
     }
 
     #[test]

@@ -160,6 +160,14 @@ pub enum ReductionError {
         "K + (2π · {0} Hz)² M is not positive definite: the body's K has a negative eigenvalue"
     )]
     ShiftedSingular(f64),
+    /// More modes of a whole body were asked for than it has DOFs.
+    #[error("{asked} modes of the whole body asked for, it has only {available} DOFs")]
+    TooManyBodyModes {
+        /// Asked for.
+        asked: usize,
+        /// The body's DOFs.
+        available: usize,
+    },
     /// More normal modes were asked for than interior DOFs exist.
     #[error("{asked} normal modes asked for, the interior has only {available} DOFs")]
     TooManyModes {

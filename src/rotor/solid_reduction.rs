@@ -2,7 +2,7 @@
 //! orthogonalised, with the rotating-frame terms of a general body, seen at its attachment
 //! points.
 //!
-//! In: a [`SolidBody`] (SI: sparse M and K, each DOF's node position, the attachment points)
+//! In: a [`SolidBody`] (SI: sparse M and K, optionally K_σ, each DOF's node position, the attachment points)
 //! and the number of fixed-interface normal modes. Out: a [`ReducedModel`] as the beam rotor's
 //! (physics.md §3–§4): mass-normalised modes (five rigid: translations x, y, z, tilts about x
 //! and y; the spin dropped), every body-frame matrix and load projected on them, and Φ's rows
@@ -17,7 +17,9 @@
 //! [`super::import::invariants::rotating_terms`] but projected without a dense n × n matrix):
 //! with S̄ = ẑ× on each node's translation (and rotation) triple and A = (MΦ)ᵀ(S̄Φ) = ΦᵀMS̄Φ,
 //! G_c = ½(A − Aᵀ), C = A, G_s = −A − Aᵀ, E = (S̄Φ)ᵀM(S̄Φ), f_t = (MΦ)ᵀr_z, f_c = (S̄Φ)ᵀM r_z,
-//! g_x|y = (MΦ)ᵀr_x|y (r the rigid motions). Exact for translation DOFs (solids); a shell's
+//! g_x|y = (MΦ)ᵀr_x|y (r the rigid motions). A stress stiffening K_σ (per (rad/s)²) is
+//! projected on the same basis, ΦᵀK_σΦ = Vᵀ K̂_σ V (the Craig–Bampton K̂_σ of the sparse
+//! reduction), as the dense path projects an axis body's. Exact for translation DOFs (solids); a shell's
 //! rotation DOFs miss the second-order rotary-inertia terms (the invariants' module doc).
 //! Kinetic energy by family from M restricted to the u_x (and θ_y), u_y (θ_x), u_z and θ_z
 //! rows. Cost: the sparse reduction, three sparse × (n × modes) products and the dense
@@ -40,7 +42,14 @@ pub fn reduce(solid: &SolidBody, n_normal: usize) -> Result<ReducedModel, Reduct
     let body = &solid.body;
     let b = &solid.interface;
     let n = body.dofs.len();
-    let cb = craig_bampton(&body.stiffness, &body.mass, b, n_normal, true)?;
+    let cb = craig_bampton(
+        &body.stiffness,
+        &body.mass,
+        body.stress.as_ref(),
+        b,
+        n_normal,
+        true,
+    )?;
     let (interior, t_i) = cb.basis.as_ref().expect("basis kept");
     let rigid = rigid_modes(&body.dofs, &solid.positions);
     let nb = b.len();
@@ -102,7 +111,7 @@ pub fn reduce(solid: &SolidBody, n_normal: usize) -> Result<ReducedModel, Reduct
         e: sym(e),
         c: a.clone(),
         gs: -(&a + a.transpose()),
-        ks: None,
+        ks: cb.ks.as_ref().map(|a| sym(o.v.transpose() * a * &o.v)),
         family_mass,
         fc: modal(&sphi, &mrz),
         ft: modal(&mphi, &col(5)),

@@ -1,8 +1,11 @@
 //! Craig–Bampton reduction of a large sparse body, with no dense n × n matrix.
 //!
-//! In: sparse symmetric K and M of a body (SI, [`Sparse`]), the interface DOFs B (row indices:
-//! the DOFs of the body's attachment nodes) and the number of fixed-interface normal modes.
-//! Out: a [`SparseReduction`]: the Craig–Bampton matrices K̂ and M̂ (dense, (|B| + n) square,
+//! In: sparse symmetric K and M of a body (SI, [`Sparse`]), optionally its stress stiffening
+//! per (rad/s)² K_σ (K(Ω) = K + Ω² K_σ), the interface DOFs B (row indices: the DOFs of the
+//! body's attachment nodes) and the number of fixed-interface normal modes.
+//! Out: a [`SparseReduction`]: the Craig–Bampton matrices K̂ and M̂ (and K̂_σ on the same
+//! standstill basis, as the dense path projects it: exact as far as the basis spans the
+//! stiffened shapes) (dense, (|B| + n) square,
 //! coordinates the interface DOFs in the order given, then the normal modes), the
 //! fixed-interface frequencies [Hz], the frequencies of the reduced body (free at its
 //! interface) [Hz], and the time each step took; or a [`ReductionError`].
@@ -10,7 +13,7 @@
 //! other DOFs; one sparse Cholesky factor of K_II ([`Sparse::cholesky`]) gives the constraint
 //! modes Ψ = −K_II⁻¹ K_IB (n_I × |B|, dense) and drives the shift-invert Lanczos solver for the
 //! lowest fixed-interface modes K_II Φ = M_II Φ Ω² ([`lanczos::lowest`]); with T_I = [Ψ Φ] and
-//! T_B = [I 0], K̂ = T_Bᵀ K_BB T_B + T_Bᵀ K_BI T_I + T_Iᵀ K_IB T_B + T_Iᵀ K_II T_I (and M̂ alike)
+//! T_B = [I 0], K̂ = T_Bᵀ K_BB T_B + T_Bᵀ K_BI T_I + T_Iᵀ K_IB T_B + T_Iᵀ K_II T_I (M̂, K̂_σ alike)
 //! from sparse × tall products; the reduced problem's eigenvalues by the dense solver
 //! ([`eigen::generalized_symmetric`]). Memory: the factor's fill, the Lanczos basis and T_I
 //! (n_I × (|B| + n)); time: the factorisation, |B| + (Lanczos steps) solves, and the products.
@@ -34,6 +37,8 @@ pub struct SparseReduction {
     pub k: DMatrix<f64>,
     /// M̂ [SI].
     pub m: DMatrix<f64>,
+    /// K̂_σ = Tᵀ K_σ T, the stress stiffening per (rad/s)² on the same basis, when given.
+    pub ks: Option<DMatrix<f64>>,
     /// Fixed-interface normal-mode frequencies [Hz], ascending.
     pub fixed_hz: Vec<f64>,
     /// Frequencies of the reduced body, free at its interface [Hz], ascending (rigid-body
@@ -74,27 +79,27 @@ fn project(a_ii: &Sparse, a_ib: &Mat<f64>, a_bb: &Mat<f64>, t_i: &Mat<f64>) -> D
     DMatrix::from_fn(n, n, |i, j| 0.5 * (out[(i, j)] + out[(j, i)]))
 }
 
+/// The shift of [`body_modes`] [Hz]: σ = −(2π · 1 Hz)², below the rigid-body (or a supported
+/// body's free spin) modes' λ = 0, so the factor of K − σM exists for a free body, and far below
+/// any elastic mode.
+pub const BODY_SHIFT_HZ: f64 = 1.0;
+
 /// The lowest `count` modes of the whole body (K, M), free at every DOF unless K holds it:
 /// λ ascending [rad²/s²] and M-normalised shapes, by the shift-invert Lanczos solver on one
-/// sparse Cholesky factor of K − σM with σ = −(2π `shift_hz`)² (below the rigid-body modes'
-/// λ = 0, so the factor exists for a free body). Rigid-body modes come out near 0.
-pub fn body_modes(
-    k: &Sparse,
-    m: &Sparse,
-    count: usize,
-    shift_hz: f64,
-) -> Result<lanczos::Modes, ReductionError> {
+/// sparse Cholesky factor of K − σM with σ = −(2π [`BODY_SHIFT_HZ`])². Rigid-body modes come
+/// out near 0.
+pub fn body_modes(k: &Sparse, m: &Sparse, count: usize) -> Result<lanczos::Modes, ReductionError> {
     if count > k.n() {
-        return Err(ReductionError::TooManyModes {
+        return Err(ReductionError::TooManyBodyModes {
             asked: count,
             available: k.n(),
         });
     }
-    let shift = -(2.0 * std::f64::consts::PI * shift_hz).powi(2);
+    let shift = -(2.0 * std::f64::consts::PI * BODY_SHIFT_HZ).powi(2);
     let factor = k
         .plus_scaled(m, -shift)
         .cholesky()
-        .ok_or(ReductionError::ShiftedSingular(shift_hz))?;
+        .ok_or(ReductionError::ShiftedSingular(BODY_SHIFT_HZ))?;
     Ok(lanczos::lowest(k, &factor, m, shift, count)?)
 }
 
@@ -103,6 +108,7 @@ pub fn body_modes(
 pub fn craig_bampton(
     k: &Sparse,
     m: &Sparse,
+    stress: Option<&Sparse>,
     boundary: &[usize],
     n_normal: usize,
     keep_basis: bool,
@@ -155,6 +161,12 @@ pub fn craig_bampton(
     lap(3, &mut seconds);
     let kh = project(&k_ii, &k_ib, &k_bb, &t_i);
     let mh = project(&m_ii, &m_ib, &m_bb, &t_i);
+    let ks = stress.map(|a| {
+        let a_ii = a.block(&int, &int).into_square();
+        let a_ib = a.block(&int, boundary).to_dense();
+        let a_bb = a.block(boundary, boundary).to_dense();
+        project(&a_ii, &a_ib, &a_bb, &t_i)
+    });
     lap(4, &mut seconds);
     let red = eigen::generalized_symmetric(&kh, &mh)?;
     lap(5, &mut seconds);
@@ -163,6 +175,7 @@ pub fn craig_bampton(
         free_hz: red.values.iter().map(|&l| hz(l)).collect(),
         k: kh,
         m: mh,
+        ks,
         seconds,
         basis: keep_basis.then_some((int, t_i)),
     })

@@ -1,8 +1,7 @@
 //! The scene errors of a solid or shell body (`[fe]` with `[fe.rings]`,
 //! `scene::geometry::fe`, `rotor::import::rings`): a ring naming a node the table lacks, an
-//! empty ring, weights not one per node, a stress stiffness or rotating-term files on a solid
-//! (refused); each error names the scene file, the line and the key (issue "bring your own
-//! roll", item 1).
+//! empty ring, weights not one per node, rotating-term files on a solid (refused); each error
+//! names the scene file, the line and the key (issue "bring your own roll", item 1).
 
 use std::path::Path;
 
@@ -49,7 +48,6 @@ fn solid_body_scene_errors_name_the_file_line_and_key() {
     let dir = scratch("fe-rings");
     let fe = body(&dir);
     let ring = "[fe.named]\n\n[fe.rings.journal]\n";
-    let stress = "stress_stiffness = \"k.mtx\"\nstress_stiffness_kind = \"increment\"\nstress_reference_hz = 10.0\n";
     let rotating = "[fe.rotating]\ncoriolis = \"k.mtx\"\nspin_softening = \"k.mtx\"\nangular_acceleration = \"k.mtx\"\ngyroscopic = \"k.mtx\"\nloads = \"loads.csv\"\n";
     let cases: Vec<(String, &str, &str, &str)> = vec![
         (
@@ -69,12 +67,6 @@ fn solid_body_scene_errors_name_the_file_line_and_key() {
             "[fe.rings.journal]",
             "fe.rings.journal",
             "2 weights for 4 nodes: give one per node",
-        ),
-        (
-            format!("{fe}{stress}{ring}nodes = [1, 2, 3, 4]\n"),
-            "stress_stiffness =",
-            "fe.stress_stiffness",
-            "does not take a stress stiffness",
         ),
         (
             format!("{fe}{ring}nodes = [1, 2, 3, 4]\n{rotating}"),

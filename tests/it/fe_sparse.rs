@@ -48,6 +48,7 @@ fn sparse_craig_bampton_gives_the_dense_frequencies() {
     let r = craig_bampton(
         &body.stiffness,
         &body.mass,
+        None,
         &boundary,
         model.full.cb_normal,
         false,

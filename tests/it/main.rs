@@ -37,6 +37,8 @@ mod fe_import;
 mod fe_nastran;
 mod fe_rings;
 mod fe_sparse;
+mod fe_sparse_stress;
+mod fe_supported_errors;
 mod import;
 mod input_checks;
 mod integrator_order;

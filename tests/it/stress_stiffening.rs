@@ -347,14 +347,14 @@ const SHAFT_L: f64 = 0.7;
 const SHAFT_D: f64 = 0.03;
 /// The speed ΔK is given at [Hz], and the axial tension it stands for there, a quarter of the
 /// Euler load: N_ref = ¼ π²EI/L².
-const SHAFT_REF_HZ: f64 = 100.0;
+pub(crate) const SHAFT_REF_HZ: f64 = 100.0;
 
 fn shaft_ei() -> f64 {
     E_MOD * std::f64::consts::PI * SHAFT_D.powi(4) / 64.0
 }
 
 /// ω_E [rad/s] (`SHAFT`'s doc).
-fn shaft_omega_e() -> f64 {
+pub(crate) fn shaft_omega_e() -> f64 {
     let rho_a = RHO * std::f64::consts::PI * SHAFT_D * SHAFT_D / 4.0;
     (std::f64::consts::PI / SHAFT_L).powi(2) * (shaft_ei() / rho_a).sqrt()
 }
@@ -365,7 +365,7 @@ fn shaft_omega_e() -> f64 {
 /// rotor spinning about its axis has no such tension (the `fe` module doc): this stands in for
 /// a body whose FE code found one, so that the pinned-pinned beam under tension
 /// N = N_ref (Ω/Ω_ref)², ω² = ω_E² (1 + N L²/(π²EI)) (Blevins, ch. 8, the beam under axial load), is the closed form.
-fn stressed_shaft(dir: &std::path::Path) -> (std::path::PathBuf, std::path::PathBuf) {
+pub(crate) fn stressed_shaft(dir: &std::path::Path) -> (std::path::PathBuf, std::path::PathBuf) {
     use rotorsweep::dynamics::model::Model;
     use rotorsweep::export::model::{write_model, Which};
     use rotorsweep::scene::source::Source;
@@ -422,6 +422,46 @@ fn stressed_shaft(dir: &std::path::Path) -> (std::path::PathBuf, std::path::Path
     )
 }
 
+/// The speed [Hz] of `follows_the_tensioned_beam`'s whirl.
+const WHIRL_HZ: f64 = 100.0;
+
+/// The body of the scene `path`, whose axial tension is `quarter` of the Euler load at
+/// `SHAFT_REF_HZ`: `modes` at `WHIRL_HZ` has the mean of its first backward and forward whirl
+/// at ω_E √(1 + quarter (Ω/Ω_ref)²) and its first critical speed at
+/// ω_E / √(1 − quarter ω_E²/Ω_ref²), each within 1 % (the closed forms below); the scene,
+/// model and `modes` report at `WHIRL_HZ`.
+pub(crate) fn follows_the_tensioned_beam(
+    path: &std::path::Path,
+    quarter: f64,
+) -> (
+    rotorsweep::scene::Scene,
+    rotorsweep::dynamics::model::Model,
+    rotorsweep::linear::overview::ModesReport,
+) {
+    use rotorsweep::dynamics::model::Model;
+    use rotorsweep::linear::overview::modes_report;
+    let we = shaft_omega_e() / TAU;
+    let (scene, model) = Model::load(path, &[], None).unwrap();
+    let r = modes_report(&scene, &model, WHIRL_HZ, None).unwrap();
+    let mean = 0.5 * (r.whirl_hz[0] + r.whirl_hz[1]);
+    let want = we * (1.0 + quarter * (WHIRL_HZ / SHAFT_REF_HZ).powi(2)).sqrt();
+    println!(
+        "N/N_E = {quarter}: whirl at {WHIRL_HZ} Hz {:?}, mean {mean:.3} Hz vs {want:.3}",
+        &r.whirl_hz[..2]
+    );
+    assert!((mean / want - 1.0).abs() < 0.01, "{mean} Hz vs {want} Hz");
+    let c = modes_report(&scene, &model, 0.0, Some(200.0)).unwrap();
+    let crit = c.critical_speeds_hz.unwrap();
+    let want = we / (1.0 - quarter * (we / SHAFT_REF_HZ).powi(2)).sqrt();
+    println!("   critical speeds {crit:?} vs {want:.3} Hz");
+    assert!(
+        (crit[0] / want - 1.0).abs() < 0.01,
+        "critical {} Hz vs {want} Hz",
+        crit[0]
+    );
+    (scene, model, r)
+}
+
 /// `modes` at speed and the Campbell sweep's critical speed of the body with stress stiffening
 /// against the tensioned pinned-pinned beam (`stressed_shaft`), within 1 %: at 100 Hz the mean
 /// of the first backward and forward whirl (the gyroscopic split cancels to first order) is
@@ -435,27 +475,9 @@ fn modes_and_campbell_of_a_stressed_body_follow_the_tensioned_beam() {
     use rotorsweep::linear::overview::modes_report;
     let dir = scratch("stressed-shaft");
     let (plain, stressed) = stressed_shaft(&dir);
-    let we = shaft_omega_e() / TAU;
     for (path, quarter) in [(&plain, 0.0), (&stressed, 0.25)] {
-        let (scene, model) = Model::load(path, &[], None).unwrap();
-        let speed = 100.0;
-        let r = modes_report(&scene, &model, speed, None).unwrap();
-        let mean = 0.5 * (r.whirl_hz[0] + r.whirl_hz[1]);
-        let want = we * (1.0 + quarter * (speed / SHAFT_REF_HZ).powi(2)).sqrt();
-        println!(
-            "N/N_E = {quarter}: whirl at 100 Hz {:?}, mean {mean:.3} Hz vs {want:.3}",
-            &r.whirl_hz[..2]
-        );
-        assert!((mean / want - 1.0).abs() < 0.01, "{mean} Hz vs {want} Hz");
-        let c = modes_report(&scene, &model, 0.0, Some(200.0)).unwrap();
-        let crit = c.critical_speeds_hz.unwrap();
-        let want = we / (1.0 - quarter * (we / SHAFT_REF_HZ).powi(2)).sqrt();
-        println!("   critical speeds {crit:?} vs {want:.3} Hz");
-        assert!(
-            (crit[0] / want - 1.0).abs() < 0.01,
-            "critical {} Hz vs {want} Hz",
-            crit[0]
-        );
+        let (scene, model, r) = follows_the_tensioned_beam(path, quarter);
+        let speed = WHIRL_HZ;
         if quarter > 0.0 {
             use rotorsweep::export::model::{write_model, Which};
             use rotorsweep::scene::source::Source;

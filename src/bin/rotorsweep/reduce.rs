@@ -5,7 +5,9 @@
 //! nodes (`fe.named`) and ring attachments (`fe.rings`, RBE3-like) whose nodes are the
 //! interface, the number of fixed-interface normal modes, and optionally a number of the whole
 //! body's own free modes (`--free`). Out, in a new folder DIR: `stiffness.mtx` and `mass.mtx`
-//! (the Craig–Bampton matrices K̂, M̂, SI, symmetric), `interface.csv` (`coordinate,node,dof`:
+//! (the Craig–Bampton matrices K̂, M̂, SI, symmetric; with a stress stiffness
+//! `fe.stress_stiffness`, `stress_stiffness.mtx`: K̂_σ per (rad/s)² on the same basis, so
+//! K̂(Ω) = K̂ + Ω² K̂_σ), `interface.csv` (`coordinate,node,dof`:
 //! the interface DOFs, the first coordinates), `attachments.csv` (`row,name,dof,x,y,z`: each
 //! named node's DOFs and each ring's reference point's six, position [m]) with
 //! `attachments.mtx` (array: the attachments' motion from the reduced coordinates, m or rad
@@ -23,16 +25,16 @@
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::time::Instant;
 
 use rotorsweep::error::InputError;
-use rotorsweep::linear::solid_supported::supported_modes;
+use rotorsweep::linear::solid_supported::{solid_of, supported_modes, Failure};
 use rotorsweep::rotor::import::matrix_market::{format, format_array, Symmetry};
 use rotorsweep::rotor::import::solid::{self, SolidBody};
 use rotorsweep::rotor::import::sparse_body;
 use rotorsweep::rotor::import::tables::DOF_NAMES;
 use rotorsweep::rotor::sparse_reduction::{body_modes, craig_bampton};
+use rotorsweep::scene::source::Source;
 use rotorsweep::scene::{fe_body_files, fe_body_rings, Scene};
 
 use crate::error::CliError;
@@ -69,14 +71,6 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     }
     let t0 = Instant::now();
     let (files, named) = fe_body_files(&a.scene)?;
-    if let Some(s) = &files.stress {
-        return Err(InputError::new(
-            &s.stiffness,
-            "`reduce` does not reduce a stress stiffness (fe.stress_stiffness): remove the key, \
-             or attach the body in a scene (the dense path) to use it",
-        )
-        .into());
-    }
     // With --supported the scene is read whole (its supports and drive), and its solid body
     // (read once, by the scene) is the one reduced.
     let scene = if a.supported > 0 {
@@ -84,20 +78,22 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     } else {
         None
     };
+    let failed = |f: Failure| -> CliError {
+        match f {
+            // In the file that writes the key (a scene may extend another), at its line.
+            Failure::Key(key, reason) => match Source::load(&a.scene) {
+                Ok(source) => source.err(&key, reason).into(),
+                Err(e) => e.into(),
+            },
+            Failure::Solver(e) => CliError::input(format!("{}: {e}", a.scene.display())),
+        }
+    };
     let scene_solid = scene
         .as_ref()
-        .and_then(|s| s.body.as_ref())
-        .and_then(|b| b.solid.clone());
-    if scene.is_some() && scene_solid.is_none() {
-        return Err(InputError::new(
-            &a.scene,
-            "--supported needs a solid or shell body (fe.rings): the whole body on the scene's \
-             supports",
-        )
-        .with_key("fe.rings")
-        .into());
-    }
-    let solid: Arc<SolidBody> = match scene_solid {
+        .map(|s| solid_of(s).map_err(failed))
+        .transpose()?;
+    let read: SolidBody;
+    let solid: &SolidBody = match scene_solid {
         Some(s) => s,
         None => {
             let body = sparse_body::load(&files)?;
@@ -111,10 +107,9 @@ pub fn run(a: &Args) -> Result<(), CliError> {
                 .with_key("fe.named")
                 .into());
             }
-            Arc::new(
-                solid::attach(body, &named, &rings, &files.dofs_file())
-                    .map_err(|(key, reason)| InputError::new(&a.scene, reason).with_key(key))?,
-            )
+            read = solid::attach(body, &named, &rings, &files.dofs_file())
+                .map_err(|(key, reason)| InputError::new(&a.scene, reason).with_key(key))?;
+            &read
         }
     };
     let n = solid.body.dofs.len();
@@ -130,6 +125,7 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     let r = craig_bampton(
         &body.stiffness,
         &body.mass,
+        body.stress.as_ref(),
         boundary,
         a.normal as usize,
         false,
@@ -149,7 +145,7 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     let free = (a.free > 0)
         .then(|| {
             timed("free modes of the whole body", || {
-                body_modes(&body.stiffness, &body.mass, a.free as usize, FREE_SHIFT_HZ)
+                body_modes(&body.stiffness, &body.mass, a.free as usize)
                     .map_err(|e| CliError::input(format!("{}: {e}", a.scene.display())))
             })
         })
@@ -158,8 +154,7 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         .as_ref()
         .map(|sc| {
             timed("modes of the whole body on its supports", || {
-                supported_modes(sc, a.supported as usize)
-                    .map_err(|(key, reason)| InputError::new(&a.scene, reason).with_key(key).into())
+                supported_modes(sc, a.supported as usize).map_err(failed)
             })
         })
         .transpose()?;
@@ -182,6 +177,20 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         "mass.mtx",
         format(&r.m, Symmetry::Symmetric, "SI", &comment),
     )?;
+    if let Some(ks) = &r.ks {
+        write(
+            "stress_stiffness.mtx",
+            format(
+                ks,
+                Symmetry::Symmetric,
+                "SI",
+                &format!(
+                    "{comment}; stress stiffening per (rad/s)^2, K(Omega) = K + Omega^2 Ks \
+                     (dK at Omega_ref = 1 rad/s)"
+                ),
+            ),
+        )?;
+    }
     let mut t = String::from("coordinate,node,dof\n");
     for (c, &row) in boundary.iter().enumerate() {
         let d = body.dofs[row];
@@ -212,7 +221,7 @@ pub fn run(a: &Args) -> Result<(), CliError> {
         hz_rows(&mut f, "supported-body", sm.values.iter().map(|&l| hz(l)));
     }
     write("frequencies.csv", f)?;
-    let (table, rows) = attachments(&solid);
+    let (table, rows) = attachments(solid);
     write("attachments.csv", table)?;
     write(
         "attachments.mtx",
@@ -245,10 +254,6 @@ pub fn run(a: &Args) -> Result<(), CliError> {
     );
     Ok(())
 }
-
-/// The shift of the whole body's free modes [Hz]: σ = −(2π · 1 Hz)², below the rigid-body
-/// modes' 0 (the factor of K − σM exists for a free body) and far below any elastic mode.
-const FREE_SHIFT_HZ: f64 = 1.0;
 
 /// `work` run, its time printed after `what`.
 fn timed<T>(what: &str, work: impl FnOnce() -> Result<T, CliError>) -> Result<T, CliError> {

@@ -32,8 +32,8 @@ use nalgebra::{DMatrix, DVector, Vector3};
 use super::files::{dof_table, same_size, units_check};
 pub use super::files::{BodyFiles, Format, RotatingFiles, StressFiles, StressKind};
 use super::invariants::{invariants, rigid_modes, rotating_terms, Invariants};
+use super::matrix_market;
 use super::tables::{self, Dof, Node, Units, DOF_NAMES};
-use super::{dmig, matrix_market, op4};
 use crate::error::InputError;
 use crate::rotor::fe::{FeMatrices, NDOF};
 
@@ -225,23 +225,7 @@ fn read_stress(
     let n = dofs.len();
     let mut a = match f.format {
         Format::MatrixMarket => read_market(path, f.units)?,
-        Format::Abaqus => super::abaqus::read_on(path, dofs, nodes, &f.nodes)?.dense(path)?,
-        Format::Dmig => {
-            let named = dmig::Named {
-                path,
-                name: f.names.stress.as_deref(),
-                key: "fe.stress_stiffness_matrix",
-            };
-            let (a, u) = dmig::read_on(named, dofs, nodes, &f.nodes)?;
-            units_check(path, &u, f.units)?;
-            a.dense(path)?
-        }
-        Format::Op4 => op4::read(
-            path,
-            f.names.stress.as_deref(),
-            "fe.stress_stiffness_matrix",
-        )?
-        .dense(path)?,
+        _ => super::sparse_body::stress_entries(f, path, nodes, dofs)?.dense(path)?,
     };
     if a.nrows() != n {
         return Err(InputError::new(

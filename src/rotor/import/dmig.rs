@@ -353,12 +353,16 @@ fn check(path: &Path, name: &str, m: &mut Dmig) -> Result<(), InputError> {
             .at_line(e.line));
         }
     }
-    let mut drop = BTreeSet::new();
+    let mut drop = vec![false; m.entries.len()];
     for (k, e) in m.entries.iter().enumerate() {
         if e.row == e.col {
             continue;
         }
         let mirror = at.get(&(e.col, e.row)).map(|&j| m.entries[j]);
+        if m.form == 6 && mirror.is_none() {
+            // One triangle of a symmetric matrix: mirrored on assembly.
+            continue;
+        }
         let y = mirror.map_or(0.0, |o| o.x);
         if (e.x - y).abs() > SYMMETRY_TOLERANCE * scale {
             let reason = match (m.form, mirror) {
@@ -389,34 +393,31 @@ fn check(path: &Path, name: &str, m: &mut Dmig) -> Result<(), InputError> {
                     e.x
                 ),
             };
-            if m.form == 6 && mirror.is_none() {
-                continue;
-            }
             let line = mirror.map_or(e.line, |o| o.line.max(e.line));
             return Err(InputError::new(path, reason).at_line(line));
         }
         if m.form == 6 && mirror.is_some() && e.row > e.col {
-            drop.insert(k);
+            drop[k] = true;
         }
     }
-    if !drop.is_empty() {
+    if drop.contains(&true) {
         let mut k = 0;
         m.entries.retain(|_| {
             k += 1;
-            !drop.contains(&(k - 1))
+            !drop[k - 1]
         });
     }
     Ok(())
 }
 
-/// The matrix `name` of a file's DMIG matrices (`None`: the only one), taken out of `all`;
+/// The matrix `name` of a file's DMIG matrices (`None`: the only one) in `all`;
 /// `key` is the scene key that names it.
-fn select(
+fn select<'a>(
     path: &Path,
-    mut all: BTreeMap<String, Dmig>,
+    all: &'a BTreeMap<String, Dmig>,
     name: Option<&str>,
     key: &str,
-) -> Result<Dmig, InputError> {
+) -> Result<&'a Dmig, InputError> {
     let names = all.keys().cloned().collect::<Vec<_>>().join(", ");
     let wanted = match name {
         Some(n) => n.to_ascii_uppercase(),
@@ -430,7 +431,7 @@ fn select(
             .with_key(key))
         }
     };
-    all.remove(&wanted).ok_or_else(|| {
+    all.get(&wanted).ok_or_else(|| {
         InputError::new(
             path,
             format!(
@@ -474,25 +475,26 @@ fn assemble(m: &Dmig, index: &BTreeMap<GridDof, usize>) -> Entries {
     }
 }
 
-fn read_one(
-    f: Named,
-    nodes: &[Node],
-    nodes_file: &Path,
-) -> Result<(Dmig, Option<(String, usize)>), InputError> {
-    let (all, units) = read_file(f.path, nodes, nodes_file)?;
-    Ok((select(f.path, all, f.name, f.key)?, units))
-}
-
 /// Reads the mass and stiffness matrices (module doc): each with its units comment, and the
-/// DOFs.
+/// DOFs. A file that holds both is read once.
 pub fn read_pair(
     mass: Named,
     stiffness: Named,
     nodes: &[Node],
     nodes_file: &Path,
 ) -> Result<(WithUnits, WithUnits, Vec<Dof>), InputError> {
-    let (m, um) = read_one(mass, nodes, nodes_file)?;
-    let (k, uk) = read_one(stiffness, nodes, nodes_file)?;
+    let (all_m, um) = read_file(mass.path, nodes, nodes_file)?;
+    let m = select(mass.path, &all_m, mass.name, mass.key)?;
+    let other = if stiffness.path == mass.path {
+        None
+    } else {
+        Some(read_file(stiffness.path, nodes, nodes_file)?)
+    };
+    let (all_k, uk) = match &other {
+        Some((all, units)) => (all, units.clone()),
+        None => (&all_m, um.clone()),
+    };
+    let k = select(stiffness.path, all_k, stiffness.name, stiffness.key)?;
     let set: BTreeSet<GridDof> = m
         .entries
         .iter()
@@ -501,7 +503,7 @@ pub fn read_pair(
         .collect();
     let index: BTreeMap<GridDof, usize> = set.iter().enumerate().map(|(i, &d)| (d, i)).collect();
     let dofs = set.iter().map(|&(node, dof)| Dof { node, dof }).collect();
-    Ok(((assemble(&m, &index), um), (assemble(&k, &index), uk), dofs))
+    Ok(((assemble(m, &index), um), (assemble(k, &index), uk), dofs))
 }
 
 /// Reads one more matrix (a stress stiffness) on the DOFs `dofs` of the pair already read
@@ -512,7 +514,8 @@ pub fn read_on(
     nodes: &[Node],
     nodes_file: &Path,
 ) -> Result<WithUnits, InputError> {
-    let (m, units) = read_one(f, nodes, nodes_file)?;
+    let (all, units) = read_file(f.path, nodes, nodes_file)?;
+    let m = select(f.path, &all, f.name, f.key)?;
     let index: BTreeMap<GridDof, usize> = dofs
         .iter()
         .enumerate()
@@ -530,5 +533,5 @@ pub fn read_on(
             .at_line(e.line));
         }
     }
-    Ok((assemble(&m, &index), units))
+    Ok((assemble(m, &index), units))
 }

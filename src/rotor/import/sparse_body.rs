@@ -2,13 +2,16 @@
 //! reduction ([`crate::rotor::sparse_reduction`]).
 //!
 //! In: the [`BodyFiles`] of a body in any format the dense path reads (Matrix Market, Abaqus,
-//! DMIG, OP4: mass, stiffness, node table, DOF table where the format needs one, units).
-//! Out: a [`SparseBody`]: M and K as [`Sparse`] matrices in the files' DOF order, SI (kg, N/m,
-//! kg m², N m/rad …), with the node and DOF tables; or an [`InputError`] naming the file and the
+//! DMIG, OP4: mass, stiffness, node table, DOF table where the format needs one, units; an
+//! optional stress stiffness ΔK at a reference speed Ω_ref, [`StressFiles`]).
+//! Out: a [`SparseBody`]: M and K (and K_σ = ΔK/Ω_ref² per (rad/s)², a `total` file less K) as
+//! [`Sparse`] matrices in the files' DOF order, SI (kg, N/m, kg m², N m/rad …), with the node
+//! and DOF tables; or an [`InputError`] naming the file and the
 //! line or entry: a truncated file, an entry given twice, a size that does not match the DOF
 //! table or the other matrix, a matrix not symmetric, wrong units (`% units:` differing from
 //! the scene's), a node the DOF table names that the node table lacks, a mass matrix that is
-//! not positive definite, and every error of the format's reader.
+//! not positive definite, a stress stiffness of another size or not symmetric (checked entry by
+//! entry in every format), and every error of the format's reader.
 //! Method: each format's reader gives its [`Entries`] (the same readers as the dense path's:
 //! [`super::matrix_market::read_sparse`], [`super::abaqus`], [`super::dmig`], [`super::op4`]),
 //! so a body reads alike in every format; symmetry of a Matrix Market `general` file and of an
@@ -23,7 +26,7 @@
 use std::path::Path;
 
 use super::entries::Entries;
-use super::files::{dof_table, same_size, units_check, BodyFiles, Format};
+use super::files::{dof_table, same_size, units_check, BodyFiles, Format, StressFiles, StressKind};
 use super::matrix_market::{self, Symmetry};
 use super::tables::{self, Dof, Node, Units, DOF_NAMES};
 use super::{abaqus, dmig, op4};
@@ -40,6 +43,9 @@ pub struct SparseBody {
     pub mass: Sparse,
     /// Stiffness matrix, SI, the files' DOF order.
     pub stiffness: Sparse,
+    /// Stress stiffening per (rad/s)², K_σ = ΔK/Ω_ref² (SI, the files' DOF order), if the files
+    /// give it ([`StressFiles`]).
+    pub stress: Option<Sparse>,
     /// The DOF of each matrix row.
     pub dofs: Vec<Dof>,
     /// The node table, SI.
@@ -174,6 +180,70 @@ pub(super) fn read_pair(
     }
 }
 
+/// The entries of the stress-stiffness file `path` in the body's format (the dense path reads
+/// Abaqus, DMIG and OP4 stress files by it too), a DMIG file's units checked; Abaqus and DMIG
+/// entries on the body's DOFs `dofs`.
+pub(super) fn stress_entries(
+    f: &BodyFiles,
+    path: &Path,
+    nodes: &[Node],
+    dofs: &[Dof],
+) -> Result<Entries, InputError> {
+    Ok(match f.format {
+        Format::MatrixMarket => read_market(path, f.units)?.0,
+        Format::Abaqus => abaqus::read_on(path, dofs, nodes, &f.nodes)?,
+        Format::Dmig => {
+            let named = dmig::Named {
+                path,
+                name: f.names.stress.as_deref(),
+                key: "fe.stress_stiffness_matrix",
+            };
+            let (e, u) = dmig::read_on(named, dofs, nodes, &f.nodes)?;
+            units_check(path, &u, f.units)?;
+            e
+        }
+        Format::Op4 => op4::read(
+            path,
+            f.names.stress.as_deref(),
+            "fe.stress_stiffness_matrix",
+        )?,
+    })
+}
+
+/// The stress stiffening per (rad/s)², K_σ = ΔK/Ω_ref², in the DOF order `dofs` and SI
+/// (module doc; as [`super::body`]'s dense reader): the file in the body's format, checked
+/// symmetric entry by entry whatever its format, of the body's size; a `total` file less the
+/// body's stiffness `k` (SI).
+fn read_stress(
+    f: &BodyFiles,
+    s: &StressFiles,
+    nodes: &[Node],
+    dofs: &[Dof],
+    k: &Sparse,
+) -> Result<Sparse, InputError> {
+    let path = &s.stiffness;
+    let e = stress_entries(f, path, nodes, dofs)?;
+    if e.n != dofs.len() {
+        return Err(InputError::new(
+            path,
+            format!(
+                "the stress stiffness is {} × {}, the body has {} DOFs (the mass matrix {})",
+                e.n,
+                e.n,
+                dofs.len(),
+                f.mass.display()
+            ),
+        ));
+    }
+    let mut a = finish(path, e, dofs, f.units, true)?;
+    if s.kind == StressKind::Total {
+        a = a.plus_scaled(k, -1.0);
+    }
+    let w = std::f64::consts::TAU * s.reference_hz;
+    a.map(|_, _, x| x / (w * w));
+    Ok(a)
+}
+
 /// Reads and checks a body sparse (module doc).
 pub fn load(f: &BodyFiles) -> Result<SparseBody, InputError> {
     let nodes = tables::read_nodes(&f.nodes, f.units)?;
@@ -197,9 +267,14 @@ pub fn load(f: &BodyFiles) -> Result<SparseBody, InputError> {
             format!("the mass matrix is not positive definite{at}"),
         ));
     }
+    let stress = match &f.stress {
+        Some(s) => Some(read_stress(f, s, &nodes, &dofs, &stiffness)?),
+        None => None,
+    };
     Ok(SparseBody {
         mass,
         stiffness,
+        stress,
         dofs,
         nodes,
     })

@@ -15,8 +15,8 @@
 //! [`InputError`] at the key, or naming the body's file and line
 //! ([`crate::rotor::import::body`]). Without rings the body is an axis body (every node on the
 //! axis with six DOFs), its points its named nodes; with rings it is a solid or shell body
-//! ([`crate::rotor::import::solid`], read sparse, reduced by
-//! [`crate::rotor::solid_reduction`]), its points the rings' reference points and the named
+//! ([`crate::rotor::import::solid`], read sparse with its stress stiffness if given, reduced
+//! by [`crate::rotor::solid_reduction`]; `[fe.rotating]` refused), its points the rings' reference points and the named
 //! nodes, in ascending z.
 
 use std::collections::BTreeMap;
@@ -357,16 +357,6 @@ fn sensors_of(c: &Check, fe: &FeFile) -> Result<Vec<String>, InputError> {
 /// rings ([`crate::rotor::import::solid`]), the rotor's points the attachments' reference
 /// points in ascending z (module doc).
 fn build_solid(c: &Check, fe: &FeFile, files: &BodyFiles) -> Result<Geometry, InputError> {
-    if let Some(s) = &files.stress {
-        return Err(c.err(
-            "fe.stress_stiffness",
-            format!(
-                "{}: a solid or shell body (fe.rings) is reduced sparse, which does not take a \
-                 stress stiffness yet",
-                s.stiffness.display()
-            ),
-        ));
-    }
     if files.rotating.is_some() {
         return Err(c.err(
             "fe.rotating",
