@@ -54,6 +54,7 @@ mod machine_loads;
 mod machine_plan;
 mod mutation;
 mod nips;
+mod random_wall;
 mod reduction;
 mod report;
 mod report_calibration;

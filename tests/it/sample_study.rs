@@ -15,8 +15,7 @@ use crate::support;
 
 use rotorsweep::numerics::rng::SplitMix64;
 use rotorsweep::numerics::sobol_indices::sobol_indices;
-use rotorsweep::study::merge;
-use rotorsweep::study::run::{self as campaign, RunOptions};
+use rotorsweep::study::run as campaign;
 use rotorsweep::study::Study;
 use statrs::distribution::{ContinuousCDF, LogNormal, Normal};
 use std::f64::consts::PI;
@@ -454,28 +453,14 @@ fn sampled_jobs_have_the_same_bytes_at_one_and_two_threads_and_through_shards() 
     let again = Study::load(&path).unwrap();
     let ids = |s: &Study| s.jobs.iter().map(|j| j.id.clone()).collect::<Vec<_>>();
     assert_eq!(ids(&st), ids(&again));
-    let run = |name: &str, threads: usize, shard: Option<(usize, usize)>| {
-        let out = d.join(name);
-        let opts = RunOptions {
-            threads,
-            shard,
-            ..support::run_options(&out)
-        };
-        campaign::run(&st, &opts).unwrap();
-        out
-    };
-    let one = results_content(&run("one.h5", 1, None));
-    let two = results_content(&run("two.h5", 2, None));
-    let (s0, s1) = (run("s0.h5", 2, Some((0, 2))), run("s1.h5", 2, Some((1, 2))));
-    let merged = d.join("merged.h5");
-    merge::merge(&[s0, s1], &merged, &merge::MergeOptions::default()).unwrap();
+    let [one, two, merged] = support::contents_at_one_two_threads_and_shards(&st, &d);
     assert!(
         one.iter().any(|(p, _)| p.ends_with("@speed.hz")),
         "the sample is stored per job"
     );
     assert!(one.iter().any(|(p, _)| p.ends_with("@label:sample")));
     assert_eq!(one, two);
-    assert_eq!(one, results_content(&merged));
+    assert_eq!(one, merged);
 }
 
 /// A sampled run killed (SIGKILL) part-way and resumed, again and again, ends with the bytes of
