@@ -570,14 +570,6 @@ fn bad_sample_tables_name_file_key_and_line() {
     );
     assert!(msg.contains("positive definite"), "{msg}");
 
-    // [sample] beside explicit jobs: refused, at the table.
-    let (key, at, msg, text) = error_of(&format!(
-        "[[jobs]]\n\"solver.hmax\" = 1e-3\n{head}distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n"
-    ));
-    assert_eq!(key.as_deref(), Some("sample"));
-    assert_eq!(at, line(&text, "[sample]"));
-    assert!(msg.contains("[[jobs]]"), "{msg}");
-
     // A sampled key that would replace a [set] key inside it (dropping it silently).
     let replacing = format!(
         "[set]\n\"solver.hmax.x\" = 1.0\n{head}distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n"
@@ -815,5 +807,64 @@ fn a_sampled_study_on_a_grid_axis_runs_every_sample_at_every_point() {
     assert!(
         e.to_string().contains("swept on axes[0] and sampled"),
         "{e}"
+    );
+}
+
+/// Explicit `[[jobs]]` beside a `[sample]` (the static sag under a normal density, as in
+/// `mean_and_std_of_the_static_sag_under_a_normal_density`): each runs once after the design
+/// with its own overrides and no design row, the design's jobs keep their ids, and the
+/// statistics and samples tables read the design alone, so they are those of the same study
+/// without the explicit jobs, cell for cell. An explicit job's bad value of a sampled key is
+/// reported at its own line, not at the parameter that samples the key.
+#[test]
+fn explicit_jobs_beside_a_sample_run_once_and_stay_out_of_its_tables() {
+    let d = scratch("sample-explicit-jobs");
+    let sample = "[linear]\nspeeds = \"0:1:2\"\nstatic = true\n\
+                  [sample]\nmethod = \"monte-carlo\"\nn = 8\nseed = 5\n\
+                  [[sample.parameters]]\nkey = \"materials.steel.density_kg_m3\"\n\
+                  distribution = \"normal\"\nmean = 7850.0\nstd = 392.5\n";
+    let jobs =
+        "[[jobs]]\n\"materials.steel.density_kg_m3\" = 20000.0\n[[jobs]]\n\"speed.hz\" = 7.0\n";
+    let plain = Study::load(&write_file(&d, "plain.toml", &jeffcott_study(sample))).unwrap();
+    let mixed = Study::load(&write_file(
+        &d,
+        "mixed.toml",
+        &jeffcott_study(&format!("{sample}{jobs}")),
+    ))
+    .unwrap();
+    assert_eq!(mixed.jobs.len(), 8 + 2);
+    let ids = |s: &Study| s.jobs.iter().map(|j| j.id.clone()).collect::<Vec<_>>();
+    assert_eq!(ids(&mixed)[..8], ids(&plain)[..]);
+    let value = |i: usize, k: &str| mixed.value_of(&mixed.jobs[i], k).and_then(|v| v.as_float());
+    assert_eq!(value(8, "materials.steel.density_kg_m3"), Some(20000.0));
+    assert_eq!(value(9, "speed.hz"), Some(7.0));
+    let (p_out, m_out) = (d.join("plain.h5"), d.join("mixed.h5"));
+    campaign::run(&plain, &support::run_options(&p_out)).unwrap();
+    campaign::run(&mixed, &support::run_options(&m_out)).unwrap();
+    let jobs_in = |f: &std::path::Path| {
+        results_content(f)
+            .iter()
+            .filter(|(p, _)| p.ends_with("@status"))
+            .count()
+    };
+    assert_eq!(jobs_in(&m_out), 10);
+    for table in ["statistics", "samples"] {
+        let (a, b) = (report_table(&p_out, table), report_table(&m_out, table));
+        assert_eq!(a["columns"], b["columns"], "{table}");
+        assert_eq!(a["rows"], b["rows"], "{table}");
+    }
+    assert_eq!(rows(&report_table(&m_out, "samples")).len(), 8);
+    let (key, at, msg, text) = error_of(&format!(
+        "{sample}[[jobs]]\n\"materials.steel.density_kg_m3\" = -1.0\n"
+    ));
+    assert_eq!(
+        key.as_deref(),
+        Some("materials.steel.density_kg_m3"),
+        "{msg}"
+    );
+    assert_eq!(
+        at,
+        line(&text, "\"materials.steel.density_kg_m3\" = -1.0"),
+        "{msg}"
     );
 }
