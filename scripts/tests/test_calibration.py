@@ -22,7 +22,7 @@ import pytest
 
 import rotorsweep as rs
 from rotorsweep import figures
-from rotorsweep.figures.calibration import record_rows, resonances, residuals
+from rotorsweep.figures.calibration import correlation, record_rows, resonances, residuals
 from test_plots import check_png
 from test_results import ROOT, binary, run_ok
 
@@ -135,3 +135,64 @@ def test_record_rows_are_drawn_over_speed(tmp_path: Path) -> None:
     assert ("s", 43.5, 1300.0) in points
     assert ("D", 44.05, 1490.0) in points
     assert ax.get_legend_handles_labels()[1][0] == "disk/vertical:1x"
+
+
+@pytest.fixture(scope="module")
+def two_parameters(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A calibration of two parameters, the horizontal and the vertical support stiffness of
+    the rigid Jeffcott rotor (k_x, k_y), to its first three critical speeds (8, 9 and 11.7 Hz):
+    three rows for two parameters, so standard errors and a correlation exist."""
+    tmp_path = tmp_path_factory.mktemp("calibration-two")
+    (tmp_path / "study.toml").write_text(
+        f'name = "rigid"\nscene = "{SCENE.as_posix()}"\n[set]\n'
+        '"simulation.t_end_s" = 0.3\n"simulation.settle_s" = 0.1\n'
+        '[[axes]]\nkey = "speed.hz"\nvalues = [5.0]\n'
+    )
+    text = 'study = "study.toml"\n[fit]\nstep = 0.001\n'
+    for name, d, start in (("k_x", "x", 1.0e5), ("k_y", "y", 1.3e5)):
+        keys = ", ".join(f'"supports[{i}].spring.k{d}_n_per_m"' for i in (0, 1))
+        text += (f'[[parameters]]\nname = "{name}"\nkeys = [{keys}]\ninitial = {start}\n'
+                 'lower = 1.0e4\nupper = 1.0e6\nscale = "log"\n')
+    for k, hz, std in ((1, 8.0, 0.01), (2, 9.0, 0.01), (3, 11.7, 0.05)):
+        text += f"[[frequencies]]\ncritical = {k}\nhz = {hz}\nstd_hz = {std}\n"
+    (tmp_path / "cal.toml").write_text(text)
+    run_ok("calibrate", "cal.toml", "-o", "cal.h5", "--threads", "2", cwd=tmp_path)
+    return tmp_path / "cal.h5"
+
+
+def test_the_correlation_figure_shows_the_files_matrix(two_parameters: Path,
+                                                       tmp_path: Path) -> None:
+    written = figures.render(two_parameters, tmp_path / "pngs")
+    assert written[-1].name == "calibration_correlation.png"
+    check_png(written[-1])
+    c = rs.calibration(two_parameters)
+    corr = c["correlation"]
+    m = corr.to_numpy(float)
+    # A correlation matrix: unit diagonal, symmetric, entries in [−1, 1] (fitted, not held).
+    assert np.diag(m) == pytest.approx([1.0, 1.0])
+    assert m == pytest.approx(m.T)
+    assert np.all(np.abs(m) <= 1.0 + 1e-12)
+    fig = correlation(corr, "two")
+    ax = fig.axes[0]
+    assert np.asarray(ax.get_images()[0].get_array()) == pytest.approx(m)
+    assert [t.get_text() for t in ax.texts] == [
+        f"{v:.2f}".replace("-", "−") for v in m.ravel()]
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["k_x", "k_y"]
+
+
+def test_the_correlation_figure_marks_cells_without_a_value() -> None:
+    names = ["E", "modal", "stand", "held"]
+    m = np.array([[1.0, -0.25, 0.1, np.nan], [-0.25, 1.0, -0.96, np.nan],
+                  [0.1, -0.96, 1.0, np.nan], [np.nan] * 4])
+    fig = correlation(pd.DataFrame(m, index=names, columns=names), "four")
+    ax = fig.axes[0]
+    texts = [t.get_text() for t in ax.texts]
+    assert texts[:4] == ["1.00", "−0.25", "0.10", "–"]
+    assert texts[5:7] == ["1.00", "−0.96"]
+    assert texts[12:] == ["–"] * 4
+    image = ax.get_images()[0].get_array()
+    assert np.ma.getmaskarray(image)[3].all() and not np.ma.getmaskarray(image)[:3, :3].any()
+    # No figure for one parameter, nor when no cell has a value.
+    assert correlation(pd.DataFrame([[1.0]], index=["k"], columns=["k"]), "one") is None
+    empty = pd.DataFrame(np.full((2, 2), np.nan), index=["a", "b"], columns=["a", "b"])
+    assert correlation(empty, "none") is None

@@ -280,13 +280,23 @@ pub(super) struct ShellFile {
 pub(super) struct RandomWallFile {
     pub seed: u64,
     pub mean_mm: f64,
-    pub std_mm: f64,
-    pub correlation_around_mm: f64,
-    pub correlation_along_mm: f64,
+    pub std_mm: Option<f64>,
+    pub correlation_around_mm: Option<f64>,
+    pub correlation_along_mm: Option<f64>,
+    pub spectrum: Option<Vec<RandomWallHarmonicFile>>,
     #[serde(default = "random_wall_angles")]
     pub angles: usize,
     #[serde(default = "random_wall_stations")]
     pub stations: usize,
+}
+
+/// One line of a random wall's spectrum; the order read as a number so that a fraction is
+/// refused with its key and line.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RandomWallHarmonicFile {
+    pub order: f64,
+    pub std_mm: f64,
 }
 
 /// The default grid of a random wall: 36 angles (10°) …

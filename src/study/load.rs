@@ -4,11 +4,11 @@
 //! In: the path of a study `.toml`. Out: a [`Study`]: its name, text and base scene, the keys
 //! that vary, its [`Job`]s and [`Reference`]s, the pruning pilot's overrides and its linear
 //! request. The steps, each with its own errors, in this order: the file and its base scene,
-//! the axes' rows and the job count, the grid of the axes and `[[jobs]]` (or of `[sample]`),
-//! `[reference]`,
-//! `[pruning]`, `[budget]`, `[analysis]`, `[linear]`, the order of replaced keys, every job
-//! (scene, inputs, ids, reference), the pruning pilots, the Nyquist limit of the orders, and
-//! distinct job ids. Also what callers ask of a study: a key's value in a job, a shard's jobs.
+//! the axes' rows and the job count, the grid of the axes and `[[jobs]]` (or of `[sample]` at
+//! the axes' points, then `[[jobs]]`), `[reference]`, `[pruning]`, `[budget]`, `[analysis]`,
+//! `[linear]`, the order of replaced keys, every job (scene, inputs, ids, reference), the
+//! pruning pilots, the Nyquist limit of the orders, and distinct job ids. Also what callers
+//! ask of a study: a key's value in a job, a shard's jobs.
 
 use std::path::{Path, PathBuf};
 
@@ -73,7 +73,7 @@ impl Study {
         job_count(&c, &rows, raw.jobs.len())?;
         let mut grid = Grid::new(&c, &raw.axes, rows, &raw.jobs)?;
         let sampled = match &raw.sample {
-            Some(s) => Some(sample::into_grid(&c, s, !raw.jobs.is_empty(), &mut grid)?),
+            Some(s) => Some(sample::into_grid(&c, s, &mut grid)?),
             None => None,
         };
         let mut references = References::new(&c, &source, &raw.reference)?;
@@ -98,7 +98,7 @@ impl Study {
         };
         let jobs = expansion
             .jobs(grid.combos, &mut references)
-            .map_err(|e| sample::relocate(&c, sampled.as_ref(), e))?;
+            .map_err(|e| sample::relocate(&c, sampled.as_ref(), &raw.jobs, e))?;
         if jobs.is_empty() {
             return Err(c.err("axes", "the study has no jobs: add axes or [[jobs]]"));
         }

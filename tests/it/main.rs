@@ -57,6 +57,7 @@ mod machine_plan;
 mod mutation;
 mod nip_runout;
 mod nips;
+mod random_wall;
 mod reduction;
 mod report;
 mod report_calibration;

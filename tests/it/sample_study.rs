@@ -15,8 +15,7 @@ use crate::support;
 
 use rotorsweep::numerics::rng::SplitMix64;
 use rotorsweep::numerics::sobol_indices::sobol_indices;
-use rotorsweep::study::merge;
-use rotorsweep::study::run::{self as campaign, RunOptions};
+use rotorsweep::study::run as campaign;
 use rotorsweep::study::Study;
 use statrs::distribution::{ContinuousCDF, LogNormal, Normal};
 use std::f64::consts::PI;
@@ -454,28 +453,14 @@ fn sampled_jobs_have_the_same_bytes_at_one_and_two_threads_and_through_shards() 
     let again = Study::load(&path).unwrap();
     let ids = |s: &Study| s.jobs.iter().map(|j| j.id.clone()).collect::<Vec<_>>();
     assert_eq!(ids(&st), ids(&again));
-    let run = |name: &str, threads: usize, shard: Option<(usize, usize)>| {
-        let out = d.join(name);
-        let opts = RunOptions {
-            threads,
-            shard,
-            ..support::run_options(&out)
-        };
-        campaign::run(&st, &opts).unwrap();
-        out
-    };
-    let one = results_content(&run("one.h5", 1, None));
-    let two = results_content(&run("two.h5", 2, None));
-    let (s0, s1) = (run("s0.h5", 2, Some((0, 2))), run("s1.h5", 2, Some((1, 2))));
-    let merged = d.join("merged.h5");
-    merge::merge(&[s0, s1], &merged, &merge::MergeOptions::default()).unwrap();
+    let [one, two, merged] = support::contents_at_one_two_threads_and_shards(&st, &d);
     assert!(
         one.iter().any(|(p, _)| p.ends_with("@speed.hz")),
         "the sample is stored per job"
     );
     assert!(one.iter().any(|(p, _)| p.ends_with("@label:sample")));
     assert_eq!(one, two);
-    assert_eq!(one, results_content(&merged));
+    assert_eq!(one, merged);
 }
 
 /// A sampled run killed (SIGKILL) part-way and resumed, again and again, ends with the bytes of
@@ -584,14 +569,6 @@ fn bad_sample_tables_name_file_key_and_line() {
         )
     );
     assert!(msg.contains("positive definite"), "{msg}");
-
-    // [sample] beside explicit jobs: refused, at the table.
-    let (key, at, msg, text) = error_of(&format!(
-        "[[jobs]]\n\"solver.hmax\" = 1e-3\n{head}distribution = \"normal\"\nmean = 7.0\nstd = 0.5\n"
-    ));
-    assert_eq!(key.as_deref(), Some("sample"));
-    assert_eq!(at, line(&text, "[sample]"));
-    assert!(msg.contains("[[jobs]]"), "{msg}");
 
     // A sampled key that would replace a [set] key inside it (dropping it silently).
     let replacing = format!(
@@ -830,5 +807,64 @@ fn a_sampled_study_on_a_grid_axis_runs_every_sample_at_every_point() {
     assert!(
         e.to_string().contains("swept on axes[0] and sampled"),
         "{e}"
+    );
+}
+
+/// Explicit `[[jobs]]` beside a `[sample]` (the static sag under a normal density, as in
+/// `mean_and_std_of_the_static_sag_under_a_normal_density`): each runs once after the design
+/// with its own overrides and no design row, the design's jobs keep their ids, and the
+/// statistics and samples tables read the design alone, so they are those of the same study
+/// without the explicit jobs, cell for cell. An explicit job's bad value of a sampled key is
+/// reported at its own line, not at the parameter that samples the key.
+#[test]
+fn explicit_jobs_beside_a_sample_run_once_and_stay_out_of_its_tables() {
+    let d = scratch("sample-explicit-jobs");
+    let sample = "[linear]\nspeeds = \"0:1:2\"\nstatic = true\n\
+                  [sample]\nmethod = \"monte-carlo\"\nn = 8\nseed = 5\n\
+                  [[sample.parameters]]\nkey = \"materials.steel.density_kg_m3\"\n\
+                  distribution = \"normal\"\nmean = 7850.0\nstd = 392.5\n";
+    let jobs =
+        "[[jobs]]\n\"materials.steel.density_kg_m3\" = 20000.0\n[[jobs]]\n\"speed.hz\" = 7.0\n";
+    let plain = Study::load(&write_file(&d, "plain.toml", &jeffcott_study(sample))).unwrap();
+    let mixed = Study::load(&write_file(
+        &d,
+        "mixed.toml",
+        &jeffcott_study(&format!("{sample}{jobs}")),
+    ))
+    .unwrap();
+    assert_eq!(mixed.jobs.len(), 8 + 2);
+    let ids = |s: &Study| s.jobs.iter().map(|j| j.id.clone()).collect::<Vec<_>>();
+    assert_eq!(ids(&mixed)[..8], ids(&plain)[..]);
+    let value = |i: usize, k: &str| mixed.value_of(&mixed.jobs[i], k).and_then(|v| v.as_float());
+    assert_eq!(value(8, "materials.steel.density_kg_m3"), Some(20000.0));
+    assert_eq!(value(9, "speed.hz"), Some(7.0));
+    let (p_out, m_out) = (d.join("plain.h5"), d.join("mixed.h5"));
+    campaign::run(&plain, &support::run_options(&p_out)).unwrap();
+    campaign::run(&mixed, &support::run_options(&m_out)).unwrap();
+    let jobs_in = |f: &std::path::Path| {
+        results_content(f)
+            .iter()
+            .filter(|(p, _)| p.ends_with("@status"))
+            .count()
+    };
+    assert_eq!(jobs_in(&m_out), 10);
+    for table in ["statistics", "samples"] {
+        let (a, b) = (report_table(&p_out, table), report_table(&m_out, table));
+        assert_eq!(a["columns"], b["columns"], "{table}");
+        assert_eq!(a["rows"], b["rows"], "{table}");
+    }
+    assert_eq!(rows(&report_table(&m_out, "samples")).len(), 8);
+    let (key, at, msg, text) = error_of(&format!(
+        "{sample}[[jobs]]\n\"materials.steel.density_kg_m3\" = -1.0\n"
+    ));
+    assert_eq!(
+        key.as_deref(),
+        Some("materials.steel.density_kg_m3"),
+        "{msg}"
+    );
+    assert_eq!(
+        at,
+        line(&text, "\"materials.steel.density_kg_m3\" = -1.0"),
+        "{msg}"
     );
 }

@@ -99,8 +99,10 @@ speed and amplitude as a point: measured ± σ, the model from the start to the 
 imaginary part of the complex order amplitude [µm] over the block's speed [Hz], a column per
 channel and order), ``calibration_residuals.png`` (every row's √w (model − measured)/σ at the
 start and at the fit), ``calibration_cost.png`` (the cost of every evaluation by role, the
-accepted path, and the cost per iteration) and ``calibration_parameters.png`` (each parameter's
-value at every evaluation, the accepted path, its bounds and the fit ± standard error).
+accepted path, and the cost per iteration), ``calibration_parameters.png`` (each parameter's
+value at every evaluation, the accepted path, its bounds and the fit ± standard error) and
+``calibration_correlation.png`` (the fitted parameters' correlation matrix as a heat map with its
+values, from two parameters on).
 
 With ``--compare SIMULATED.h5`` instead (:mod:`.compare`; FILE a measured record of ``rotorsweep
 import``, SIMULATED the model's run-up, one ramp job each, as ``rotorsweep report MEASURED

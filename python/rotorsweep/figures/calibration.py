@@ -1,9 +1,9 @@
 """The figures of a calibration (``rotorsweep calibrate CAL.toml -o OUT.h5``): the target rows
-measured and modelled, their normalised residuals, the cost over the evaluations and each
-parameter's path.
+measured and modelled, their normalised residuals, the cost over the evaluations, each
+parameter's path and the fitted parameters' correlations.
 
 In: the calibration results file, read with :func:`rotorsweep.calibration` (every number as the
-calibration wrote it; docs/calibration.md lists the layout). Out: up to six figures, each only
+calibration wrote it; docs/calibration.md lists the layout). Out: up to seven figures, each only
 when the file holds its rows:
 
 * ``calibration_rows.png``: every row that is not a record's (``[[targets]]``,
@@ -31,7 +31,11 @@ when the file holds its rows:
   of the start and the trial steps so far), and the accepted cost per iteration;
 * ``calibration_parameters.png``: a panel per parameter, its value at every evaluation (marker
   by role) with the accepted path, its bounds (dashed) and the fitted value ± standard error
-  (band); a log scale for a parameter fitted on one.
+  (band); a log scale for a parameter fitted on one;
+* ``calibration_correlation.png``: with two parameters or more, the fitted parameters'
+  correlation matrix as a heat map (−1 blue … +1 red), each cell with its value to two decimals;
+  a cell without a value (a held parameter's row and column) grey and marked "–"; none when no
+  cell has a value (no standard errors: as many rows as free parameters).
 
 Numbers in titles are written as the report writes them (:func:`~._common.significant`)."""
 
@@ -42,6 +46,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from matplotlib import colormaps
 from matplotlib.figure import Figure
 
 import rotorsweep as rp
@@ -392,6 +397,44 @@ def parameters(params: pd.DataFrame, ev: pd.DataFrame, title: str) -> Figure | N
     return fig
 
 
+#: Correlations whose cells get white text (the colour map is dark beyond them).
+DARK_CELL = 0.6
+
+
+def correlation(corr: pd.DataFrame, title: str) -> Figure | None:
+    """``calibration_correlation.png`` (module doc) of the correlation matrix ``corr`` (indexed
+    by parameter name both ways, NaN without a value); None below two parameters or without a
+    value."""
+    n = len(corr)
+    values = corr.to_numpy(float)
+    if n < 2 or not np.isfinite(values).any():
+        return None
+    cmap = colormaps["RdBu_r"].with_extremes(bad="0.85")
+    side = min(max(4.2, 1.0 + 0.75 * n), 12.0)
+    fig = figure(figsize=(side + 1.3, side))
+    ax = fig.subplots()
+    image = ax.imshow(np.ma.masked_invalid(values), cmap=cmap, vmin=-1.0, vmax=1.0)
+    size = "medium" if n <= 6 else "small" if n <= 10 else "x-small"
+    for i in range(n):
+        for j in range(n):
+            v = values[i, j]
+            text = f"{v:.2f}".replace("-", "−") if np.isfinite(v) else "–"
+            dark = np.isfinite(v) and abs(v) > DARK_CELL
+            ax.text(j, i, text, ha="center", va="center", fontsize=size,
+                    color="white" if dark else "black")
+    names = [str(c) for c in corr.columns]
+    ax.set_xticks(range(n), names, rotation=30 if n > 3 else 0,
+                  ha="right" if n > 3 else "center")
+    ax.set_yticks(range(n), [str(i) for i in corr.index])
+    ax.set_xticks(np.arange(n + 1) - 0.5, minor=True)
+    ax.set_yticks(np.arange(n + 1) - 0.5, minor=True)
+    ax.grid(which="minor", color="white", lw=1.5)
+    ax.tick_params(which="minor", length=0)
+    fig.colorbar(image, ax=ax, label="correlation [1]", shrink=0.85)
+    fig.suptitle(f"{title}: correlation of the fitted parameters")
+    return fig
+
+
 def calibration_figures(path: PathLike) -> list[tuple[str, Figure | None]]:
     """The figures of the calibration file ``path``, named, in the module doc's order (None
     where the file has nothing for one)."""
@@ -408,4 +451,5 @@ def calibration_figures(path: PathLike) -> list[tuple[str, Figure | None]]:
         ("calibration_residuals.png", residuals(rows, title)),
         ("calibration_cost.png", cost(ev, c["attrs"], title)),
         ("calibration_parameters.png", parameters(params, ev, title)),
+        ("calibration_correlation.png", correlation(c["correlation"], title)),
     ]

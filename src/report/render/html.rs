@@ -46,7 +46,7 @@ fn esc_code(text: &str) -> String {
 }
 
 /// What each figure of `scripts/plots.py` shows, by the start of its file name.
-const FIGURE_CAPTIONS: [(&str, &str); 25] = [
+const FIGURE_CAPTIONS: [(&str, &str); 26] = [
     ("spectral_map", "Spectral map: amplitude of the runout's fluctuating part (mean removed) over frequency and speed, the roll's orders solid, the rollers' lines dashed"),
     ("harmonics", "Amplitude of each analysed order over speed"),
     ("trial_mass", "1× response to the trial masses against the baseline"),
@@ -72,6 +72,7 @@ const FIGURE_CAPTIONS: [(&str, &str); 25] = [
     ("calibration_residuals", "Calibration: each row's normalised residual √w (model − measured)/σ at the start and at the fit"),
     ("calibration_cost", "Calibration: the cost of every evaluation and the accepted path, and the cost per iteration"),
     ("calibration_parameters", "Calibration: each parameter's value over the evaluations, its bounds and the fit ± its standard error"),
+    ("calibration_correlation", "Calibration: the correlation matrix of the fitted parameters, each cell with its value (– for none: a held parameter)"),
 ];
 
 /// The caption of a figure file.

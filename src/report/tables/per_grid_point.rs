@@ -7,13 +7,13 @@
 //! (named by the key, in its unit; the point's value); without grid axes the builder's table
 //! as it is. Method: a job's grid point is its values of the varying keys the design does not
 //! sample; its design row (`sample 12`, `A 12`, …) the last part of its label, which follows
-//! the axes' labels.
+//! the axes' labels. Explicit `[[jobs]]` beside the design are left out ([`design_jobs`]).
 
 use hdf5::File;
 
 use crate::report::jobs::Job;
 use crate::report::table::{md_cell, Cell, Table};
-use crate::study::sample::spec_of_text;
+use crate::study::sample::{is_design_job, spec_of_text};
 
 /// A table builder of a sampled study's jobs.
 pub(crate) type Builder = fn(&File, &[Job], &str) -> hdf5::Result<Option<Table>>;
@@ -29,15 +29,12 @@ pub(crate) fn per_grid_point(
     let Some(spec) = spec_of_text(study_text) else {
         return Ok(None);
     };
-    let sampled = spec.keys();
-    let swept: Vec<usize> = (0..varying.len())
-        .filter(|&i| !sampled.contains(&varying[i]))
-        .collect();
+    let (design, swept) = design_jobs(jobs, &spec.keys(), varying);
     if swept.is_empty() {
-        return build(f, jobs, study_text);
+        return build(f, &design, study_text);
     }
     let mut points: Vec<(Vec<Cell>, Vec<Job>)> = Vec::new();
-    for j in jobs {
+    for j in &design {
         let at: Vec<Cell> = swept.iter().map(|&i| j.params[i].clone()).collect();
         let mut job = j.clone();
         job.label = j.label.rsplit(", ").next().unwrap_or_default().to_string();
@@ -80,4 +77,25 @@ pub(crate) fn per_grid_point(
         }
     }
     Ok(out)
+}
+
+/// The jobs of a sampled study's design (not its explicit `[[jobs]]`, [`is_design_job`]) and
+/// the indices in `varying` of its grid axes' keys: the keys not `sampled` that a design job
+/// has a value of (an explicit job's own keys have none in the design's jobs).
+pub(crate) fn design_jobs(
+    jobs: &[Job],
+    sampled: &[String],
+    varying: &[String],
+) -> (Vec<Job>, Vec<usize>) {
+    let design: Vec<Job> = jobs
+        .iter()
+        .filter(|j| is_design_job(&j.label))
+        .cloned()
+        .collect();
+    let unset = |c: &Cell| matches!(c, Cell::Number(x) if x.is_nan());
+    let swept = (0..varying.len())
+        .filter(|&i| !sampled.contains(&varying[i]))
+        .filter(|&i| design.iter().any(|j| !unset(&j.params[i])))
+        .collect();
+    (design, swept)
 }

@@ -3,7 +3,8 @@
 //!
 //! In: a results file of a study with `[sample]` (its stored text names the parameters), its
 //! jobs (status, label, values of the varying keys), the file's varying keys and the jobs'
-//! outputs ([`super::outputs`]). Out: one row per job that ended `ok`, in job order: `job_id`,
+//! outputs ([`super::outputs`]). Out: one row per job of the design (not an explicit
+//! `[[jobs]]` entry beside it) that ended `ok`, in job order: `job_id`,
 //! `label` (its labelled axes' labels, then its design row), on grid axes each swept key's
 //! value (column: the key; the varying keys the design does not sample, as in
 //! [`super::per_grid_point`]), each parameter's value (column: its first key; the job
@@ -13,6 +14,7 @@
 use hdf5::File;
 
 use super::outputs::job_outputs;
+use super::per_grid_point::design_jobs;
 use crate::report::jobs::Job;
 use crate::report::table::{Cell, Table};
 use crate::store;
@@ -28,17 +30,14 @@ pub(crate) fn samples_table(
     let Some(spec) = spec_of_text(study_text) else {
         return Ok(None);
     };
-    let ok: Vec<&Job> = jobs.iter().filter(|j| j.status == "ok").collect();
+    let (design, swept) = design_jobs(jobs, &spec.keys(), varying);
+    let ok: Vec<&Job> = design.iter().filter(|j| j.status == "ok").collect();
     if ok.is_empty() {
         return Ok(None);
     }
     let ids: Vec<String> = ok.iter().map(|j| j.id.clone()).collect();
     let outputs = job_outputs(f, &ids)?;
     let keys: Vec<&str> = spec.parameters.iter().map(|p| p.keys[0].as_str()).collect();
-    let sampled = spec.keys();
-    let swept: Vec<usize> = (0..varying.len())
-        .filter(|&i| !sampled.contains(&varying[i]))
-        .collect();
     let mut columns = vec!["job_id".to_string(), "label".to_string()];
     columns.extend(swept.iter().map(|&i| varying[i].clone()));
     columns.extend(keys.iter().map(|k| k.to_string()));

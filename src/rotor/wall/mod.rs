@@ -36,5 +36,5 @@ mod test_support;
 pub(crate) use self::csv::data_rows;
 pub use self::csv::COVERAGE_SHARE;
 pub use map::{MapStats, ThicknessMap};
-pub use random_field::{FieldStats, RandomFieldSpec};
+pub use random_field::{Angular, FieldStats, RandomFieldSpec};
 pub use synthetic::{AxialShape, HarmonicSpec, SyntheticSpec};

@@ -1,7 +1,9 @@
 //! A roll shell's wall: nominal (`wall_thickness_mm`), a thickness map read from a CSV file
 //! (`thickness_map`), a seeded synthetic map (`synthetic_map`) or a seeded random field
-//! (`random_wall`: mean and standard deviation in mm, correlation lengths around (arc length at
-//! the mean wall's mid radius) and along the shell in mm, the grid) → the shell's section.
+//! (`random_wall`: mean in mm, a standard deviation with a correlation length around (arc length
+//! at the mean wall's mid radius) or a `spectrum` of standard deviations per whole harmonic
+//! order in mm, an optional correlation length along the shell in mm, the grid) → the shell's
+//! section.
 //!
 //! In: the `[roll.shell]` table (the wall in mm; a CSV path relative to the scene file; the
 //! synthetic map's mean, min, max and standard deviation in mm, harmonics with phases in
@@ -18,9 +20,11 @@ use std::sync::Arc;
 
 use crate::error::InputError;
 use crate::rotor::fe::SectionSpec;
-use crate::rotor::wall::{AxialShape, HarmonicSpec, RandomFieldSpec, SyntheticSpec, ThicknessMap};
+use crate::rotor::wall::{
+    Angular, AxialShape, HarmonicSpec, RandomFieldSpec, SyntheticSpec, ThicknessMap,
+};
 use crate::scene::check::Check;
-use crate::scene::file::{RandomWallFile, ShellFile, SyntheticMapFile};
+use crate::scene::file::{RandomWallFile, RandomWallHarmonicFile, ShellFile, SyntheticMapFile};
 
 /// The key of the shell's outer diameter, which its wall must fit.
 const OUTER_KEY: &str = "roll.shell.outer_diameter_mm";
@@ -240,7 +244,8 @@ fn synthetic_spec(c: &Check, s: &SyntheticMapFile) -> Result<SyntheticSpec, Inpu
 }
 
 /// The random wall's spec in SI (m) from `roll.shell.random_wall`, on a shell of diameter
-/// `outer` [m]: the correlation around is an arc length at the mean wall's mid radius.
+/// `outer` [m]: the correlation around is an arc length at the mean wall's mid radius; a
+/// spectrum gives a standard deviation per harmonic instead (`spectrum_lines`).
 fn random_wall_spec(
     c: &Check,
     r: &RandomWallFile,
@@ -248,7 +253,6 @@ fn random_wall_spec(
 ) -> Result<RandomFieldSpec, InputError> {
     let k = "roll.shell.random_wall";
     let mean = 1e-3 * c.positive(&format!("{k}.mean_mm"), r.mean_mm)?;
-    let std = 1e-3 * c.positive(&format!("{k}.std_mm"), r.std_mm)?;
     if 2.0 * mean >= outer {
         return Err(c.err_among(
             &[&format!("{k}.mean_mm"), OUTER_KEY],
@@ -259,18 +263,98 @@ fn random_wall_spec(
             ),
         ));
     }
+    let n_angles = c.count(&format!("{k}.angles"), r.angles, 8, 4096)?;
+    let angular = match (&r.spectrum, r.std_mm, r.correlation_around_mm) {
+        (None, Some(std), Some(around)) => Angular::Correlation {
+            std_m: 1e-3 * c.positive(&format!("{k}.std_mm"), std)?,
+            around_m: 1e-3 * c.positive(&format!("{k}.correlation_around_mm"), around)?,
+            radius_m: 0.5 * (outer - mean),
+        },
+        (None, _, _) => {
+            return Err(c.err(
+                k,
+                "give std_mm with correlation_around_mm (a correlation around the shell), or \
+                 spectrum (a standard deviation per circumferential harmonic)",
+            ))
+        }
+        (Some(_), std, around) if std.is_some() || around.is_some() => {
+            let extra = if std.is_some() {
+                "std_mm"
+            } else {
+                "correlation_around_mm"
+            };
+            return Err(c.err(
+                &format!("{k}.{extra}"),
+                "give either spectrum (its harmonics' standard deviations make the wall's) or \
+                 std_mm with correlation_around_mm, not both",
+            ));
+        }
+        (Some(lines), _, _) => Angular::Spectrum(spectrum_lines(c, lines, n_angles)?),
+    };
     Ok(RandomFieldSpec {
         seed: r.seed,
         mean_m: mean,
-        std_m: std,
-        around_m: 1e-3
-            * c.positive(
-                &format!("{k}.correlation_around_mm"),
-                r.correlation_around_mm,
-            )?,
-        along_m: 1e-3 * c.positive(&format!("{k}.correlation_along_mm"), r.correlation_along_mm)?,
-        radius_m: 0.5 * (outer - mean),
-        n_angles: c.count(&format!("{k}.angles"), r.angles, 8, 4096)?,
+        angular,
+        along_m: r
+            .correlation_along_mm
+            .map(|l| c.positive(&format!("{k}.correlation_along_mm"), l))
+            .transpose()?
+            .map(|l| 1e-3 * l),
+        n_angles,
         n_stations: c.count(&format!("{k}.stations"), r.stations, 2, 1000)?,
     })
+}
+
+/// A random wall's `spectrum`: (order, σ [m]) per line, each order a whole number the grid of
+/// `n_angles` resolves (1 … ⌊(n_angles − 1)/2⌋), given once, each σ ≥ 0 and one above 0.
+fn spectrum_lines(
+    c: &Check,
+    lines: &[RandomWallHarmonicFile],
+    n_angles: usize,
+) -> Result<Vec<(usize, f64)>, InputError> {
+    let k = "roll.shell.random_wall";
+    let top = (n_angles - 1) / 2;
+    let mut out: Vec<(usize, f64)> = Vec::with_capacity(lines.len());
+    for (i, h) in lines.iter().enumerate() {
+        let key = format!("{k}.spectrum[{i}].order");
+        let n = h.order;
+        let why = if !n.is_finite() || n.fract() != 0.0 {
+            Some(format!(
+                "must be a whole number (a circumferential harmonic), got {}",
+                crate::text::number_text(n)
+            ))
+        } else if n < 1.0 {
+            Some(format!(
+                "must be at least 1, got {n}: order 0 is the mean wall, `{k}.mean_mm`"
+            ))
+        } else if n > top as f64 {
+            Some(format!(
+                "order {n} needs at least {} angles around; the grid has {n_angles} \
+                 (`{k}.angles`), which resolve the orders 1 … {top}",
+                2.0 * n + 1.0
+            ))
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(c.err(&key, why));
+        }
+        let order = n as usize;
+        if let Some(j) = out.iter().position(|&(m, _)| m == order) {
+            return Err(c.err(
+                &key,
+                format!("order {order} is given twice (also `{k}.spectrum[{j}]`)"),
+            ));
+        }
+        let std = c.non_negative(&format!("{k}.spectrum[{i}].std_mm"), h.std_mm)?;
+        out.push((order, 1e-3 * std));
+    }
+    if !out.iter().any(|&(_, s)| s > 0.0) {
+        return Err(c.err(
+            &format!("{k}.spectrum"),
+            "needs a harmonic with a positive std_mm: without one the wall is uniform \
+             (give wall_thickness_mm for that)",
+        ));
+    }
+    Ok(out)
 }

@@ -10,8 +10,11 @@
 //! for Saltelli), which the report's sensitivity table reads back. The values are a pure
 //! function of the table, so job ids are stable under resume, shards and thread counts.
 //! Beside `[[axes]]`, every design row runs at every grid point (grid point outer, the same
-//! draws at each: n × grid jobs), its labels the axes' then the design row's.
-//! Errors: those of [`spec`], a `[sample]` beside `[[jobs]]`, and a key both swept and sampled.
+//! draws at each: n × grid jobs), its labels the axes' then the design row's. Explicit
+//! `[[jobs]]` follow the design, each run once with its own overrides and no design row (the
+//! sampled keys at the scene's values unless the job sets them); the report's statistics,
+//! sensitivity and samples tables read the design's jobs alone ([`is_design_job`]).
+//! Errors: those of [`spec`] and a key both swept and sampled.
 //!
 //! The files: `spec` (the table and its check), `distribution` (quantile functions), `design`
 //! (the unit points and the Saltelli matrices), `copula` (correlation).
@@ -26,6 +29,7 @@ pub(crate) use spec::Spec;
 
 use super::context::Ctx;
 use super::grid::Grid;
+use super::values::flatten;
 use crate::error::InputError;
 
 /// The label key of a sampled job (`label:sample`): its design row.
@@ -81,21 +85,10 @@ pub(crate) fn spec_of_text(text: &str) -> Option<Spec> {
 }
 
 /// Replaces the grid by the samples of `sample` (module doc): beside axes, every sample at
-/// every grid point (the grid point outer, the sample inner; the same design at each point);
-/// refused beside explicit jobs, for a key both swept and sampled and past [`MAX_JOBS`](crate::study::MAX_JOBS) jobs.
-pub(super) fn into_grid(
-    c: &Ctx,
-    sample: &SampleFile,
-    has_jobs: bool,
-    grid: &mut Grid,
-) -> Result<Spec, InputError> {
-    if has_jobs {
-        return Err(c.err(
-            "sample",
-            "a sampled study has no [[jobs]]: its jobs are its samples (at every point of its \
-             [[axes]], if any)",
-        ));
-    }
+/// every grid point (the grid point outer, the sample inner; the same design at each point),
+/// then the explicit `[[jobs]]`, each once; refused for a key both swept and sampled and past
+/// [`MAX_JOBS`](crate::study::MAX_JOBS) jobs.
+pub(super) fn into_grid(c: &Ctx, sample: &SampleFile, grid: &mut Grid) -> Result<Spec, InputError> {
     let spec = sample.check(c)?;
     for (i, p) in spec.parameters.iter().enumerate() {
         if let Some(k) = p.keys.iter().find(|k| grid.axis_of_key.contains_key(*k)) {
@@ -109,15 +102,21 @@ pub(super) fn into_grid(
         }
     }
     let samples = spec.combos();
-    let total = grid.combos.len() as u128 * samples.len() as u128;
+    // The grid's points (one without axes), then the explicit jobs, each run once as it is.
+    let explicit = grid.combos.split_off(grid.axis_combos);
+    if grid.combos.is_empty() {
+        grid.combos.push((Vec::new(), Vec::new()));
+    }
+    let total = grid.combos.len() as u128 * samples.len() as u128 + explicit.len() as u128;
     if total > crate::study::MAX_JOBS as u128 {
         return Err(c.err(
             "sample",
             format!(
-                "{} design rows at each of the {} grid points make {total} jobs, more than the \
-                 limit of {}",
+                "{} design rows at each of the {} grid points and {} explicit jobs make \
+                 {total} jobs, more than the limit of {}",
                 samples.len(),
                 grid.combos.len(),
+                explicit.len(),
                 crate::study::MAX_JOBS
             ),
         ));
@@ -132,16 +131,34 @@ pub(super) fn into_grid(
             combos.push((overrides, all));
         }
     }
-    grid.varying.extend(spec.keys());
+    for k in spec.keys() {
+        if !grid.varying.contains(&k) {
+            grid.varying.push(k);
+        }
+    }
+    grid.axis_combos = combos.len();
+    combos.extend(explicit);
     grid.combos = combos;
-    grid.axis_combos = grid.combos.len();
     Ok(spec)
 }
 
-/// A job's error about a sampled key, pointed at the `[[sample.parameters]]` entry that
-/// samples it (the expansion points it at the jobs); two jobs of the same inputs, which the
-/// expansion reports at `axes`, pointed at `[sample]` with the design's likely cause.
-pub(super) fn relocate(c: &Ctx, spec: Option<&Spec>, e: InputError) -> InputError {
+/// Whether a job of a sampled study with `label` (the axes' labels, then its design row,
+/// joined by ", ") is one of the design's, not an explicit `[[jobs]]` entry.
+pub(crate) fn is_design_job(label: &str) -> bool {
+    let row = label.rsplit(", ").next().unwrap_or_default();
+    design::Row::parse_label(row).is_some()
+}
+
+/// A design job's error about a sampled key, pointed at the `[[sample.parameters]]` entry that
+/// samples it (the expansion points it at the jobs; an error at the key of an `explicit` job
+/// that sets it stays there); two jobs of the same inputs, which the expansion reports at
+/// `axes`, pointed at `[sample]` with the design's likely cause.
+pub(super) fn relocate(
+    c: &Ctx,
+    spec: Option<&Spec>,
+    explicit: &[toml::Table],
+    e: InputError,
+) -> InputError {
     if spec.is_some() && e.key.as_deref() == Some("axes") && e.reason.contains("same inputs") {
         return c.err(
             "sample",
@@ -162,6 +179,15 @@ pub(super) fn relocate(c: &Ctx, spec: Option<&Spec>, e: InputError) -> InputErro
     }) else {
         return e;
     };
+    let key = e.key.as_deref().unwrap_or_default();
+    let at_explicit = explicit.iter().enumerate().any(|(j, t)| {
+        let mut o = Vec::new();
+        flatten("", t, &mut o);
+        o.iter().any(|(k, _)| k == key) && c.err(&format!("jobs[{j}].{key}"), "").line == e.line
+    });
+    if at_explicit {
+        return e;
+    }
     let mut err = c.err(&format!("sample.parameters[{i}].{}", p.written), e.reason);
     err.key = e.key;
     err

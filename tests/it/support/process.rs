@@ -116,3 +116,28 @@ pub fn saved_batches(dir: &std::path::Path, out: &str) -> usize {
         })
         .unwrap_or(0)
 }
+
+/// The [`results_content`] of `st` run into `dir` at one thread, at two, and as two shards
+/// merged, in that order (the determinism checks compare the three).
+pub fn contents_at_one_two_threads_and_shards(
+    st: &rotorsweep::study::Study,
+    dir: &std::path::Path,
+) -> [Vec<(String, Vec<u64>)>; 3] {
+    use rotorsweep::study::merge;
+    let run = |name: &str, threads: usize, shard: Option<(usize, usize)>| {
+        let out = dir.join(name);
+        let opts = rotorsweep::study::run::RunOptions {
+            threads,
+            shard,
+            ..run_options(&out)
+        };
+        rotorsweep::study::run::run(st, &opts).unwrap();
+        out
+    };
+    let one = results_content(&run("one.h5", 1, None));
+    let two = results_content(&run("two.h5", 2, None));
+    let (s0, s1) = (run("s0.h5", 2, Some((0, 2))), run("s1.h5", 2, Some((1, 2))));
+    let merged = dir.join("merged.h5");
+    merge::merge(&[s0, s1], &merged, &merge::MergeOptions::default()).unwrap();
+    [one, two, results_content(&merged)]
+}
