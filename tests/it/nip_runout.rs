@@ -64,34 +64,10 @@ fn simulate(path: &std::path::Path) -> (f64, JobResult, Vec<f64>) {
 #[test]
 fn lobed_rolls_force_the_nip_at_their_own_orders_with_the_two_mass_response() {
     let dir = support::scratch("nip-runout");
-    let (k, c, kc, cn) = (1.0e6, 1.0e3, 1.0e6, 2.0e3);
-    let spring =
-        format!("kx_n_per_m = {k:e}, ky_n_per_m = {k:e}, cx_ns_per_m = {c:e}, cy_ns_per_m = {c:e}");
-    // Record 1 s from 1.5 s: the start's transient decays at c/m ≈ 10 1/s (e^−15 by then).
-    let run_keys = "[simulation]\nt_end_s = 2.5\nsettle_s = 1.5\nsample_rate_hz = 2000.0\n\
-                    gravity_m_s2 = 0.0\n[solver]\ntolerance = 1e-10\nhmax = 2e-4\n";
-    let (fa, fb) = (5.0, 9.0);
-    support::write_file(
-        &dir,
-        "a.toml",
-        &support::stiff_jeffcott(&spring, "", &format!("[speed]\nhz = {fa}\n{run_keys}")),
-    );
-    support::write_file(
-        &dir,
-        "b.toml",
-        &support::stiff_jeffcott(&spring, "", &format!("[speed]\nhz = {fb}\n")),
-    );
-    // Roll a: 3 lobes of 10 µm; roll b: 2 lobes of 6 µm. k_c and c_n over the 400 mm:
-    // 2.5e6 N/m² and 5e3 N s/m².
-    let text = "name = \"runout\"\n\
-        [[rolls]]\nname = \"a\"\nscene = \"a.toml\"\nposition_mm = [0.0, 0.0]\n\
-        roundness = [{ order = 3, amplitude_um = 10.0, phase_rad = 0.4 }]\n\
-        [[rolls]]\nname = \"b\"\nscene = \"b.toml\"\nposition_mm = [0.0, 200.0]\n\
-        roundness = [{ order = 2, amplitude_um = 6.0, phase_rad = -1.1 }]\n\
-        [[nips]]\nname = \"nip\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
-        segments = 10\nlaw = \"linear\"\nstiffness_n_per_m2 = 2.5e6\n\
-        damping_ns_per_m2 = 5.0e3\n";
-    let path = support::write_file(&dir, "machine.toml", text);
+    // Roll a: 3 lobes of 10 µm at 5 Hz; roll b: 2 lobes of 6 µm at 9 Hz (support::LOBED_NIP).
+    let lobed = support::LOBED_NIP;
+    let (k, c, kc, cn, fa, fb) = (lobed.k, lobed.c, lobed.kc, lobed.cn, lobed.fa, lobed.fb);
+    let path = lobed.write(&dir);
     let (m, r, total) = simulate(&path);
     let ya = support::channel(&r, "runout/a.centre/vertical");
     let yb = support::channel(&r, "runout/b.centre/vertical");
