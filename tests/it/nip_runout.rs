@@ -16,7 +16,8 @@
 //!   ŷ_b = −ŷ_a = −d̂/2 = K ĥ / Z,   F̂ = K ĥ (2k − mω² + 2icω) / Z,
 //! at ω = k_a Ω_a and at ω = k_b Ω_b, each line at its own roll's order, the phase of ĥ that of
 //! the surface point facing the other roll (so the test sees each roll's sense of rotation, and
-//! through c_n the runout's rate).
+//! through c_n the runout's rate). The sensors' vertical runout is the laser's (physics.md §7):
+//! each roll's ŷ plus, on the lobed roll, its own surface's line at the top (ψ₀ = 90°).
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -29,20 +30,6 @@ type C = Complex<f64>;
 use rotorsweep::dynamics::model::Model;
 use rotorsweep::dynamics::simulation::{run, JobResult};
 use rotorsweep::scene::Scene;
-
-/// The complex amplitude A e^{iα} of the line A cos(2π f t + α) in `x` sampled at `t` [s], over
-/// the samples in [t0, t0 + span) [s] (a whole number of periods of every line here, so the
-/// lines are orthogonal).
-fn line(t: &[f64], x: &[f64], f: f64, (t0, span): (f64, f64)) -> C {
-    let (mut sum, mut n) = (C::new(0.0, 0.0), 0usize);
-    for (ti, xi) in t.iter().zip(x) {
-        if *ti >= t0 - 1e-9 && *ti < t0 + span - 1e-9 {
-            sum += xi * C::from_polar(1.0, -2.0 * PI * f * ti);
-            n += 1;
-        }
-    }
-    2.0 * sum / n as f64
-}
 
 /// Runs the machine file `path`: its first roll's mass [kg], the result, and the force of its
 /// nip `nip` summed over the segments [N] at every sample.
@@ -74,11 +61,14 @@ fn lobed_rolls_force_the_nip_at_their_own_orders_with_the_two_mass_response() {
     // Each roll's line: its surface at the point facing the other roll, at the body angle
     // ψ = ψ₀ − Ω t (ψ₀ = 90° on roll a, below roll b; −90° on roll b), so
     // h = c cos(k ψ₀ + φ − k Ω t) = Re[c e^{−i(kψ₀ + φ)} e^{iωt}], ω = kΩ.
+    // The sensors' runout is the laser's (physics.md §7): the centre's motion plus the roll's
+    // own surface at the point facing the sensor, for the vertical channel the top (ψ₀ = 90°:
+    // on roll a the nip's point, on roll b the point opposite its nip's).
     let lines = [
-        (3.0, fa, 10e-6, 0.4, FRAC_PI_2),
-        (2.0, fb, 6e-6, -1.1, -FRAC_PI_2),
+        ("a", 3.0, fa, 10e-6, 0.4, FRAC_PI_2),
+        ("b", 2.0, fb, 6e-6, -1.1, -FRAC_PI_2),
     ];
-    for (order, speed, amplitude, phase, psi0) in lines {
+    for (lobed, order, speed, amplitude, phase, psi0) in lines {
         let fr = order * speed;
         let w = 2.0 * PI * fr;
         let h = C::from_polar(amplitude, -(order * psi0 + phase));
@@ -87,14 +77,19 @@ fn lobed_rolls_force_the_nip_at_their_own_orders_with_the_two_mass_response() {
         let force = nip * h * C::new(2.0 * k - m * w * w, 2.0 * c * w) / z;
         // y_b = K h/Z upward (along n), y_a = −y_b; runout in µm.
         let motion = 1e6 * nip * h / z;
-        let got = line(&r.time, &total, fr, (1.5, 1.0));
+        let got = support::line(&r.time, &total, fr, (1.5, 1.0));
         eprintln!("{fr} Hz: nip force {got:.6} N vs {force:.6} N");
         assert!(
             (got - force).norm() < 5e-4 * force.norm(),
             "force at {fr} Hz: {got} N vs {force} N"
         );
+        let top = 1e6 * C::from_polar(amplitude, -(order * FRAC_PI_2 + phase));
         for (name, y, sign) in [("a", ya, -1.0), ("b", yb, 1.0)] {
-            let (got, want) = (line(&r.time, y, fr, (1.5, 1.0)), sign * motion);
+            let surface = if name == lobed { top } else { C::new(0.0, 0.0) };
+            let (got, want) = (
+                support::line(&r.time, y, fr, (1.5, 1.0)),
+                sign * motion + surface,
+            );
             eprintln!("{fr} Hz: roll {name} {got:.6} µm vs {want:.6} µm");
             assert!(
                 (got - want).norm() < 5e-4 * want.norm(),
@@ -103,7 +98,7 @@ fn lobed_rolls_force_the_nip_at_their_own_orders_with_the_two_mass_response() {
         }
     }
     // A line that is not there: 3 lobes of roll b's speed.
-    let none = line(&r.time, &total, 3.0 * fb, (1.5, 1.0));
+    let none = support::line(&r.time, &total, 3.0 * fb, (1.5, 1.0));
     eprintln!("{} Hz: nip force {:.3e} N", 3.0 * fb, none.norm());
     assert!(
         none.norm() < 1e-3 * kc * 10e-6,
@@ -180,7 +175,7 @@ fn a_lobed_cover_forces_the_nip_at_its_order_of_the_covered_rolls_speed() {
     let z = 2.0 * nip + C::new(2.0 * k - m * w * w, 2.0 * c * w);
     let want = nip * h * C::new(2.0 * k - m * w * w, 2.0 * c * w) / z;
     let n_t = r.time.len();
-    let got = line(&r.time, &total, fr, (1.5, 4.0));
+    let got = support::line(&r.time, &total, fr, (1.5, 4.0));
     let mean = total.iter().sum::<f64>() / n_t as f64;
     eprintln!(
         "{fr} Hz: nip force {got:.6} N vs {want:.6} N; static {mean:.3} N vs {:.3} N",
