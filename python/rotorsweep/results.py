@@ -547,7 +547,10 @@ def nip_forces(path: PathLike, job: JobRef, *, nip: str, quantity: str = "force"
     """A nip's segment forces [N] (``quantity="force"``) or band widths [mm] (``"width"``, for
     the hertz and cover laws) of a machine's run, over (``z_mm``, ``time``): the segment
     centres along the rolls [mm] and the sample times [s], each a coordinate with its units.
-    ``nip_forces(path, job, nip="main").sum("z_mm")`` is the nip's total force over time."""
+    ``nip_forces(path, job, nip="main").sum("z_mm")`` is the nip's total force over time.
+    ``attrs`` hold ``units`` and, in files that record them, the nip's rolls ``roll_a``,
+    ``roll_b`` (names) and their speeds ``speed_a_hz``, ``speed_b_hz`` [Hz] (a roll's runout
+    orders lie at k times its own speed)."""
     if quantity not in ("force", "width"):
         raise ValueError(f"nip_forces: quantity is 'force' or 'width', not {quantity!r}")
     with h5py.File(path, "r") as f:
@@ -560,12 +563,18 @@ def nip_forces(path: PathLike, job: JobRef, *, nip: str, quantity: str = "force"
             raise KeyError(f"{g.name}/nips/{nip}: no {quantity!r} (a linear nip has no band width)")
         ds = nips[nip][quantity]
         z, t = _axis(ds, 0, None), _axis(ds, 1, None)
+        attrs = {"units": _units(ds)}
+        for side in ("a", "b"):
+            name, speed = g.attrs.get(f"nip_roll_{side}:{nip}"), g.attrs.get(f"nip_speed_{side}_hz:{nip}")
+            if name is not None and speed is not None:
+                attrs[f"roll_{side}"] = name.decode() if isinstance(name, bytes) else str(name)
+                attrs[f"speed_{side}_hz"] = float(speed)
         return xr.DataArray(
             _read(ds),
             dims=("z_mm", "time"),
             coords={"z_mm": _coord(z, "z_mm"), "time": _coord(t, "time")},
             name=f"nips/{nip}/{quantity}",
-            attrs={"units": _units(ds)},
+            attrs=attrs,
         )
 
 

@@ -56,6 +56,11 @@ def test_layout_units_and_axes(nip_file: Path) -> None:
     assert f.z_mm.values[0] == pytest.approx(350.0) and f.z_mm.values[-1] == pytest.approx(4150.0)
     with pytest.raises(KeyError, match="no nip 'other'"):
         rp.nip_forces(nip_file, job, nip="other")
+    # The nip's rolls and their speeds: the reference roll (Ø320 mm shell) at its 5 Hz, the
+    # covered roll (160 mm + 15 mm cover, two-roll-nip.toml) at equal surface speed, 5 x 160/175.
+    assert (f.attrs["roll_a"], f.attrs["roll_b"]) == ("reference", "covered")
+    assert f.attrs["speed_a_hz"] == 5.0
+    assert f.attrs["speed_b_hz"] == pytest.approx(5.0 * 160.0 / 175.0, rel=1e-12)
 
 
 def test_total_force_carries_the_line_load(nip_file: Path) -> None:
@@ -155,3 +160,27 @@ def test_nip_orders_draws_the_tables_amplitudes() -> None:
     one = next(ln for ln in bottom.get_lines() if ln.get_label() == "1×")
     assert list(one.get_ydata()) == pytest.approx([2.5 * amps["b"][0] / 1e3] * 2)
     assert nip_orders({"tables": []}, speeds, settings, "test") is None
+
+
+def test_nip_orders_draws_each_rolls_own_orders() -> None:
+    """Dashed, the orders of a roll of the nip at its own speed (invented numbers, one load x two
+    speeds); roll_a being the first roll (its columns the first roll's), only roll_b's are
+    drawn."""
+    import pandas as pd
+
+    from rotorsweep.figures.nips import nip_orders
+
+    cols = ["job_id", "nip", "segment", "z_mm", "length_mm", "static_n", "line_load_kn_per_m",
+            "width_mm", "amplitude_1x_n", "amplitude_2x_n", "roll_a", "speed_a_hz",
+            "amplitude_a_1x_n", "amplitude_a_2x_n", "roll_b", "speed_b_hz", "amplitude_b_1x_n",
+            "amplitude_b_2x_n"]
+    amps = {"a": (1.0, 20.0, 0.5, 7.0), "b": (2.0, 30.0, 0.25, 9.0)}
+    rows = [[job, "press", "total", None, 400.0, 100.0, 0.25, 10.0, a1, a2, "top", 5.0, a1, a2,
+             "covered", 4.5, b1, b2] for job, (a1, a2, b1, b2) in amps.items()]
+    doc = {"tables": [{"name": "nips", "columns": cols, "rows": rows}]}
+    fig = nip_orders(doc, pd.Series({"a": 5.0, "b": 10.0}), pd.Series({"a": "", "b": ""}), "test")
+    lines = {ln.get_label(): ln for ln in fig.axes[0].get_lines()}
+    assert set(lines) == {"1×", "2×", "1× of covered", "2× of covered"}
+    assert list(lines["2× of covered"].get_ydata()) == [7.0, 9.0]
+    assert lines["2× of covered"].get_linestyle() == "--"
+    assert list(lines["2×"].get_ydata()) == [20.0, 30.0]

@@ -547,7 +547,7 @@ pub fn run(machine: &Machine, first: &Model) -> JobResult {
         v0.rows_mut(b.offset, b.sys.n).copy_from(&v);
     }
     let mut recs: Vec<Recorder> = (sys.bodies.iter().zip(&machine.rolls))
-        .map(|(b, r)| Recorder::new(&b.sys, &r.scene))
+        .map(|(b, r)| Recorder::new(&b.sys, &r.scene).with_surface(&r.roundness))
         .collect();
     let (settle, dt, t_end) = (recs[0].next, recs[0].dt, recs[0].t_end);
     let mut next = settle;

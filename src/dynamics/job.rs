@@ -5,16 +5,17 @@
 //! In: a [`Scene`], its [`Model`] and [`RollSystem`]; the integrator's accepted steps. Out: the
 //! channels (runout and journal/stand motion in µm, contact forces in N, modal coordinates, the
 //! spin speed [Hz] and roll angle [rad]) sampled at the scene's rate by cubic Hermite
-//! interpolation inside each step; the static start (Newton from the gravity load solved on
+//! interpolation inside each step; a machine roll's runout with its outer surface's roundness at
+//! the angle facing each sensor ([`Recorder::with_surface`]); the static start (Newton from the gravity load solved on
 //! the linearised supports) or rest; a failed result with its cause.
 
 use nalgebra::DVector;
 
 use crate::dynamics::linear_system::{linear_stages, LinearSystem};
 use crate::dynamics::model::Model;
-use crate::dynamics::system::RollSystem;
+use crate::dynamics::system::{Profile, RollSystem};
 use crate::integrators::{Stats, StepView};
-use crate::scene::{Scene, SupportModel};
+use crate::scene::{Harmonic, Scene, SupportModel};
 use crate::text::static_name;
 
 /// One sampled output channel.
@@ -118,6 +119,8 @@ pub(super) struct Recorder<'a> {
     pub(super) time: Vec<f64>,
     pub(super) channels: Vec<Channel>,
     pub(super) lift_off: Option<f64>,
+    /// The roll's outer surface H(ψ) [m] over its body angle (round: nothing added).
+    surface: Profile,
 }
 
 /// The state at t inside a step by cubic Hermite interpolation of its ends.
@@ -192,6 +195,20 @@ impl<'a> Recorder<'a> {
             time: Vec::new(),
             channels,
             lift_off: None,
+            surface: Profile::new(&[]),
+        }
+    }
+
+    /// The same, its runout channels the laser's (physics.md §7): the centre's motion along the
+    /// sensor line plus the outer surface's roundness `h` (H(ψ) = Σ c cos(k ψ + φ) [m], the
+    /// same at every z) at the body angle ψ facing the sensor at the roll's angle θ: for the
+    /// `vertical` channel the inertial +y (ψ with (sin ψ, cos ψ) = (cos θ, sin θ), the body
+    /// frame's view of +y, as the nips' R(θ)ᵀ n), for `horizontal` +x ((−sin θ, cos θ)). A
+    /// machine roll's `roundness`; round (empty `h`): the channels as [`Recorder::new`]'s.
+    pub(super) fn with_surface(self, h: &[Harmonic]) -> Self {
+        Self {
+            surface: Profile::new(h),
+            ..self
         }
     }
 
@@ -203,9 +220,15 @@ impl<'a> Recorder<'a> {
             c += 1;
         };
         if o.runout {
+            // Round: nothing added (not even 0.0, which would turn −0.0 into +0.0).
+            let faces = (!self.surface.is_round()).then(|| {
+                let (s, c) = self.sys.speed.at(t).0.sin_cos();
+                (self.surface.eval((c, s)).0, self.surface.eval((-s, c)).0)
+            });
             for d in self.sys.sensor_displacements(t, q) {
-                push(1e6 * d.y, &mut self.channels);
-                push(1e6 * d.x, &mut self.channels);
+                let (y, x) = faces.map_or((d.y, d.x), |(hy, hx)| (d.y + hy, d.x + hx));
+                push(1e6 * y, &mut self.channels);
+                push(1e6 * x, &mut self.channels);
             }
         }
         let need_supports = o.journal_orbits || o.stand_motion || o.contact_forces;

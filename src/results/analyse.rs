@@ -53,6 +53,12 @@ const RANKS: usize = 3;
 /// Prefix of the job attributes that give each roller's line ratio (`roller_ratio:<node>/<roller>`).
 pub const ROLLER_RATIO: &str = "roller_ratio:";
 
+/// Prefix of the job attributes that name a nip's rolls (`nip_roll_a:<nip>`, `nip_roll_b:<nip>`).
+pub const NIP_ROLL: &str = "nip_roll_";
+
+/// Prefix of the job attributes that give a nip's rolls' speeds [Hz] (`nip_speed_a_hz:<nip>`).
+pub const NIP_SPEED: &str = "nip_speed_";
+
 /// The spin speed [Hz] over a scene's record and the roll angle's offset δ [rad] in
 /// θ = Ω t + δ, both NaN when the speed changes while recording.
 pub fn record_speed(scene: &Scene) -> (f64, f64) {
@@ -71,7 +77,11 @@ pub fn record_speed(scene: &Scene) -> (f64, f64) {
 ///   θ = Ω t + δ [rad] (NaN when the speed changes while recording);
 /// - `roller_ratio:<support node>/<roller>`: the roller's roundness lines lie at k × this ×
 ///   the spin frequency: the journal/roller diameter ratio when the roundness follows the
-///   roller's own angle (`roller_phase = "roller-angle"`), 1 when it follows the roll angle.
+///   roller's own angle (`roller_phase = "roller-angle"`), 1 when it follows the roll angle;
+/// - on a machine, per nip: `nip_roll_a:<nip>` and `nip_roll_b:<nip>` (the two rolls' names)
+///   and `nip_speed_a_hz:<nip>`, `nip_speed_b_hz:<nip>` (their spin speeds over the record
+///   [Hz], magnitudes: a roll turning the other way counts as positive; NaN when its speed
+///   changes while recording), the orders of each roll in the `nips` table.
 pub fn job_attrs(scene: &Scene) -> Vec<(String, Param)> {
     let (speed, offset) = record_speed(scene);
     let mut out = vec![
@@ -89,6 +99,24 @@ pub fn job_attrs(scene: &Scene) -> Vec<(String, Param)> {
                     format!("{ROLLER_RATIO}{}/{}", s.node, r.name),
                     Param::Number(ratio),
                 ));
+            }
+        }
+    }
+    if let Some(machine) = &scene.machine {
+        for nip in &machine.nips {
+            let rolls = [("a", nip.rolls.0), ("b", nip.rolls.1)];
+            for (side, i) in rolls {
+                let roll = &machine.rolls[i];
+                let name = &nip.name;
+                out.push((
+                    format!("{NIP_ROLL}{side}:{name}"),
+                    Param::Text(roll.name.clone()),
+                ));
+                // The machine's record window is the first roll's (this scene's).
+                let sim = &scene.simulation;
+                let hz = (roll.scene.speed.constant_over(sim.settle, sim.t_end))
+                    .map_or(f64::NAN, |(omega, _)| omega.abs() / std::f64::consts::TAU);
+                out.push((format!("{NIP_SPEED}{side}_hz:{name}"), Param::Number(hz)));
             }
         }
     }

@@ -101,7 +101,7 @@ pub const MACHINE_DOCS: &[KeyDoc] = &[
         units: "",
         default: "empty (round)",
         range: "",
-        meaning: "Roundness of the roll's outer surface (runout through its nips): harmonics of the radius H(ψ) = Σ c cos(k ψ + φ) over the body angle ψ (clockwise seen from the tending end, 0 = body +x, as masses' angle_deg), the same at every z. A nip's penetration adds H at the point of each roll that faces the other, each at its own rotation (docs/machines.md).",
+        meaning: "Roundness of the roll's outer surface (runout through its nips): harmonics of the radius H(ψ) = Σ c cos(k ψ + φ) over the body angle ψ (clockwise seen from the tending end, 0 = body +x, as masses' angle_deg), the same at every z. A nip's penetration adds H at the point of each roll that faces the other, each at its own rotation, and the roll's sensors' runout channels add H at the point facing each sensor (the laser's view; docs/machines.md).",
     },
     KeyDoc {
         key: "rolls[].roundness[].order",

@@ -64,6 +64,7 @@ mod report_calibration;
 mod report_html;
 mod report_linear;
 mod report_nips;
+mod roll_surface_runout;
 mod rotating_frame;
 mod run_log;
 mod runup;

@@ -16,7 +16,8 @@
 //!   ŷ_b = −ŷ_a = −d̂/2 = K ĥ / Z,   F̂ = K ĥ (2k − mω² + 2icω) / Z,
 //! at ω = k_a Ω_a and at ω = k_b Ω_b, each line at its own roll's order, the phase of ĥ that of
 //! the surface point facing the other roll (so the test sees each roll's sense of rotation, and
-//! through c_n the runout's rate).
+//! through c_n the runout's rate). The sensors' vertical runout is the laser's (physics.md §7):
+//! each roll's ŷ plus, on the lobed roll, its own surface's line at the top (ψ₀ = 90°).
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -29,20 +30,6 @@ type C = Complex<f64>;
 use rotorsweep::dynamics::model::Model;
 use rotorsweep::dynamics::simulation::{run, JobResult};
 use rotorsweep::scene::Scene;
-
-/// The complex amplitude A e^{iα} of the line A cos(2π f t + α) in `x` sampled at `t` [s], over
-/// the samples in [t0, t0 + span) [s] (a whole number of periods of every line here, so the
-/// lines are orthogonal).
-fn line(t: &[f64], x: &[f64], f: f64, (t0, span): (f64, f64)) -> C {
-    let (mut sum, mut n) = (C::new(0.0, 0.0), 0usize);
-    for (ti, xi) in t.iter().zip(x) {
-        if *ti >= t0 - 1e-9 && *ti < t0 + span - 1e-9 {
-            sum += xi * C::from_polar(1.0, -2.0 * PI * f * ti);
-            n += 1;
-        }
-    }
-    2.0 * sum / n as f64
-}
 
 /// Runs the machine file `path`: its first roll's mass [kg], the result, and the force of its
 /// nip `nip` summed over the segments [N] at every sample.
@@ -64,45 +51,24 @@ fn simulate(path: &std::path::Path) -> (f64, JobResult, Vec<f64>) {
 #[test]
 fn lobed_rolls_force_the_nip_at_their_own_orders_with_the_two_mass_response() {
     let dir = support::scratch("nip-runout");
-    let (k, c, kc, cn) = (1.0e6, 1.0e3, 1.0e6, 2.0e3);
-    let spring =
-        format!("kx_n_per_m = {k:e}, ky_n_per_m = {k:e}, cx_ns_per_m = {c:e}, cy_ns_per_m = {c:e}");
-    // Record 1 s from 1.5 s: the start's transient decays at c/m ≈ 10 1/s (e^−15 by then).
-    let run_keys = "[simulation]\nt_end_s = 2.5\nsettle_s = 1.5\nsample_rate_hz = 2000.0\n\
-                    gravity_m_s2 = 0.0\n[solver]\ntolerance = 1e-10\nhmax = 2e-4\n";
-    let (fa, fb) = (5.0, 9.0);
-    support::write_file(
-        &dir,
-        "a.toml",
-        &support::stiff_jeffcott(&spring, "", &format!("[speed]\nhz = {fa}\n{run_keys}")),
-    );
-    support::write_file(
-        &dir,
-        "b.toml",
-        &support::stiff_jeffcott(&spring, "", &format!("[speed]\nhz = {fb}\n")),
-    );
-    // Roll a: 3 lobes of 10 µm; roll b: 2 lobes of 6 µm. k_c and c_n over the 400 mm:
-    // 2.5e6 N/m² and 5e3 N s/m².
-    let text = "name = \"runout\"\n\
-        [[rolls]]\nname = \"a\"\nscene = \"a.toml\"\nposition_mm = [0.0, 0.0]\n\
-        roundness = [{ order = 3, amplitude_um = 10.0, phase_rad = 0.4 }]\n\
-        [[rolls]]\nname = \"b\"\nscene = \"b.toml\"\nposition_mm = [0.0, 200.0]\n\
-        roundness = [{ order = 2, amplitude_um = 6.0, phase_rad = -1.1 }]\n\
-        [[nips]]\nname = \"nip\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
-        segments = 10\nlaw = \"linear\"\nstiffness_n_per_m2 = 2.5e6\n\
-        damping_ns_per_m2 = 5.0e3\n";
-    let path = support::write_file(&dir, "machine.toml", text);
+    // Roll a: 3 lobes of 10 µm at 5 Hz; roll b: 2 lobes of 6 µm at 9 Hz (support::LOBED_NIP).
+    let lobed = support::LOBED_NIP;
+    let (k, c, kc, cn, fa, fb) = (lobed.k, lobed.c, lobed.kc, lobed.cn, lobed.fa, lobed.fb);
+    let path = lobed.write(&dir);
     let (m, r, total) = simulate(&path);
     let ya = support::channel(&r, "runout/a.centre/vertical");
     let yb = support::channel(&r, "runout/b.centre/vertical");
     // Each roll's line: its surface at the point facing the other roll, at the body angle
     // ψ = ψ₀ − Ω t (ψ₀ = 90° on roll a, below roll b; −90° on roll b), so
     // h = c cos(k ψ₀ + φ − k Ω t) = Re[c e^{−i(kψ₀ + φ)} e^{iωt}], ω = kΩ.
+    // The sensors' runout is the laser's (physics.md §7): the centre's motion plus the roll's
+    // own surface at the point facing the sensor, for the vertical channel the top (ψ₀ = 90°:
+    // on roll a the nip's point, on roll b the point opposite its nip's).
     let lines = [
-        (3.0, fa, 10e-6, 0.4, FRAC_PI_2),
-        (2.0, fb, 6e-6, -1.1, -FRAC_PI_2),
+        ("a", 3.0, fa, 10e-6, 0.4, FRAC_PI_2),
+        ("b", 2.0, fb, 6e-6, -1.1, -FRAC_PI_2),
     ];
-    for (order, speed, amplitude, phase, psi0) in lines {
+    for (lobed, order, speed, amplitude, phase, psi0) in lines {
         let fr = order * speed;
         let w = 2.0 * PI * fr;
         let h = C::from_polar(amplitude, -(order * psi0 + phase));
@@ -111,14 +77,19 @@ fn lobed_rolls_force_the_nip_at_their_own_orders_with_the_two_mass_response() {
         let force = nip * h * C::new(2.0 * k - m * w * w, 2.0 * c * w) / z;
         // y_b = K h/Z upward (along n), y_a = −y_b; runout in µm.
         let motion = 1e6 * nip * h / z;
-        let got = line(&r.time, &total, fr, (1.5, 1.0));
+        let got = support::line(&r.time, &total, fr, (1.5, 1.0));
         eprintln!("{fr} Hz: nip force {got:.6} N vs {force:.6} N");
         assert!(
             (got - force).norm() < 5e-4 * force.norm(),
             "force at {fr} Hz: {got} N vs {force} N"
         );
+        let top = 1e6 * C::from_polar(amplitude, -(order * FRAC_PI_2 + phase));
         for (name, y, sign) in [("a", ya, -1.0), ("b", yb, 1.0)] {
-            let (got, want) = (line(&r.time, y, fr, (1.5, 1.0)), sign * motion);
+            let surface = if name == lobed { top } else { C::new(0.0, 0.0) };
+            let (got, want) = (
+                support::line(&r.time, y, fr, (1.5, 1.0)),
+                sign * motion + surface,
+            );
             eprintln!("{fr} Hz: roll {name} {got:.6} µm vs {want:.6} µm");
             assert!(
                 (got - want).norm() < 5e-4 * want.norm(),
@@ -127,7 +98,7 @@ fn lobed_rolls_force_the_nip_at_their_own_orders_with_the_two_mass_response() {
         }
     }
     // A line that is not there: 3 lobes of roll b's speed.
-    let none = line(&r.time, &total, 3.0 * fb, (1.5, 1.0));
+    let none = support::line(&r.time, &total, 3.0 * fb, (1.5, 1.0));
     eprintln!("{} Hz: nip force {:.3e} N", 3.0 * fb, none.norm());
     assert!(
         none.norm() < 1e-3 * kc * 10e-6,
@@ -204,7 +175,7 @@ fn a_lobed_cover_forces_the_nip_at_its_order_of_the_covered_rolls_speed() {
     let z = 2.0 * nip + C::new(2.0 * k - m * w * w, 2.0 * c * w);
     let want = nip * h * C::new(2.0 * k - m * w * w, 2.0 * c * w) / z;
     let n_t = r.time.len();
-    let got = line(&r.time, &total, fr, (1.5, 4.0));
+    let got = support::line(&r.time, &total, fr, (1.5, 4.0));
     let mean = total.iter().sum::<f64>() / n_t as f64;
     eprintln!(
         "{fr} Hz: nip force {got:.6} N vs {want:.6} N; static {mean:.3} N vs {:.3} N",

@@ -12,12 +12,23 @@
 //! - A sampled study of the same machine, the line load q uniform on 0.5 … 1.5 kN/m: the
 //!   statistics' output `nip_static_n:nip` is each job's two-mass static force q L k_c/(2k +
 //!   2k_c), and `nip_amplitude_n:nip:1x` each job's `nips` table's total 1× amplitude.
+//! - Each roll's orders: the lobed rigid rolls of tests/it/nip_runout.rs (roll a 3 lobes of
+//!   10 µm at 5 Hz, roll b 2 lobes of 6 µm at its own 9 Hz, supports k = 1e6 N/m and c = 1e3
+//!   Ns/m, nip k_c = 1e6 N/m and c_n = 2e3 Ns/m): the total's `amplitude_a_3x_n` (15 Hz) and
+//!   `amplitude_b_2x_n` (18 Hz, an order of the second roll, not among the first roll's) are
+//!   the two-mass forced response |K h (2k − mω² + 2icω)/Z|, K = k_c + iωc_n,
+//!   Z = 2k + 2K − mω² + 2icω (Thomson & Dahleh, *Theory of Vibration with Applications*, 5th
+//!   ed., §3.1 and §5.1; derived in tests/it/nip_runout.rs), within 5e-4; the rolls' names and
+//!   speeds are in `roll_a`, `speed_a_hz`, `roll_b`, `speed_b_hz`; roll_a being the first roll,
+//!   `amplitude_a_<k>x_n` equals `amplitude_<k>x_n`.
 
 use std::f64::consts::PI;
 
 use rustfft::num_complex::Complex64;
 
 use crate::support;
+use rotorsweep::dynamics::model::Model;
+use rotorsweep::scene::Scene;
 
 /// The column `name` of `table` as numbers (NaN for null), one per row.
 fn column(table: &serde_json::Value, name: &str) -> Vec<f64> {
@@ -32,6 +43,66 @@ fn column(table: &serde_json::Value, name: &str) -> Vec<f64> {
         .iter()
         .map(|r| r[i].as_f64().unwrap_or(f64::NAN))
         .collect()
+}
+
+/// The column `name` of `table` as text, one per row.
+fn text_column(table: &serde_json::Value, name: &str) -> Vec<String> {
+    let columns = table["columns"].as_array().unwrap();
+    let i = columns.iter().position(|c| c == name).unwrap();
+    (table["rows"].as_array().unwrap().iter())
+        .map(|r| r[i].as_str().unwrap_or_default().to_string())
+        .collect()
+}
+
+/// `simulate -o` of the machine file `path` into nip.h5 beside it: the file and its report's
+/// `nips` table.
+fn simulate_nips(path: &std::path::Path) -> (std::path::PathBuf, serde_json::Value) {
+    let out = path.with_file_name("nip.h5");
+    support::rotorsweep_ok(&[
+        "simulate",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let table = support::report_table(&out, "nips");
+    (out, table)
+}
+
+#[test]
+fn nips_table_gives_each_rolls_orders_at_its_own_speed() {
+    let dir = support::scratch("report-nips-rolls");
+    let lobed = support::LOBED_NIP;
+    let (k, c, kc, cn, fa, fb) = (lobed.k, lobed.c, lobed.kc, lobed.cn, lobed.fa, lobed.fb);
+    let path = lobed.write(&dir);
+    let scene = Scene::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let m = Model::build(&scene, None).unwrap().rotor.mass();
+    let (_, table) = simulate_nips(&path);
+    assert_eq!(text_column(&table, "roll_a")[0], "a");
+    assert_eq!(text_column(&table, "roll_b")[0], "b");
+    assert_eq!(column(&table, "speed_a_hz")[0], fa);
+    assert_eq!(column(&table, "speed_b_hz")[0], fb);
+    // The total row: each line's amplitude against the two-mass closed form (module doc); the
+    // lobes' amplitudes h (the phases do not change the amplitude).
+    for (col, fr, h) in [
+        ("amplitude_a_3x_n", 3.0 * fa, 10e-6),
+        ("amplitude_b_2x_n", 2.0 * fb, 6e-6),
+    ] {
+        let w = 2.0 * PI * fr;
+        let nip = Complex64::new(kc, w * cn);
+        let own = Complex64::new(2.0 * k - m * w * w, 2.0 * c * w);
+        let want = (nip * h * own / (2.0 * nip + own)).norm();
+        let got = column(&table, col)[0];
+        eprintln!("{col} ({fr} Hz): {got:.6} N vs {want:.6} N");
+        assert!(
+            (got / want - 1.0).abs() < 5e-4,
+            "{col} at {fr} Hz: {got} N vs {want} N"
+        );
+    }
+    // Roll a is the first roll: its columns are the first roll's, the same fitted lines.
+    for order in 1..=4 {
+        let first = column(&table, &format!("amplitude_{order}x_n"));
+        assert_eq!(column(&table, &format!("amplitude_a_{order}x_n")), first);
+    }
 }
 
 #[test]
@@ -57,14 +128,7 @@ fn nips_table_gives_static_loads_and_order_amplitudes() {
         [[nips]]\nname = \"nip\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
         segments = 10\nlaw = \"linear\"\nstiffness_n_per_m2 = 2.5e5\nline_load_kn_per_m = 1.0\n";
     let path = support::write_file(&dir, "machine.toml", text);
-    let out = dir.join("nip.h5");
-    support::rotorsweep_ok(&[
-        "simulate",
-        path.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    let table = support::report_table(&out, "nips");
+    let (out, table) = simulate_nips(&path);
     let segment = |t: &serde_json::Value| -> Vec<String> {
         let i = (t["columns"].as_array().unwrap().iter())
             .position(|c| c == "segment")

@@ -409,3 +409,27 @@ fn barring_refuses_bad_line_loads_naming_the_option() {
     assert!(err.contains("at 1e308 kN/m"), "{err}");
     assert!(err.len() < 300, "{err}");
 }
+
+/// `linear` of a machine says which equilibrium a viscoelastic cover is linearised at (the
+/// standstill one with the relaxed modulus, docs/machines.md): a warning naming the nip in
+/// `--json`'s `warnings`, none for the elastic cover of two-roll-nip.toml.
+#[test]
+fn linear_says_a_viscoelastic_cover_is_linearised_at_standstill() {
+    let warnings = |file: &str| -> Vec<String> {
+        let scene = format!("{}/studies/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+        let out = support::rotorsweep_ok(&["linear", &scene, "--speed-hz", "5", "--json"]);
+        let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+        (doc["warnings"].as_array().unwrap().iter())
+            .map(|w| w.as_str().unwrap().to_string())
+            .collect()
+    };
+    let visco = warnings("two-roll-nip-visco.toml");
+    assert_eq!(visco.len(), 1, "{visco:?}");
+    assert!(
+        visco[0].contains("nip `press` has a viscoelastic cover")
+            && visco[0].contains("standstill equilibrium")
+            && visco[0].contains("relaxed modulus"),
+        "{visco:?}"
+    );
+    assert!(warnings("two-roll-nip.toml").is_empty());
+}

@@ -4,13 +4,17 @@ loads and the line amplitudes, ``src/report/tables/nips.rs``; this module only d
 In: the report's JSON document (``rotorsweep report FILE --format json``), its table ``nips``:
 per job and nip a ``total`` row and one row per segment with ``z_mm`` and ``length_mm`` [mm],
 ``static_n`` [N], ``line_load_kn_per_m`` [kN/m] and ``amplitude_<k>x_n`` [N] per order k of
-the first roll's speed; each job's speed [Hz] and its setting without the speed (the panels).
+the first roll's speed, and per roll of the nip (side ``a``, ``b``) ``roll_<side>`` (its name) and
+``amplitude_<side>_<k>x_n`` [N] per order k of that roll's own speed; each job's speed [Hz] and
+its setting without the speed (the panels).
 
 Out:
 
 * :func:`nip_orders` (``nip_orders.png``), the nip-force spectral map over speed: per nip and
   setting (e.g. per line load) a panel, the amplitude of the whole nip's force (summed over the
-  segments) at each order over the first roll's speed, log scale;
+  segments) at each order over the first roll's speed, log scale; dashed, the orders of each
+  roll of the nip at its own speed (a covered roll's runout orders), unless they are the first
+  roll's (the same numbers);
 * :func:`nip_profile` (``nip_profile.png``), the cross-machine nip profile: per nip and setting
   a column, on top the static line load per segment [kN/m] over the axial position [mm] (every
   speed of the setting, one grey line each, and the drawn job's in colour), below each order's
@@ -54,10 +58,40 @@ def nips_frame(doc: dict) -> pd.DataFrame | None:
     return pd.DataFrame(table["rows"], columns=table["columns"])
 
 
-def _orders(df: pd.DataFrame) -> list[tuple[str, str]]:
-    """(column, order text) of every order amplitude column, in the table's order."""
-    return [(c, c[len(AMP_PREFIX):-len(AMP_SUFFIX)]) for c in df.columns
-            if c.startswith(AMP_PREFIX) and c.endswith(AMP_SUFFIX)]
+def _is_order(text: str) -> bool:
+    """Whether ``text`` is an order (a number), as in ``amplitude_2x_n``."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _orders(df: pd.DataFrame, side: str = "") -> list[tuple[str, str]]:
+    """(column, order text) of every order amplitude column of the first roll (``side`` "") or
+    of the nip's roll ``side`` ("a", "b"), in the table's order."""
+    prefix = AMP_PREFIX + (f"{side}_" if side else "")
+    return [(c, c[len(prefix):-len(AMP_SUFFIX)]) for c in df.columns
+            if c.startswith(prefix) and c.endswith(AMP_SUFFIX)
+            and _is_order(c[len(prefix):-len(AMP_SUFFIX)])]
+
+
+def _roll_orders(df: pd.DataFrame, g: pd.DataFrame) -> list[tuple[str, str, str]]:
+    """(column, order text, roll name) of the orders of each roll of the nip in the rows ``g``
+    that are not the first roll's (tables without the rolls' columns: none)."""
+    first = g[[c for c, _ in _orders(df)]].astype(float).to_numpy()
+    out = []
+    for side in ("a", "b"):
+        cols = _orders(df, side)
+        name_col = f"roll_{side}"
+        if not cols or name_col not in g or len(cols) != first.shape[1]:
+            continue
+        mine = g[[c for c, _ in cols]].astype(float).to_numpy()
+        if np.array_equal(mine, first, equal_nan=True) or not np.isfinite(mine).any():
+            continue
+        name = str(g[name_col].iloc[0])
+        out.extend((c, text, name) for c, text in cols)
+    return out
 
 
 def _groups(df: pd.DataFrame, settings: pd.Series) -> list[tuple[str, pd.DataFrame]]:
@@ -94,14 +128,20 @@ def nip_orders(doc: dict, speeds: pd.Series, settings: pd.Series, study: str) ->
             if ok.any():
                 ax.semilogy(g["speed"].to_numpy()[ok], y[ok], "o-", ms=3, color=colour,
                             label=f"{text}×")
+        for i, (col, text, roll) in enumerate(_roll_orders(df, g)):
+            y = g[col].astype(float).to_numpy()
+            ok = np.isfinite(y) & (y > 0)
+            if ok.any():
+                ax.semilogy(g["speed"].to_numpy()[ok], y[ok], "s--", ms=3, color=f"C{i % 10}",
+                            alpha=0.7, label=f"{text}× of {roll}")
         ax.set_title(title, fontsize=10)
         ax.set_xlabel("first roll's speed [Hz]")
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("amplitude of the nip force [N]")
     axes[-1].legend(title="order", fontsize=8, loc="center left", bbox_to_anchor=(1.02, 0.5))
     more = f" ({len(groups) - len(shown)} more panels not shown)" if len(groups) > len(shown) else ""
-    fig.suptitle(f"{study}: nip force (summed over the segments) at the first roll's orders{more}",
-                 fontsize=11)
+    fig.suptitle(f"{study}: nip force (summed over the segments) at the first roll's orders "
+                 f"(dashed: a roll's own orders){more}", fontsize=11)
     return fig
 
 

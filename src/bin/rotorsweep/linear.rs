@@ -40,7 +40,7 @@ use rotorsweep::linear::request::{self, PointUnbalance, Request, Results, PHASE_
 use rotorsweep::linear::scene_system::{in_scene, scene_system};
 use rotorsweep::linear::FRAME_NOTE;
 use rotorsweep::results::linear_file;
-use rotorsweep::scene::{Machine, Scene};
+use rotorsweep::scene::{Machine, NipLaw, Scene};
 use rotorsweep::store;
 
 use crate::error::CliError;
@@ -173,8 +173,20 @@ fn machine(
     if a.unbalance.is_some() || a.floquet_cutoff_hz.is_some() || a.shapes {
         warnings.push(
             "--unbalance, --floquet-cutoff-hz and --shapes apply to one roll; a machine's \
-             analysis has the static equilibrium and the damped modes only",
+             analysis has the static equilibrium and the damped modes only"
+                .to_string(),
         );
+    }
+    // Which equilibrium a viscoelastic cover is linearised at: the standstill one, relaxed.
+    for n in &m.nips {
+        if matches!(n.law, NipLaw::Viscoelastic { .. }) {
+            warnings.push(format!(
+                "nip `{}` has a viscoelastic cover: linearised at the standstill equilibrium \
+                 with its relaxed modulus at every speed; rolling, the cover is stiffer \
+                 (`rotorsweep barring` linearises at the rolling equilibrium)",
+                n.name
+            ));
+        }
     }
     json["warnings"] = serde_json::json!(warnings);
     if a.json {

@@ -124,3 +124,59 @@ pub fn assert_error_at(
     assert_eq!(e.line, Some(line_number(text, line)), "{e}");
     assert!(e.reason.contains(reason), "{e}");
 }
+
+/// The lobed two-roll machine of tests/it/nip_runout.rs: two stiff Jeffcott rotors
+/// ([`stiff_jeffcott`]), one above the other (200 mm apart), each on two supports of stiffness
+/// `k` [N/m] and damping `c` [Ns/m], coupled over 400 mm by a linear nip of total stiffness
+/// `kc` [N/m] and damping `cn` [Ns/m] in 10 segments; roll a at `fa` [Hz] with 3 lobes of
+/// 10 µm (phase 0.4 rad), roll b at its own `fb` [Hz] with 2 lobes of 6 µm (phase −1.1 rad); no
+/// gravity; 1 s recorded from 1.5 s at 2000 Hz, tolerance 1e-10, hmax 2e-4.
+pub struct LobedNip {
+    pub k: f64,
+    pub c: f64,
+    pub kc: f64,
+    pub cn: f64,
+    pub fa: f64,
+    pub fb: f64,
+}
+
+/// The values of tests/it/nip_runout.rs.
+pub const LOBED_NIP: LobedNip = LobedNip {
+    k: 1.0e6,
+    c: 1.0e3,
+    kc: 1.0e6,
+    cn: 2.0e3,
+    fa: 5.0,
+    fb: 9.0,
+};
+
+impl LobedNip {
+    /// Writes its rolls' scenes and the machine file into `dir`; the machine file's path.
+    pub fn write(&self, dir: &std::path::Path) -> std::path::PathBuf {
+        let (k, c) = (self.k, self.c);
+        let spring = format!(
+            "kx_n_per_m = {k:e}, ky_n_per_m = {k:e}, cx_ns_per_m = {c:e}, cy_ns_per_m = {c:e}"
+        );
+        // Record 1 s from 1.5 s: the start's transient decays at c/m ≈ 10 1/s (e^−15 by then).
+        let run_keys = "[simulation]\nt_end_s = 2.5\nsettle_s = 1.5\nsample_rate_hz = 2000.0\n\
+                        gravity_m_s2 = 0.0\n[solver]\ntolerance = 1e-10\nhmax = 2e-4\n";
+        let a = format!("[speed]\nhz = {}\n{run_keys}", self.fa);
+        write_file(dir, "a.toml", &stiff_jeffcott(&spring, "", &a));
+        let b = format!("[speed]\nhz = {}\n", self.fb);
+        write_file(dir, "b.toml", &stiff_jeffcott(&spring, "", &b));
+        // k_c and c_n over the 400 mm, per length.
+        let text = format!(
+            "name = \"runout\"\n\
+             [[rolls]]\nname = \"a\"\nscene = \"a.toml\"\nposition_mm = [0.0, 0.0]\n\
+             roundness = [{{ order = 3, amplitude_um = 10.0, phase_rad = 0.4 }}]\n\
+             [[rolls]]\nname = \"b\"\nscene = \"b.toml\"\nposition_mm = [0.0, 200.0]\n\
+             roundness = [{{ order = 2, amplitude_um = 6.0, phase_rad = -1.1 }}]\n\
+             [[nips]]\nname = \"nip\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\n\
+             to_mm = 400.0\nsegments = 10\nlaw = \"linear\"\nstiffness_n_per_m2 = {:e}\n\
+             damping_ns_per_m2 = {:e}\n",
+            self.kc / 0.4,
+            self.cn / 0.4
+        );
+        write_file(dir, "machine.toml", &text)
+    }
+}

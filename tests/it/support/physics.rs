@@ -222,3 +222,17 @@ pub fn solver(
         contact_events: false,
     }
 }
+
+/// The complex amplitude A e^{iα} of the line A cos(2π f t + α) in `x` sampled at `t` [s], over
+/// the samples in [t0, t0 + span) [s] (a whole number of periods of every line here, so the
+/// lines are orthogonal).
+pub fn line(t: &[f64], x: &[f64], f: f64, (t0, span): (f64, f64)) -> nalgebra::Complex<f64> {
+    let (mut sum, mut n) = (nalgebra::Complex::new(0.0, 0.0), 0usize);
+    for (ti, xi) in t.iter().zip(x) {
+        if *ti >= t0 - 1e-9 && *ti < t0 + span - 1e-9 {
+            sum += xi * nalgebra::Complex::from_polar(1.0, -std::f64::consts::TAU * f * ti);
+            n += 1;
+        }
+    }
+    2.0 * sum / n as f64
+}
