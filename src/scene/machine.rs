@@ -172,7 +172,9 @@ fn build(c: &Check, raw: &MachineFile, first_roll: &[String]) -> Result<Machine,
         if i == 0 {
             set.extend_from_slice(first_roll);
         }
-        let mut scene = Scene::load(&dir.join(&r.scene), &set)?;
+        // Read once per machine source (Source::named_scene says why).
+        let roll_source = c.source.named_scene(&dir.join(&r.scene))?;
+        let mut scene = Scene::from_source(&roll_source, &set)?;
         if scene.machine.is_some() {
             return Err(c.err(&key("scene"), "a roll's scene is one roll, not a machine"));
         }

@@ -16,10 +16,12 @@
 //! Errors name the file, line and key; an error inside a base also says which file extends it
 //! and where ([`Source::locate`] finds the file and line of any key of the merged table).
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex, OnceLock};
 
 use crate::error::InputError;
+use crate::rotor::wall::ThicknessMap;
 
 use super::locate::{self, Step};
 
@@ -77,6 +79,14 @@ pub struct Source {
     /// study builds every job from the same source, and reading the text again per job was
     /// a third of `plan`).
     unoverridden: OnceLock<Result<(), InputError>>,
+    /// The thickness maps read so far, by file and shell length (the bits of L [m]): each read
+    /// once per source (and its clones), so every scene built from it sees a map as it was
+    /// first read. A study's jobs are validated at load and their scenes built again when they
+    /// run, hours later perhaps: a map edited meanwhile does not reach them (their ids and the
+    /// results file's inputs hash the map as read at load).
+    maps: Arc<Mutex<BTreeMap<(PathBuf, u64), Arc<ThicknessMap>>>>,
+    /// The scene files it names (a machine's rolls), each read once, as the maps.
+    scenes: Arc<Mutex<BTreeMap<PathBuf, Arc<Source>>>>,
 }
 
 impl Source {
@@ -95,7 +105,39 @@ impl Source {
             layers,
             table,
             unoverridden: OnceLock::new(),
+            maps: Arc::default(),
+            scenes: Arc::default(),
         })
+    }
+
+    /// The scene file `path` that this one names (a machine's roll): read the first time, the
+    /// same after (a failed read is not kept).
+    pub(super) fn named_scene(&self, path: &Path) -> Result<Arc<Source>, InputError> {
+        let mut scenes = self.scenes.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(s) = scenes.get(path) {
+            return Ok(s.clone());
+        }
+        let source = Arc::new(Source::load(path)?);
+        scenes.insert(path.to_path_buf(), source.clone());
+        Ok(source)
+    }
+
+    /// The thickness map of file `path` over a shell of length `length` [m]: as `read` makes
+    /// it the first time, the same map after (a failed read is not kept).
+    pub(super) fn thickness_map(
+        &self,
+        path: &Path,
+        length: f64,
+        read: impl FnOnce() -> Result<ThicknessMap, InputError>,
+    ) -> Result<Arc<ThicknessMap>, InputError> {
+        let mut maps = self.maps.lock().unwrap_or_else(|e| e.into_inner());
+        let key = (path.to_path_buf(), length.to_bits());
+        if let Some(m) = maps.get(&key) {
+            return Ok(m.clone());
+        }
+        let map = Arc::new(read()?);
+        maps.insert(key, map.clone());
+        Ok(map)
     }
 
     /// `check`'s verdict on the scene as written (before any override), `check` run once.

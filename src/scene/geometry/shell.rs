@@ -95,14 +95,17 @@ pub(super) fn thickness_map(
             // Errors inside the CSV name the CSV and its line, and where the scene names it; an
             // unreadable file is reported where the scene names it.
             let key = "roll.shell.thickness_map";
-            let map = ThicknessMap::from_csv(&p, length).map_err(|mut e| match e.line {
-                Some(_) => {
-                    let at = c.err(key, "");
-                    let line = at.line.map(|l| format!(":{l}")).unwrap_or_default();
-                    e.reason += &format!(" (the map of `{key}`, {}{line})", at.file.display());
-                    e
-                }
-                None => c.err(key, format!("{}: {}", p.display(), e.reason)),
+            // Read once per scene source (its doc says why).
+            let map = c.source.thickness_map(&p, length, || {
+                ThicknessMap::from_csv(&p, length).map_err(|mut e| match e.line {
+                    Some(_) => {
+                        let at = c.err(key, "");
+                        let line = at.line.map(|l| format!(":{l}")).unwrap_or_default();
+                        e.reason += &format!(" (the map of `{key}`, {}{line})", at.file.display());
+                        e
+                    }
+                    None => c.err(key, format!("{}: {}", p.display(), e.reason)),
+                })
             })?;
             Some(map)
         }
@@ -110,20 +113,20 @@ pub(super) fn thickness_map(
             let spec = synthetic_spec(c, s)?;
             spec.validate(length)
                 .map_err(|r| c.err("roll.shell.synthetic_map", r))?;
-            Some(ThicknessMap::synthetic(&spec, length))
+            Some(Arc::new(ThicknessMap::synthetic(&spec, length)))
         }
         (None, None, Some(r)) => {
             let spec = random_wall_spec(c, r, outer)?;
             spec.validate(length)
                 .map_err(|e| c.err("roll.shell.random_wall", e))?;
-            Some(ThicknessMap::random_field(&spec, length))
+            Some(Arc::new(ThicknessMap::random_field(&spec, length)))
         }
         (None, None, None) => None,
     };
     if let Some(m) = &map {
         fits_tube(c, sh, m, outer)?;
     }
-    Ok(map.map(Arc::new))
+    Ok(map)
 }
 
 /// A map's wall lies in (0, D/2) for a tube of diameter `outer` [m]; the error names the CSV
