@@ -68,6 +68,9 @@ pub struct Layer {
     pub table: toml::Table,
 }
 
+/// Thickness maps read, by file and the bits of the shell length [m].
+type MapsRead = BTreeMap<(PathBuf, u64), Arc<ThicknessMap>>;
+
 /// A scene file with its bases.
 #[derive(Debug, Clone)]
 pub struct Source {
@@ -84,7 +87,7 @@ pub struct Source {
     /// first read. A study's jobs are validated at load and their scenes built again when they
     /// run, hours later perhaps: a map edited meanwhile does not reach them (their ids and the
     /// results file's inputs hash the map as read at load).
-    maps: Arc<Mutex<BTreeMap<(PathBuf, u64), Arc<ThicknessMap>>>>,
+    maps: Arc<Mutex<MapsRead>>,
     /// The scene files it names (a machine's rolls), each read once, as the maps.
     scenes: Arc<Mutex<BTreeMap<PathBuf, Arc<Source>>>>,
 }
