@@ -1,8 +1,8 @@
 //! `rotorsweep reduce SCENE --normal N -o DIR`: the sparse Craig–Bampton reduction of a large
 //! `[fe]` body, with no dense n × n matrix.
 //!
-//! In: a scene whose `[fe]` body is a Matrix Market model (any size; nodes anywhere), its named
-//! nodes (`fe.named`) and ring attachments (`fe.rings`, RBE3-like) whose nodes are the
+//! In: a scene whose `[fe]` body is a model in Matrix Market, Abaqus, Nastran DMIG or OP4
+//! files (any size; nodes anywhere), its named nodes (`fe.named`) and ring attachments (`fe.rings`, RBE3-like) whose nodes are the
 //! interface, the number of fixed-interface normal modes, and optionally a number of the whole
 //! body's own free modes (`--free`). Out, in a new folder DIR: `stiffness.mtx` and `mass.mtx`
 //! (the Craig–Bampton matrices K̂, M̂, SI, symmetric; with a stress stiffness
@@ -42,7 +42,7 @@ use crate::error::CliError;
 /// Arguments of `rotorsweep reduce`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Scene file (TOML) with an `[fe]` body in Matrix Market files.
+    /// Scene file (TOML) with an `[fe]` body (Matrix Market, Abaqus, Nastran DMIG or OP4 files).
     scene: PathBuf,
     /// Fixed-interface normal modes to keep (1–1000).
     #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=1000))]
