@@ -1,10 +1,11 @@
 //! `rotorsweep reduce SCENE --normal N -o DIR`: the sparse Craig–Bampton reduction of a large
 //! `[fe]` body, with no dense n × n matrix.
 //!
-//! In: a scene whose `[fe]` body is a model in Matrix Market, Abaqus, Nastran DMIG or OP4
-//! files (any size; nodes anywhere), its named nodes (`fe.named`) and ring attachments
-//! (`fe.rings`, RBE3-like) whose nodes are the interface, the number of fixed-interface normal modes, and optionally a number of the whole
-//! body's own free modes (`--free`). Out, in a new folder DIR: `stiffness.mtx` and `mass.mtx`
+//! In: a scene whose `[fe]` body is a model in Matrix Market, Abaqus, Nastran DMIG or OP4 files
+//! (any size; nodes anywhere), its named nodes (`fe.named`) and ring attachments (`fe.rings`,
+//! RBE3-like) whose nodes are the interface, the number of fixed-interface normal modes, and
+//! optionally a number of the whole body's own free modes (`--free`). Out, in a new folder DIR:
+//! `stiffness.mtx` and `mass.mtx`
 //! (the Craig–Bampton matrices K̂, M̂, SI, symmetric; with a stress stiffness
 //! `fe.stress_stiffness`, `stress_stiffness.mtx`: K̂_σ per (rad/s)² on the same basis, so
 //! K̂(Ω) = K̂ + Ω² K̂_σ), `interface.csv` (`coordinate,node,dof`:
