@@ -81,11 +81,22 @@ pub(super) fn map_text(source: &Source, csv: &str) -> String {
     crate::error::read_text(&p).unwrap_or_default()
 }
 
-/// `prefix` and 16 hex digits of FNV-1a over the inputs' text and `parts`, each part (the
-/// concatenation of its pieces) after a U+001F.
-fn hash_id(prefix: char, inputs: Inputs, parts: &[&[&str]]) -> String {
-    let mut h = inputs.state;
-    for p in parts {
+/// `prefix` and 16 hex digits of FNV-1a over the inputs' text and the parts: first the
+/// canonical parts of `merged`'s selection `keep`/`drop` (named `selection`:
+/// [`JobTable::hash_parts`]), then `rest`, each part (the concatenation of its pieces) after a
+/// U+001F.
+fn hash_id(
+    prefix: char,
+    inputs: Inputs,
+    merged: &JobTable,
+    (selection, keep, drop): (&'static str, &[&str], &[&str]),
+    rest: &[&[&str]],
+) -> String {
+    let start = fnv1a_from(inputs.state, "\u{1f}".as_bytes());
+    let mut h = merged.hash_parts(selection, keep, drop, start, |h, piece| {
+        fnv1a_from(h, piece.as_bytes())
+    });
+    for p in rest {
         h = fnv1a_from(h, "\u{1f}".as_bytes());
         for piece in *p {
             h = fnv1a_from(h, piece.as_bytes());
@@ -96,30 +107,36 @@ fn hash_id(prefix: char, inputs: Inputs, parts: &[&[&str]]) -> String {
 
 /// The id of the unpruned reduced model of a job's scene.
 pub(super) fn model_id(inputs: Inputs, merged: &JobTable) -> String {
-    hash_id('m', inputs, &[&merged.canonical_parts(&MODEL_TABLES, &[])])
+    hash_id('m', inputs, merged, ("model", &MODEL_TABLES, &[]), &[])
 }
+
+/// The tables of a job's linearised system: its model with its modal damping, on its supports
+/// and drive.
+const LINEAR_TABLES: [&str; 7] = [
+    "materials",
+    "roll",
+    "rotor",
+    "reduction",
+    "damping",
+    "supports",
+    "drive",
+];
 
 /// The id of a merged scene's linearised system: its model with its modal damping, on its
 /// supports and drive, with gravity.
 pub(super) fn linear_id(inputs: Inputs, merged: &JobTable) -> String {
-    let linear_part = merged.canonical_parts(
-        &[
-            "materials",
-            "roll",
-            "rotor",
-            "reduction",
-            "damping",
-            "supports",
-            "drive",
-        ],
-        &[],
-    );
     let gravity = merged
         .get("simulation")
         .and_then(|s| s.get("gravity_m_s2"))
         .map(value_text)
         .unwrap_or_default();
-    hash_id('l', inputs, &[&linear_part, &[&gravity]])
+    hash_id(
+        'l',
+        inputs,
+        merged,
+        ("linear", &LINEAR_TABLES, &[]),
+        &[&[&gravity]],
+    )
 }
 
 /// The id of a job: its whole merged scene and, for a pruned job, how its pilot ran.
@@ -133,8 +150,7 @@ pub(super) fn job_id(
     let prune_text = prune
         .map(|p| format!("{p:e}|{}", pilot_text(pilot)))
         .unwrap_or_default();
-    let all = merged.canonical_parts(&[], &[]);
-    hash_id('j', inputs, &[&all, &[&prune_text]])
+    hash_id('j', inputs, merged, ("job", &[], &[]), &[&[&prune_text]])
 }
 
 /// The id of a job's reference run: the job's physics (its scene without the solver keys, and
@@ -145,17 +161,16 @@ pub(super) fn reference_id(
     reference_merged: &JobTable,
     sets_modes: bool,
 ) -> String {
-    let physics = if sets_modes {
-        merged.canonical_parts(&[], &["solver", "reduction"])
+    let physics: (&'static str, &[&str], &[&str]) = if sets_modes {
+        ("physics without modes", &[], &["solver", "reduction"])
     } else {
-        merged.canonical_parts(&[], &["solver"])
+        ("physics", &[], &["solver"])
     };
     hash_id(
         'r',
         inputs,
-        &[
-            &physics,
-            &reference_merged.canonical_parts(&["solver"], &[]),
-        ],
+        merged,
+        physics,
+        &[&reference_merged.canonical_parts(&["solver"], &[])],
     )
 }

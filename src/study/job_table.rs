@@ -14,7 +14,8 @@
 //! the speed, the `speed` table), instead of three copies and four serialisations of the whole
 //! scene.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
+use std::sync::{Arc, Mutex};
 
 use crate::error::InputError;
 use crate::scene::locate::{parse_path, Step};
@@ -31,6 +32,16 @@ fn entry_text(key: &str, value: &toml::Value) -> Option<String> {
 pub(super) struct BaseTable<'a> {
     table: &'a toml::Table,
     text: BTreeMap<&'a str, Option<String>>,
+    /// The base's own canonical parts and hash states by selection and starting state
+    /// ([`JobTable::hash_parts`]).
+    prefixes: Mutex<HashMap<(&'static str, u64), Arc<Prefix>>>,
+}
+
+/// The canonical parts of the unchanged base for one selection (each piece by address and
+/// length) and the hash state after each of them (`states[i]`: after the first i pieces).
+struct Prefix {
+    pieces: Vec<(usize, usize)>,
+    states: Vec<u64>,
 }
 
 impl<'a> BaseTable<'a> {
@@ -40,7 +51,11 @@ impl<'a> BaseTable<'a> {
             .iter()
             .map(|(k, v)| (k.as_str(), entry_text(k, v)))
             .collect();
-        BaseTable { table, text }
+        BaseTable {
+            table,
+            text,
+            prefixes: Mutex::default(),
+        }
     }
 }
 
@@ -89,6 +104,48 @@ impl<'a> JobTable<'a> {
     /// Top-level entry `key` of the overridden table.
     pub(super) fn get(&self, key: &str) -> Option<&toml::Value> {
         self.own.get(key).or_else(|| self.base.table.get(key))
+    }
+
+    /// The state a hash `step` (a function of the state and a piece of text) leaves after
+    /// `start` and the canonical parts of the selection `keep`/`drop`, which `selection` names
+    /// (one selection per name in a study). The same as stepping over every piece; the leading
+    /// pieces this job shares with the unchanged base (the same strings, by address: the
+    /// entries before the first one its overrides touch) are stepped over once per study and
+    /// starting state, not once per job.
+    pub(super) fn hash_parts(
+        &self,
+        selection: &'static str,
+        keep: &[&str],
+        drop: &[&str],
+        start: u64,
+        step: impl Fn(u64, &str) -> u64,
+    ) -> u64 {
+        let pieces = self.canonical_parts(keep, drop);
+        let prefix = {
+            let mut known = (self.base.prefixes.lock()).unwrap_or_else(|e| e.into_inner());
+            let entry = known.entry((selection, start)).or_insert_with(|| {
+                let unchanged = JobTable {
+                    base: self.base,
+                    own: toml::Value::Table(toml::Table::new()),
+                    own_text: BTreeMap::new(),
+                };
+                let base = unchanged.canonical_parts(keep, drop);
+                let mut states = vec![start];
+                for p in &base {
+                    states.push(step(states[states.len() - 1], p));
+                }
+                let pieces = base
+                    .iter()
+                    .map(|p| (p.as_ptr() as usize, p.len()))
+                    .collect();
+                Arc::new(Prefix { pieces, states })
+            });
+            entry.clone()
+        };
+        let shared = (pieces.iter().zip(&prefix.pieces))
+            .take_while(|(p, &(at, len))| p.as_ptr() as usize == at && p.len() == len)
+            .count();
+        (pieces[shared..].iter()).fold(prefix.states[shared], |h, p| step(h, p))
     }
 
     /// The canonical text of the subtable of the entries that `keep` (all when empty) names and
@@ -196,17 +253,31 @@ mod tests {
                 InputError::new(std::path::Path::new("t"), format!("{k}: {r}"))
             })
             .unwrap();
-            for (keep, drop) in [
-                (&[][..], &[][..]),
-                (&["roll", "supports"][..], &[][..]),
-                (&[][..], &["speed"][..]),
-                (&["name", "speed"][..], &[][..]),
+            for (selection, keep, drop) in [
+                ("all", &[][..], &[][..]),
+                ("roll and supports", &["roll", "supports"][..], &[][..]),
+                ("no speed", &[][..], &["speed"][..]),
+                ("name and speed", &["name", "speed"][..], &[][..]),
             ] {
+                let parts = job.canonical_parts(keep, drop);
                 assert_eq!(
-                    job.canonical_parts(keep, drop).concat(),
+                    parts.concat(),
                     whole(&table, overrides, keep, drop),
                     "overrides {overrides:?}, keep {keep:?}, drop {drop:?}"
                 );
+                // The hash over the parts with the base's shared pieces stepped once per
+                // study equals stepping over every piece (FNV-1a's step, as the ids use it).
+                let step = |h: u64, piece: &str| {
+                    (piece.bytes())
+                        .fold(h, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+                };
+                for start in [0xcbf2_9ce4_8422_2325, 7] {
+                    assert_eq!(
+                        job.hash_parts(selection, keep, drop, start, step),
+                        parts.iter().fold(start, |h, p| step(h, p)),
+                        "overrides {overrides:?}, selection {selection}"
+                    );
+                }
             }
         }
     }
