@@ -8,6 +8,11 @@ compound tables to leave out; the attributes of the starting object itself to le
 two sides' names for the messages. Out: `compare` returns the differences, one line of text each
 (none when the trees are equal), and a `Tally` of the groups, datasets and attributes compared.
 
+As a command, `python3 scripts/h5compare.py A.h5 B.h5` compares two whole files as
+compare-results.py does (timings and the file's identity attributes left out: TIMING and
+IDENTITY below) and prints what it compared and every difference; exit code 0 when equal, 1
+when not, 2 when a file cannot be read.
+
 Equal means: the same member names and attribute names on both sides; a group where the other
 side has a group; datasets and attributes of the same shape and type whose values are the same
 bit for bit for numbers (so NaN equals NaN, and -0.0 differs from 0.0); text as text (bytes and
@@ -20,6 +25,7 @@ not keep and no reader uses. How a dataset is stored (chunks, filters) is not co
 """
 
 import json
+import sys
 from dataclasses import dataclass
 
 import h5py
@@ -173,3 +179,31 @@ def _count(differ, xs, ys, shape):
 def _short(v):
     s = repr(v)
     return s if len(s) <= 120 else s[:117] + "..."
+
+
+# What the command leaves out: run times, and the attributes that say who wrote the file when.
+TIMING = frozenset({"cpu_time_s", "wall_time_s", "times_s", "model_build_s", "relative",
+                    "CPU time [s]"})
+IDENTITY = frozenset({"command", "created_utc", "host", "threads", "tool_version"})
+
+
+def main(argv):
+    if len(argv) != 2:
+        print("usage: python3 scripts/h5compare.py A.h5 B.h5", file=sys.stderr)
+        return 2
+    try:
+        with h5py.File(argv[0], "r") as a, h5py.File(argv[1], "r") as b:
+            diffs, tally = compare(a, b, "/", skip=TIMING, skip_columns=TIMING,
+                                   skip_top_attrs=IDENTITY, sides=(argv[0], argv[1]))
+    except OSError as e:
+        print(f"cannot read: {e}", file=sys.stderr)
+        return 2
+    for d in diffs:
+        print(d)
+    print(f"{tally.groups} groups, {tally.datasets} datasets, {tally.attributes} attributes "
+          f"compared: {'identical' if not diffs else f'{len(diffs)} differences'}")
+    return 1 if diffs else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

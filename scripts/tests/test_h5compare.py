@@ -85,3 +85,30 @@ def test_text_as_text_and_json_with_timings_masked() -> None:
     assert h5compare._masked_json(a, {"times_s"}) != \
         h5compare._masked_json(a.replace("1.0", "1"), {"times_s"})
     assert h5compare._masked_json("[]", {"times_s"}) == "[]"
+
+
+def test_the_command_exits_0_when_equal_1_when_not_2_when_unreadable(tmp_path) -> None:
+    # Run as a script it compares whole files (timings left out) and says so in its exit code:
+    # before it had a command line, running it compared nothing and exited 0.
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(h5compare.__file__)
+    write(tmp_path / "a.h5", runout=[1.0, 2.0, 3.0], cpu=0.1)
+    write(tmp_path / "b.h5", runout=[1.0, 2.0, 3.0], cpu=0.7)
+    write(tmp_path / "c.h5", runout=[1.0, 2.0, 3.5], cpu=0.1)
+
+    def run(*args):
+        return subprocess.run([sys.executable, str(script), *map(str, args)],
+                              capture_output=True, text=True)
+
+    same = run(tmp_path / "a.h5", tmp_path / "b.h5")
+    assert same.returncode == 0, same.stdout + same.stderr
+    assert "identical" in same.stdout
+    differ = run(tmp_path / "a.h5", tmp_path / "c.h5")
+    assert differ.returncode == 1, differ.stdout + differ.stderr
+    # Both runout datasets (a and b) differ at their last sample.
+    assert "2 differences" in differ.stdout and "/jobs/j1/a: 1 of 3 values differ" in differ.stdout
+    assert run(tmp_path / "a.h5", tmp_path / "missing.h5").returncode == 2
+    assert run(tmp_path / "a.h5").returncode == 2
