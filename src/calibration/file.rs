@@ -578,9 +578,11 @@ fn check_row(c: &Ctx, r: &Row, study: &Study) -> Result<(), InputError> {
             ),
         ));
     };
-    // The job's scene (validated when the study was loaded) for its sensors.
-    let sensors = study.scene_of(&job.overrides)?.sensors;
+    // The job's sensors, from its scene (validated when the study was loaded), built only
+    // where a row names a sensor.
+    let sensors_of = || study.scene_of(&job.overrides).map(|s| s.sensors);
     if let Some(p) = &r.point {
+        let sensors = sensors_of()?;
         if !sensors.contains(&p.sensor) {
             return Err(c.err(
                 &format!("{table}.file"),
@@ -606,6 +608,7 @@ fn check_row(c: &Ctx, r: &Row, study: &Study) -> Result<(), InputError> {
     if *placed || kind.starts_with("sag_") {
         let place = rest.split(':').next().unwrap_or("");
         let (sensor, dir) = place.split_once('/').unwrap_or((place, ""));
+        let sensors = sensors_of()?;
         if !sensors.iter().any(|s| s == sensor) {
             let key = if table.starts_with("resonances") {
                 format!("{table}.sensor")

@@ -59,16 +59,19 @@ pub const NIP_ROLL: &str = "nip_roll_";
 /// Prefix of the job attributes that give a nip's rolls' speeds [Hz] (`nip_speed_a_hz:<nip>`).
 pub const NIP_SPEED: &str = "nip_speed_";
 
+/// The spin speed Ω [rad/s] over a scene's record and the roll angle's offset δ [rad] in
+/// θ = Ω t + δ; `None` when the speed changes while recording.
+pub fn record_spin(scene: &Scene) -> Option<(f64, f64)> {
+    let sim = &scene.simulation;
+    scene.speed.constant_over(sim.settle, sim.t_end)
+}
+
 /// The spin speed [Hz] over a scene's record and the roll angle's offset δ [rad] in
 /// θ = Ω t + δ, both NaN when the speed changes while recording.
 pub fn record_speed(scene: &Scene) -> (f64, f64) {
-    let sim = &scene.simulation;
-    scene
-        .speed
-        .constant_over(sim.settle, sim.t_end)
-        .map_or((f64::NAN, f64::NAN), |(omega, d)| {
-            (omega / std::f64::consts::TAU, d)
-        })
+    record_spin(scene).map_or((f64::NAN, f64::NAN), |(omega, d)| {
+        (omega / std::f64::consts::TAU, d)
+    })
 }
 
 /// The attributes of a job that its scene decides and the analysis reads, for `run` and

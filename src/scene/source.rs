@@ -116,13 +116,7 @@ impl Source {
     /// The scene file `path` that this one names (a machine's roll): read the first time, the
     /// same after (a failed read is not kept).
     pub(super) fn named_scene(&self, path: &Path) -> Result<Arc<Source>, InputError> {
-        let mut scenes = self.scenes.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(s) = scenes.get(path) {
-            return Ok(s.clone());
-        }
-        let source = Arc::new(Source::load(path)?);
-        scenes.insert(path.to_path_buf(), source.clone());
-        Ok(source)
+        read_once(&self.scenes, path.to_path_buf(), || Source::load(path))
     }
 
     /// The thickness map of file `path` over a shell of length `length` [m]: as `read` makes
@@ -133,14 +127,7 @@ impl Source {
         length: f64,
         read: impl FnOnce() -> Result<ThicknessMap, InputError>,
     ) -> Result<Arc<ThicknessMap>, InputError> {
-        let mut maps = self.maps.lock().unwrap_or_else(|e| e.into_inner());
-        let key = (path.to_path_buf(), length.to_bits());
-        if let Some(m) = maps.get(&key) {
-            return Ok(m.clone());
-        }
-        let map = Arc::new(read()?);
-        maps.insert(key, map.clone());
-        Ok(map)
+        read_once(&self.maps, (path.to_path_buf(), length.to_bits()), read)
     }
 
     /// `check`'s verdict on the scene as written (before any override), `check` run once.
@@ -179,6 +166,22 @@ impl Source {
         }
         e
     }
+}
+
+/// The value `known` holds for `key`, else what `read` makes, kept there (a failed read is
+/// not kept).
+fn read_once<K: Ord, V>(
+    known: &Mutex<BTreeMap<K, Arc<V>>>,
+    key: K,
+    read: impl FnOnce() -> Result<V, InputError>,
+) -> Result<Arc<V>, InputError> {
+    let mut known = known.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(v) = known.get(&key) {
+        return Ok(v.clone());
+    }
+    let v = Arc::new(read()?);
+    known.insert(key, v.clone());
+    Ok(v)
 }
 
 /// The layers and merged table of `path` (text `text`); `chain`: the files extending it, for

@@ -8,6 +8,7 @@
 //! run needs it, [`Study::scene_of`](super::Study::scene_of) builds it again from the overrides.
 
 use super::plan::{max_nodes, record_bytes, run_cpu_s};
+use crate::results::analyse::record_spin;
 use crate::scene::Scene;
 
 /// One job: the overrides that make it, and its identities.
@@ -73,9 +74,7 @@ impl SceneFacts {
             cpu_s: run_cpu_s(scene),
             record_bytes: record_bytes(scene),
             max_nodes: max_nodes(scene),
-            record_omega: (scene.speed)
-                .constant_over(scene.simulation.settle, scene.simulation.t_end)
-                .map(|(omega, _)| omega),
+            record_omega: record_spin(scene).map(|(omega, _)| omega),
             sample_rate_hz: scene.simulation.sample_rate,
             integrator: scene.solver.integrator.name(),
         }
