@@ -451,9 +451,9 @@ pub fn analyse_prepared(f: &hdf5::File, prepared: Option<Prepared>) -> hdf5::Res
         .find(|keys| keys.len() > 1 && keys.iter().any(|k| k == SWEEP_KEY))
         .map(|keys| keys.into_iter().filter(|k| k != SWEEP_KEY).collect())
         .unwrap_or_default();
-    let prepared = prepared
+    let (prepared, tracked) = prepared
         .filter(|p| p.text == text && p.varying == varying)
-        .map(|p| (p.keep_cap, p.entries))
+        .map(|p| ((p.keep_cap(), p.entries), p.tracked))
         .unwrap_or_default();
     let (jobs, skipped) = read_jobs(f, (&varying, &axes, &spec), prepared)?;
     let repeats = {
@@ -506,5 +506,5 @@ pub fn analyse_prepared(f: &hdf5::File, prepared: Option<Prepared>) -> hdf5::Res
     if let Some(b) = &spec.baseline {
         trial_mass_table(&g, &jobs, b, &axes)?;
     }
-    super::orders::write(f, &g, &spec)
+    super::orders::write(f, &g, &spec, tracked)
 }

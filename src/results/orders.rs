@@ -34,6 +34,7 @@
 
 use rustfft::num_complex::Complex64;
 
+use super::job_analysis::Tracked;
 use super::request::{AnalysisSpec, DEFAULT_ORDER_REVOLUTIONS, ORDER_MARGIN};
 use crate::integrators::Status;
 use crate::signal::{self, orders as track};
@@ -181,47 +182,73 @@ fn waterfall(
     Ok(())
 }
 
-/// Tracks every job it can and writes the tables into `analysis` (module doc).
-pub fn write(f: &hdf5::File, analysis: &hdf5::Group, spec: &AnalysisSpec) -> hdf5::Result<()> {
+/// The order tracking of the job in group `g` (module doc), its waterfall written there when
+/// its speed changes; `None` when it is left out of the tables.
+fn track_from_file(
+    g: &hdf5::Group,
+    spec: &AnalysisSpec,
+    revs: f64,
+) -> hdf5::Result<Option<Tracked>> {
+    if !store::read_str(g, "status").is_ok_and(|s| Status::name_completed(&s)) {
+        return Ok(None);
+    }
+    let channels = store::runout_channels(g);
+    let time = g
+        .dataset("time")
+        .and_then(|d| d.read_raw::<f64>())
+        .unwrap_or_default();
+    if channels.is_empty() || time.len() < 3 {
+        return Ok(None);
+    }
+    let Some((theta, constant)) = roll_angle(g, &time) else {
+        return Ok(None);
+    };
+    let signals: Vec<&[f64]> = channels.iter().map(|(_, x)| x.as_slice()).collect();
+    let blocks = if constant {
+        track::whole(&time, &theta, &signals, &spec.orders).map(|b| b.into_iter().collect())
+    } else {
+        track::track(&time, &theta, &signals, &spec.orders, revs, 0.5 * revs)
+    };
+    // A job whose angle cannot be tracked (it never is in a simulated job; an imported one
+    // is checked at import) is left out of the tables.
+    let Ok(blocks) = blocks else { return Ok(None) };
+    if !constant {
+        waterfall(
+            g,
+            (&time, &theta),
+            &channels,
+            &spec.orders,
+            spec.max_freq_hz,
+        )?;
+    }
+    Ok(Some(Tracked {
+        names: channels.into_iter().map(|(n, _)| n).collect(),
+        blocks,
+    }))
+}
+
+/// Tracks every job it can and writes the tables into `analysis` (module doc); the jobs in
+/// `prepared` (tracked in memory at their constant speed) are taken as they are, the others
+/// read from the file.
+pub fn write(
+    f: &hdf5::File,
+    analysis: &hdf5::Group,
+    spec: &AnalysisSpec,
+    mut prepared: std::collections::BTreeMap<String, Option<Tracked>>,
+) -> hdf5::Result<()> {
     let revs = spec.order_revolutions.unwrap_or(DEFAULT_ORDER_REVOLUTIONS);
     let jobs = f.group("jobs")?;
     let mut rows = Rows::default();
     let mut peaks = Peaks::default();
     for id in jobs.member_names()? {
-        let g = jobs.group(&id)?;
-        if !store::read_str(&g, "status").is_ok_and(|s| Status::name_completed(&s)) {
-            continue;
-        }
-        let channels = store::runout_channels(&g);
-        let time = g
-            .dataset("time")
-            .and_then(|d| d.read_raw::<f64>())
-            .unwrap_or_default();
-        if channels.is_empty() || time.len() < 3 {
-            continue;
-        }
-        let Some((theta, constant)) = roll_angle(&g, &time) else {
+        let tracked = match prepared.remove(&id) {
+            Some(t) => t,
+            None => track_from_file(&jobs.group(&id)?, spec, revs)?,
+        };
+        let Some(Tracked { names, blocks }) = tracked else {
             continue;
         };
-        let signals: Vec<&[f64]> = channels.iter().map(|(_, x)| x.as_slice()).collect();
-        let blocks = if constant {
-            track::whole(&time, &theta, &signals, &spec.orders).map(|b| b.into_iter().collect())
-        } else {
-            track::track(&time, &theta, &signals, &spec.orders, revs, 0.5 * revs)
-        };
-        // A job whose angle cannot be tracked (it never is in a simulated job; an imported one
-        // is checked at import) is left out of the tables.
-        let Ok(blocks) = blocks else { continue };
-        if !constant {
-            waterfall(
-                &g,
-                (&time, &theta),
-                &channels,
-                &spec.orders,
-                spec.max_freq_hz,
-            )?;
-        }
-        for (c, (name, _)) in channels.iter().enumerate() {
+        for (c, name) in names.iter().enumerate() {
             let (sensor, direction) = split(name);
             for (k, order) in spec.orders.iter().enumerate() {
                 for (b, blk) in blocks.iter().enumerate() {

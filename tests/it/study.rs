@@ -233,6 +233,22 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     );
     assert_eq!(linear, group_data(&d.join("two.h5"), "linear"));
     assert_eq!(linear, group_data(&d.join("merged.h5"), "linear"));
+    // The analysis: made on the workers from the runs in memory in `one` and `two`, read back
+    // from the shard files by the merge: the sweeps' datasets, and the analysis tables as the
+    // report reads them.
+    let sweeps = |p: &str| group_data(&d.join(p), "analysis/sweeps");
+    assert!(sweeps("one.h5").len() >= 10, "{:?}", sweeps("one.h5"));
+    assert_eq!(sweeps("one.h5"), sweeps("two.h5"));
+    assert_eq!(sweeps("one.h5"), sweeps("merged.h5"));
+    let analysed = ["resonances", "orders"];
+    let tables = |p: &str| {
+        let mut t = rotorsweep::report::read(&d.join(p)).unwrap().tables;
+        t.retain(|t| analysed.contains(&t.name.as_str()));
+        t
+    };
+    assert_eq!(tables("one.h5").len(), analysed.len());
+    assert_eq!(tables("one.h5"), tables("two.h5"));
+    assert_eq!(tables("one.h5"), tables("merged.h5"));
     // The merged summary has every job once, in job order.
     let f = hdf5::File::open(d.join("merged.h5")).unwrap();
     let n = f.dataset("summary").unwrap().shape()[0];

@@ -22,7 +22,7 @@ use super::saver::Sink;
 use super::schedule::{run_all, stopped};
 use super::stream::Stream;
 use super::work::work_list;
-use crate::results::job_analysis::Prepared;
+use crate::results::job_analysis::{Analyser, Prepared};
 use crate::store;
 use crate::store::output::{self, OutputLock};
 use crate::study::identity::{describe_mismatch, Identity};
@@ -119,7 +119,8 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         .map(|w| w / std::f64::consts::TAU)
         .filter(|s| s.is_finite())
         .fold(0.0, f64::max);
-    let prepared = Prepared::new(&study.text, &study.varying, top_speed_hz);
+    let analyser = Analyser::new(&study.text, &study.varying, top_speed_hz);
+    let prepared = Prepared::new(&study.text, &analyser);
     let mut stream = Stream::create(&tmp, order, &done, prepared);
     let sink = Sink {
         dir: &dir,
@@ -127,7 +128,7 @@ pub fn run(study: &Study, opts: &RunOptions) -> Result<Outcome, CampaignError> {
         progress: &mut progress,
         stream: &mut stream,
     };
-    let ran = run_all(&pool, study, &work, &models, sink, || {
+    let ran = run_all(&pool, study, &work, (&models, &analyser), sink, || {
         linear::compute_all(study, &study.linear, &systems_to_compute, &models)
     });
     progress.finish();

@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 use super::error::{describe_io, CampaignError};
 use super::journal::{self, Header, Place};
 use crate::dynamics::simulation::JobResult;
+use crate::results::job_analysis::Analysed;
 use crate::store::output::{self, OutputError};
 use crate::store::{self, Param};
 use crate::study::identity::Identity;
@@ -37,13 +38,15 @@ pub(super) const BATCH_SAMPLES: usize = 4_000_000;
 pub(super) const BATCH_SECONDS: f64 = 1.0;
 
 /// One finished run to save: its id, its part-file attributes, its integrator's name, the name
-/// its progress line gives it, and its result.
+/// its progress line gives it, its result, and (a job's) its analysis, made on the worker that
+/// ran it (not saved: a resumed run is analysed again when it is written).
 pub(super) struct Finished<'a> {
     pub(super) id: &'a str,
     pub(super) params: Vec<(String, Param)>,
     pub(super) integrator: &'a str,
     pub(super) name: String,
     pub(super) result: JobResult,
+    pub(super) analysed: Option<Analysed>,
 }
 
 /// Where a saved run is.

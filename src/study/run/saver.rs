@@ -100,7 +100,7 @@ pub(super) fn write_batches(batches: Receiver<Batch>, sink: Sink, stop: &AtomicB
         error: None,
     };
     for batch in batches {
-        let runs = batch;
+        let mut runs = batch;
         let written = save_batch(sink.dir, &runs, sink.identity);
         for r in &runs {
             sink.progress.job_done(
@@ -112,12 +112,10 @@ pub(super) fn write_batches(batches: Receiver<Batch>, sink: Sink, stop: &AtomicB
         }
         match written {
             Ok(places) => {
-                sink.stream.add(
-                    runs.iter()
-                        .zip(&places)
-                        .map(|(r, place)| (r.id.to_string(), place.clone())),
-                    &runs,
-                );
+                let ids: Vec<(String, Saved)> = (runs.iter().zip(&places))
+                    .map(|(r, place)| (r.id.to_string(), place.clone()))
+                    .collect();
+                sink.stream.add(ids, &mut runs);
                 for (r, place) in runs.iter().zip(places) {
                     out.saved.insert(r.id.to_string(), place);
                 }

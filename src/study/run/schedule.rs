@@ -22,6 +22,7 @@ use super::models::Models;
 use super::parts::{saved_parts, Finished, Saved};
 use super::saver::{write_batches, Batch, Saver, Sink};
 use super::work::Work;
+use crate::results::job_analysis::Analyser;
 use crate::study::identity::Identity;
 use crate::study::Study;
 
@@ -39,7 +40,7 @@ pub(super) fn run_all<T: Send>(
     pool: &rayon::ThreadPool,
     study: &Study,
     work: &[Work],
-    models: &Models,
+    (models, analyser): (&Models, &Analyser),
     sink: Sink,
     beside: impl FnOnce() -> T + Send,
 ) -> Ran<T> {
@@ -60,7 +61,7 @@ pub(super) fn run_all<T: Send>(
                     if stop_ref.load(Ordering::SeqCst) {
                         return;
                     }
-                    let r = w.run(study, models);
+                    let r = w.run(study, models, analyser);
                     // The receiver lives until every sender is gone.
                     let _ = tx.send(r);
                 });

@@ -8,13 +8,15 @@
 //! once, the others as each batch is saved, with the batch's runs in memory. Out:
 //! `OUT.h5.tmp` holding `/references/<id>` and `/jobs/<id>` of the plan order's first runs,
 //! every one whose predecessors are all saved (written from memory when its batch is the one
-//! just saved, else read back from its part file: `parts::OpenParts`), each job analysed as
-//! it is written (`results::job_analysis::Prepared`: its means and spectra
-//! written into its group, its lines and spectra kept for the study's analysis), and the set of
-//! runs copied. Plan order, not the order of finishing: small groups list their members
+//! just saved, else read back from its part file: `parts::OpenParts`), each job's analysis
+//! (made on the worker that ran it, `Finished::analysed`, kept here while the job waits for a
+//! predecessor; a job without one, saved before a resume, is analysed from its group) written
+//! into its group and kept for the study's analysis (`results::job_analysis::Prepared`: means,
+//! spectra, lines, order tracking at a constant speed), and the set of runs copied. Plan order, not the order of finishing: small groups list their members
 //! in the order they were made, and the analysis reads them in that order, so the file is the
 //! same whatever the threads. Memory: where each saved-but-not-yet-written run is (a path and
-//! an offset per run), nothing of its data.
+//! an offset per run) and its analysis (lines and spectra up to the study's cap), not its
+//! samples.
 //!
 //! The part files stay the record of what is saved: a `kill -9` leaves this file unfinished
 //! under its working name, and `--resume` starts it again from the parts. The first failed copy
@@ -26,7 +28,7 @@ use std::path::{Path, PathBuf};
 
 use super::parts::{Finished, OpenParts, Saved};
 use super::work::Kind;
-use crate::results::job_analysis::Prepared;
+use crate::results::job_analysis::{Analysed, Prepared};
 
 /// The working file being filled (module doc).
 pub(super) struct Stream {
@@ -41,6 +43,8 @@ pub(super) struct Stream {
     parts: OpenParts,
     /// The copied jobs, analysed.
     prepared: Prepared,
+    /// The analyses (made on the workers) of saved jobs waiting for a predecessor.
+    pending: BTreeMap<String, Analysed>,
 }
 
 impl Stream {
@@ -62,6 +66,7 @@ impl Stream {
             ready: BTreeMap::new(),
             parts: OpenParts::default(),
             prepared,
+            pending: BTreeMap::new(),
         };
         if let Ok(f) = hdf5::File::create(tmp) {
             if f.create_group("jobs").is_ok() && f.create_group("references").is_ok() {
@@ -75,7 +80,7 @@ impl Stream {
             .iter()
             .filter_map(|(id, _)| Some((id.clone(), before.get(id)?.clone())))
             .collect();
-        s.add(wanted, &[]);
+        s.add(wanted, &mut []);
         s
     }
 
@@ -85,12 +90,17 @@ impl Stream {
     pub(super) fn add(
         &mut self,
         saved: impl IntoIterator<Item = (String, Saved)>,
-        fresh: &[Finished],
+        fresh: &mut [Finished],
     ) {
         if self.file.is_none() {
             return;
         }
         self.ready.extend(saved);
+        for run in fresh.iter_mut() {
+            if let Some(a) = run.analysed.take() {
+                self.pending.insert(run.id.to_string(), a);
+            }
+        }
         if let Err(()) = self.copy_ready(fresh) {
             self.drop_file();
         }
@@ -119,7 +129,11 @@ impl Stream {
             }
             if let Kind::Job(_) = kind {
                 let g = dst.group(id).map_err(drop)?;
-                self.prepared.add(&g, id).map_err(drop)?;
+                match self.pending.remove(id) {
+                    Some(a) => self.prepared.add_analysed(&g, id, a),
+                    None => self.prepared.add(&g, id),
+                }
+                .map_err(drop)?;
             }
             self.next += 1;
         }
@@ -131,6 +145,7 @@ impl Stream {
     pub(super) fn drop_file(&mut self) {
         self.file = None;
         self.parts = OpenParts::default();
+        self.pending.clear();
         let _ = std::fs::remove_file(&self.path);
     }
 

@@ -8,10 +8,14 @@
 //! the result ([`Finished`]): its overrides and labels, the ids of its model and linearised
 //! system, what the analysis reads of its scene, a random wall's realised statistics
 //! `wall_mean_mm`, `wall_std_mm`, `wall_h1_mm`, `wall_h2_mm`, its pruning threshold and
-//! kind, and the name its progress line gives it (its labels, else its varying values).
+//! kind, and the name its progress line gives it (its labels, else its varying values); and a
+//! job analysed from its result in memory (`results::job_analysis::Analyser`: lines, means,
+//! spectra, order tracking at a constant speed), so the thread that writes the results file
+//! only writes.
 
 use super::models::{failed_result, Models};
 use super::parts::Finished;
+use crate::results::job_analysis::Analyser;
 use crate::scene::Scene;
 use crate::store::Param;
 use crate::study::{Job, Reference, SceneFacts, Study};
@@ -64,7 +68,7 @@ impl<'a> Work<'a> {
     /// Runs it on its model (module doc). Its scene was validated when the study was loaded;
     /// should building it again fail (a thickness map changed since), the run fails with
     /// that cause.
-    pub(super) fn run(&self, study: &Study, models: &Models) -> Finished<'a> {
+    pub(super) fn run(&self, study: &Study, models: &Models, analyser: &Analyser) -> Finished<'a> {
         let (result, scene) = match study.scene_of(self.overrides) {
             Ok(scene) => (
                 models.simulate(&scene, self.model_id, self.prune),
@@ -72,12 +76,21 @@ impl<'a> Work<'a> {
             ),
             Err(e) => (failed_result(format!("scene: {e}")), None),
         };
+        let params = self.part_params(scene.as_ref());
+        let analysed = match self.kind {
+            Kind::Job(_) => {
+                let status = result.stats.status.name();
+                analyser.run(self.id, &params, status, (&result.time, &result.channels))
+            }
+            Kind::Reference => None,
+        };
         Finished {
             id: self.id,
-            params: self.part_params(scene.as_ref()),
+            params,
             integrator: self.facts.integrator,
             name: self.name(study),
             result,
+            analysed,
         }
     }
 
