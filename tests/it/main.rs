@@ -73,6 +73,7 @@ mod scene_errors;
 mod scene_files;
 mod scene_keys;
 mod shipped_scenes;
+mod solid_spinning_ring;
 mod stress_stiffening;
 mod study;
 mod study_errors;
