@@ -38,6 +38,7 @@ mod fe_nastran;
 mod fe_rings;
 mod fe_sparse;
 mod fe_sparse_stress;
+mod fe_study;
 mod fe_supported_errors;
 mod import;
 mod input_checks;
