@@ -13,6 +13,15 @@ In: the model kind and size, an output folder (new). Out, SI units (kg, m, N, s,
   neighbours a node), lumped mass 0.01 kg a node. DOFs = 3 nx ny nz. Interface: three corner
   nodes of the z = 0 face and three of the far face. A 3-D pattern: the factor fills in far
   more than the chain's.
+- `shell`: a roll's shell as a truss: a tube (outer 320 mm, inner 300 mm) of nodes on two
+  cylinders (r = 150 and 160 mm), nt around (>= 16) and nz along, square cells of side
+  h = 2 pi r/nt at the mean radius, about 4.8 m long (15 diameters) at any size,
+  3 translations each, joined by steel bars (cross-section 10 mm^2) to their neighbours along
+  the edges and the face and body diagonals of the grid (periodic around; 13 neighbours a node,
+  as the lattice), the tube's steel mass lumped equally on the nodes. DOFs = 6 nt nz.
+  Interface: three nodes 120 degrees apart on the outer cylinder at each end. Its graph is a
+  surface two nodes thick, so its factor fills in as a 2-D mesh's: the pattern of a shell
+  model's, which is what a roll's FE model is.
 With `--nastran` the same matrices also as Nastran files with their scenes: `body.bdf` (DMIG
 cards MAAX and KAAX, free field, IFO 6 (the lower triangle), TIN 2, values in their shortest
 round-trip form) with `dmig.toml`, and `body.op4` (ASCII OUTPUT4, BIGMAT sparse strings, both
@@ -23,6 +32,7 @@ Method: numpy and scipy.sparse (duplicates summed), scipy.io.mmwrite's lower tri
 
 Usage: make-fe-model.py chain --dofs 100000 -o DIR
        make-fe-model.py lattice --dofs 100000 [--nastran] -o DIR
+       make-fe-model.py shell --dofs 500000 -o DIR
 """
 
 import argparse
@@ -119,6 +129,67 @@ def lattice(dofs):
     return k, m, xyz, node_dofs, named
 
 
+def bars(xyz, pairs, area):
+    """K of steel bars of cross-section `area` joining the node pairs (a, b) (index arrays) at
+    coordinates `xyz`: E A / l e e^T on each end's translations (e the unit vector a -> b)."""
+    a, b = pairs
+    d = xyz[b] - xyz[a]
+    length = np.linalg.norm(d, axis=1)
+    e = d / length[:, None]
+    kbar = E * area / length
+    rows, cols, vals = [], [], []
+    for (p, q, s) in [(a, a, 1.0), (b, b, 1.0), (a, b, -1.0), (b, a, -1.0)]:
+        for i in range(3):
+            for j in range(3):
+                rows.append(3 * p + i)
+                cols.append(3 * q + j)
+                vals.append(s * kbar * e[:, i] * e[:, j])
+    n = 3 * len(xyz)
+    k = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(n, n)).tocsr()
+    k.eliminate_zeros()  # e_i e_j of a bar along an axis
+    return k
+
+
+def shell(dofs):
+    """The `shell` kind (module doc)."""
+    nodes = max(dofs // 3, 64)
+    radii = np.array([0.150, 0.160])
+    # square cells at the mean radius, a 4.8 m tube (15 diameters): nz h = 4.8, nt h = 2 pi r
+    aspect = 4.8 / (2 * np.pi * radii.mean())
+    nt = max(16, int(round(np.sqrt(nodes / (2 * aspect)))))
+    nz = max(2, nodes // (2 * nt))
+    h = 2 * np.pi * radii.mean() / nt
+    t, z, r = np.meshgrid(np.arange(nt), np.arange(nz), np.arange(2), indexing="ij")
+    ids = (t * nz + z) * 2 + r
+    ang = 2 * np.pi * t / nt
+    xyz = np.zeros((ids.size, 3))
+    xyz[ids.ravel(), 0] = (radii[r] * np.cos(ang)).ravel()
+    xyz[ids.ravel(), 1] = (radii[r] * np.sin(ang)).ravel()
+    xyz[ids.ravel(), 2] = (h * z).ravel()
+    offsets = [(1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (1, -1, 0), (1, 0, 1), (1, 0, -1),
+               (0, 1, 1), (0, 1, -1), (1, 1, 1), (1, 1, -1), (1, -1, 1), (1, -1, -1)]
+    pa, pb = [], []
+    for o in offsets:
+        # around: periodic (every t has a neighbour t + o[0] mod nt); along and through: bounded
+        sl_a = (slice(None),) + tuple(slice(max(0, -d), n - max(0, d))
+                                      for d, n in zip(o[1:], (nz, 2)))
+        sl_b = (slice(None),) + tuple(slice(max(0, d), n - max(0, -d))
+                                      for d, n in zip(o[1:], (nz, 2)))
+        pa.append(ids[sl_a].ravel())
+        pb.append(np.roll(ids, -o[0], axis=0)[sl_b].ravel())
+    k = bars(xyz, (np.concatenate(pa), np.concatenate(pb)), 1e-5)
+    length = h * (nz - 1)
+    mass = RHO * np.pi * (0.160**2 - 0.150**2) * length / ids.size
+    n = 3 * ids.size
+    m = sp.identity(n, format="csr") * mass
+    node_dofs = np.repeat(np.arange(ids.size), 3), np.tile(np.arange(3), ids.size)
+    third = nt // 3
+    named = {"a0": ids[0, 0, 1], "a1": ids[third, 0, 1], "a2": ids[2 * third, 0, 1],
+             "b0": ids[0, -1, 1], "b1": ids[third, -1, 1], "b2": ids[2 * third, -1, 1]}
+    return k, m, xyz, node_dofs, named
+
+
 def write_dmig(path, mats, node, dof):
     """DMIG cards (module doc): one column card per column, two entries a continuation."""
     with open(path, "w") as f:
@@ -168,14 +239,15 @@ def write_op4(path, mats):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("kind", choices=["chain", "lattice"])
+    p.add_argument("kind", choices=["chain", "lattice", "shell"])
     p.add_argument("--dofs", type=int, required=True, help="about this many DOFs")
     p.add_argument("-o", "--output", type=Path, required=True, help="new folder")
     p.add_argument("--nastran", action="store_true", help="also DMIG and OP4 files and scenes")
     a = p.parse_args()
     if a.output.exists():
         sys.exit(f"{a.output}: exists")
-    k, m, xyz, (node, dof), named = (chain if a.kind == "chain" else lattice)(a.dofs)
+    kinds = {"chain": chain, "lattice": lattice, "shell": shell}
+    k, m, xyz, (node, dof), named = kinds[a.kind](a.dofs)
     a.output.mkdir(parents=True)
     for name, mat in [("stiffness.mtx", k), ("mass.mtx", m)]:
         low = sp.tril(mat).tocsr()

@@ -103,6 +103,20 @@ fn dmig_chain_in_small_large_and_free_field_has_the_closed_form_eigenvalues() {
     )
     .unwrap();
     assert_eq!(kf.dense(&g).unwrap(), known);
+    // Column cards before their header card (a deck may order them so): the same matrix.
+    let early = write_file(
+        &dir,
+        "early.bdf",
+        "DMIG,STIFF,1,1,,1,1,2000.\n,2,1,-1000.\nDMIG,STIFF,0,6,2,0\nDMIG,STIFF,2,1,,2,1,1000.\n",
+    );
+    let ((_, _), (ke, _), _) = dmig::read_pair(
+        named(&f, "MASS", "fe.mass_matrix"),
+        named(&early, "STIFF", "fe.stiffness_matrix"),
+        &ns,
+        &np,
+    )
+    .unwrap();
+    assert_eq!(ke.dense(&early).unwrap(), known);
     // Two matrices in the file and no name: the key that names one.
     let e = dmig::read_pair(
         Named {
@@ -146,6 +160,18 @@ fn bad_dmig_cards_are_refused_naming_file_and_line() {
         small(&f)
     };
     let cases: Vec<(String, &str, &str)> = vec![
+        // A column card and no header card, and a header given twice (the cards are read one
+        // at a time: each named at its own line).
+        (
+            col(&["1", "1", "2000."]),
+            "bad.bdf:1:",
+            "DMIG STIFF: a column card but no header card",
+        ),
+        (
+            head.clone() + &col(&["1", "1", "2000."]) + &head,
+            "bad.bdf:3:",
+            "DMIG STIFF: a second header card (the first on line 1)",
+        ),
         // Truncated: the file ends after a row's GRID and component, before its value.
         (
             head.clone() + &col(&["1", "1", "2000."]) + "+       2       1\n",

@@ -60,7 +60,8 @@ static = true
 critical_map = true
 "#;
 
-fn f64s(f: &hdf5::File, path: &str) -> Vec<f64> {
+/// A dataset of `f` as f64 values (panics naming the path).
+pub(crate) fn f64s(f: &hdf5::File, path: &str) -> Vec<f64> {
     f.dataset(path)
         .unwrap_or_else(|e| panic!("{path}: {e}"))
         .read_raw()

@@ -35,27 +35,60 @@ use crate::support::{scratch, write_file};
 const TAU: f64 = std::f64::consts::TAU;
 /// Ring of steel (E, ρ), mean radius R = 0.5 m, rectangular section 20 mm wide (axial) and
 /// 5 mm thick (radial): thin, h/R = 0.01, so extension and rotary inertia stay far below 1 %.
-const E_MOD: f64 = 210e9;
-const RHO: f64 = 7850.0;
-const R: f64 = 0.5;
-const WIDTH: f64 = 0.02;
-const THICK: f64 = 0.005;
+pub(crate) const E_MOD: f64 = 210e9;
+pub(crate) const RHO: f64 = 7850.0;
+pub(crate) const R: f64 = 0.5;
+pub(crate) const WIDTH: f64 = 0.02;
+pub(crate) const THICK: f64 = 0.005;
 /// Straight beam elements round the ring.
-const ELEMENTS: usize = 120;
+pub(crate) const ELEMENTS: usize = 120;
 
-fn area() -> f64 {
+pub(crate) fn area() -> f64 {
     WIDTH * THICK
 }
 
 /// In-plane bending second moment [m⁴].
-fn inertia() -> f64 {
+pub(crate) fn inertia() -> f64 {
     WIDTH * THICK.powi(3) / 12.0
 }
 
 /// ω₀ of the n-lobe in-plane mode [rad/s] (module doc).
-fn omega0(n: f64) -> f64 {
+pub(crate) fn omega0(n: f64) -> f64 {
     let n2 = n * n;
     (E_MOD * inertia() * n2 * (n2 - 1.0).powi(2) / (RHO * area() * R.powi(4) * (n2 + 1.0))).sqrt()
+}
+
+/// The ring's node positions (x, y) [m]: `ELEMENTS` equally spaced round the circle of radius
+/// `R` from +x.
+pub(crate) fn ring_nodes() -> Vec<[f64; 2]> {
+    (0..ELEMENTS)
+        .map(|i| {
+            let a = TAU * i as f64 / ELEMENTS as f64;
+            [R * a.cos(), R * a.sin()]
+        })
+        .collect()
+}
+
+/// The cubic beam element's bending stiffness per EI/L³ over (w₁, θ₁, w₂, θ₂), θ = dw/dx
+/// (Przemieniecki, ch. 5).
+pub(crate) fn bending(l: f64) -> [[f64; 4]; 4] {
+    [
+        [12.0, 6.0 * l, -12.0, 6.0 * l],
+        [6.0 * l, 4.0 * l * l, -6.0 * l, 2.0 * l * l],
+        [-12.0, -6.0 * l, 12.0, -6.0 * l],
+        [6.0 * l, 2.0 * l * l, -6.0 * l, 4.0 * l * l],
+    ]
+}
+
+/// The consistent geometric stiffness of an axial force T per T/(30L) over (w₁, θ₁, w₂, θ₂)
+/// (Przemieniecki, ch. 15).
+pub(crate) fn geometric(l: f64) -> [[f64; 4]; 4] {
+    [
+        [36.0, 3.0 * l, -36.0, 3.0 * l],
+        [3.0 * l, 4.0 * l * l, -3.0 * l, -l * l],
+        [-36.0, -3.0 * l, 36.0, -3.0 * l],
+        [3.0 * l, -l * l, -3.0 * l, 4.0 * l * l],
+    ]
 }
 
 /// The ring's M, K and ΔK (the geometric stiffness of the hoop tension at `omega_ref`) over
@@ -70,12 +103,7 @@ fn ring_body(dir: &std::path::Path, omega_ref: f64, kind: StressKind) -> BodyFil
     let mut m = DMatrix::zeros(n, n);
     let mut k = DMatrix::zeros(n, n);
     let mut dk = DMatrix::zeros(n, n);
-    let pos: Vec<[f64; 2]> = (0..ELEMENTS)
-        .map(|i| {
-            let a = TAU * i as f64 / ELEMENTS as f64;
-            [R * a.cos(), R * a.sin()]
-        })
-        .collect();
+    let pos = ring_nodes();
     let tension = RHO * area() * R * R * omega_ref * omega_ref;
     for i in 0..ELEMENTS {
         let j = (i + 1) % ELEMENTS;
@@ -93,18 +121,8 @@ fn ring_body(dir: &std::path::Path, omega_ref: f64, kind: StressKind) -> BodyFil
         }
         let ea = E_MOD * area() / l;
         let ei = E_MOD * inertia() / l.powi(3);
-        let bend = [
-            [12.0, 6.0 * l, -12.0, 6.0 * l],
-            [6.0 * l, 4.0 * l * l, -6.0 * l, 2.0 * l * l],
-            [-12.0, -6.0 * l, 12.0, -6.0 * l],
-            [6.0 * l, 2.0 * l * l, -6.0 * l, 4.0 * l * l],
-        ];
-        let geo = [
-            [36.0, 3.0 * l, -36.0, 3.0 * l],
-            [3.0 * l, 4.0 * l * l, -3.0 * l, -l * l],
-            [-36.0, -3.0 * l, 36.0, -3.0 * l],
-            [3.0 * l, -l * l, -3.0 * l, 4.0 * l * l],
-        ];
+        let bend = bending(l);
+        let geo = geometric(l);
         let tr = [1, 2, 4, 5];
         let mut kl = SMatrix::<f64, 6, 6>::zeros();
         let mut gl = SMatrix::<f64, 6, 6>::zeros();
@@ -175,20 +193,14 @@ fn lobe_pair(body: &ReadBody, omega: f64, lobes: i32, stressed: bool) -> Vec<f64
         false => DMatrix::zeros(n, n),
     };
     let minv = DMatrix::from_diagonal(&body.m.diagonal().map(|x| 1.0 / x));
-    let keff = &body.k - omega * omega * (&t.e - &ks);
-    let mut a = DMatrix::zeros(2 * n, 2 * n);
-    a.view_mut((0, n), (n, n)).fill_with_identity();
-    a.view_mut((n, 0), (n, n)).copy_from(&(-&minv * keff));
-    a.view_mut((n, n), (n, n))
-        .copy_from(&(-2.0 * omega * &minv * &t.gc));
-    let (values, vectors) = eigen::general(&a).unwrap();
+    let (values, vectors) = body_frame_modes(&minv, &body.k, &t.gc, &t.e, &ks, omega);
     let nodes = n / 3;
     let mut out = Vec::new();
     for (col, l) in values.iter().enumerate() {
         if l.im <= 0.0 {
             continue;
         }
-        // Radial displacement w_i = cos a_i u_x + sin a_i u_y (complex), and its harmonics.
+        // Radial displacement w_i = cos a_i u_x + sin a_i u_y (complex).
         let w: Vec<(f64, f64)> = (0..nodes)
             .map(|i| {
                 let ang = TAU * i as f64 / nodes as f64;
@@ -199,24 +211,52 @@ fn lobe_pair(body: &ReadBody, omega: f64, lobes: i32, stressed: bool) -> Vec<f64
                 )
             })
             .collect();
-        let total: f64 = w.iter().map(|(r, i)| r * r + i * i).sum::<f64>() * nodes as f64;
-        let harmonic = |k: f64| {
-            let (mut re, mut im) = (0.0, 0.0);
-            for (i, (wr, wi)) in w.iter().enumerate() {
-                let (s, c) = (k * TAU * i as f64 / nodes as f64).sin_cos();
-                re += wr * c + wi * s;
-                im += wi * c - wr * s;
-            }
-            re * re + im * im
-        };
-        let k = f64::from(lobes);
-        if (harmonic(k) + harmonic(-k)) >= 0.9 * total {
+        if mostly_harmonic(&w, lobes) {
             out.push(l.im);
         }
     }
     out.sort_by(f64::total_cmp);
     out.truncate(2);
     out
+}
+
+/// The eigenvalues and eigenvectors (over (q, q̇)) of the body-frame equations
+/// M q̈ + 2Ω G_c q̇ + (K − Ω²(E − K_σ)) q = 0 at spin `omega` [rad/s], `minv` = M⁻¹.
+pub(crate) fn body_frame_modes(
+    minv: &DMatrix<f64>,
+    k: &DMatrix<f64>,
+    gc: &DMatrix<f64>,
+    e: &DMatrix<f64>,
+    ks: &DMatrix<f64>,
+    omega: f64,
+) -> (Vec<faer::c64>, faer::Mat<faer::c64>) {
+    let n = k.nrows();
+    let keff = k - omega * omega * (e - ks);
+    let mut a = DMatrix::zeros(2 * n, 2 * n);
+    a.view_mut((0, n), (n, n)).fill_with_identity();
+    a.view_mut((n, 0), (n, n)).copy_from(&(-minv * keff));
+    a.view_mut((n, n), (n, n))
+        .copy_from(&(-2.0 * omega * minv * gc));
+    eigen::general(&a).unwrap()
+}
+
+/// Whether at least 90 % of the radial displacement `w` (complex, at equally spaced angles
+/// round the ring) is the harmonic of order ±`lobes` (by the discrete Fourier sums: Parseval,
+/// Σ_k |W_k|² = N Σ |w_i|²).
+pub(crate) fn mostly_harmonic(w: &[(f64, f64)], lobes: i32) -> bool {
+    let points = w.len() as f64;
+    let total: f64 = w.iter().map(|(r, i)| r * r + i * i).sum::<f64>() * points;
+    let harmonic = |k: f64| {
+        let (mut re, mut im) = (0.0, 0.0);
+        for (i, (wr, wi)) in w.iter().enumerate() {
+            let (s, c) = (k * TAU * i as f64 / points).sin_cos();
+            re += wr * c + wi * s;
+            im += wi * c - wr * s;
+        }
+        re * re + im * im
+    };
+    let k = f64::from(lobes);
+    harmonic(k) + harmonic(-k) >= 0.9 * total
 }
 
 /// The stress-stiffened mean frequency √(ω₀² + SΩ²) and Bryan's factor of the 2- and 3-lobe
@@ -381,12 +421,7 @@ pub(crate) fn stressed_shaft(dir: &std::path::Path) -> (std::path::PathBuf, std:
     let mut dk = DMatrix::zeros(n, n);
     for e in 0..z.len() - 1 {
         let l = z[e + 1] - z[e];
-        let geo = [
-            [36.0, 3.0 * l, -36.0, 3.0 * l],
-            [3.0 * l, 4.0 * l * l, -3.0 * l, -l * l],
-            [-36.0, -3.0 * l, 36.0, -3.0 * l],
-            [3.0 * l, -l * l, -3.0 * l, 4.0 * l * l],
-        ];
+        let geo = geometric(l);
         // x–z plane (u_x, θ_y = slope), y–z plane (u_y, θ_x = −slope): `fe`'s convention.
         for (w, rot, sign) in [(0, 4, 1.0), (1, 3, -1.0)] {
             let idx = [6 * e + w, 6 * e + rot, 6 * e + 6 + w, 6 * e + 6 + rot];
@@ -504,11 +539,23 @@ fn modes_and_campbell_of_a_stressed_body_follow_the_tensioned_beam() {
 /// more than half of itself).
 #[test]
 fn simulation_of_a_stressed_body_has_the_linear_unbalance_response() {
+    let dir = scratch("stressed-run");
+    let (plain, stressed) = stressed_shaft(&dir);
+    simulation_has_the_linear_unbalance_response(&plain, &stressed, false);
+}
+
+/// The checks of `simulation_of_a_stressed_body_has_the_linear_unbalance_response` on the
+/// scenes `plain` and `stressed` (the same body without and with its stress stiffness),
+/// `solid` whether they attach it as a solid body; the stressed body's `linear` response at
+/// the sensor [m] (vertical, complex).
+pub(crate) fn simulation_has_the_linear_unbalance_response(
+    plain: &std::path::Path,
+    stressed: &std::path::Path,
+    solid: bool,
+) -> nalgebra::Complex<f64> {
     use rotorsweep::dynamics::model::Model;
     use rotorsweep::dynamics::LinearSystem;
     use rotorsweep::linear::response::sensor_response;
-    let dir = scratch("stressed-run");
-    let (plain, stressed) = stressed_shaft(&dir);
     let hz = 140.0;
     let w = TAU * hz;
     let response = |path: &std::path::Path| {
@@ -520,8 +567,13 @@ fn simulation_of_a_stressed_body_has_the_linear_unbalance_response() {
             sensor_response(&sys, w, &sys.unbalance).unwrap()[0].vertical,
         )
     };
-    let (_, _, free) = response(&plain);
-    let (scene, model, lin) = response(&stressed);
+    let (_, _, free) = response(plain);
+    let (scene, model, lin) = response(stressed);
+    assert_eq!(
+        scene.body.as_ref().is_some_and(|b| b.solid.is_some()),
+        solid,
+        "attached as a solid body: {solid}"
+    );
     let change = (lin - free).norm() / lin.norm();
     println!(
         "linear at {hz} Hz: stressed {:.3e} m at {:.1}°, plain {:.3e} m at {:.1}°",
@@ -558,6 +610,7 @@ fn simulation_of_a_stressed_body_has_the_linear_unbalance_response() {
         got.norm()
     );
     assert!(dphi.abs() < 1.0, "phase off by {dphi}°");
+    lin
 }
 
 /// Bad stress-stiffness input: a matrix not symmetric (the entry and its node DOFs named), of

@@ -81,6 +81,23 @@ fn expand_tabs(l: &str) -> String {
 /// The cards of bulk-data text and its `$ units:` comment with its line (module doc); `path`
 /// names the file in errors.
 pub fn cards(path: &Path, text: &str) -> Result<(Vec<Card>, UnitsComment), InputError> {
+    let mut out = Vec::new();
+    let units = for_each_card(path, text, |c| {
+        out.push(c);
+        Ok(())
+    })?;
+    Ok((out, units))
+}
+
+/// Hands each card of bulk-data text to `each` as soon as it is complete (its continuation
+/// lines read), in file order, so a reader need not hold every card's fields at once; the
+/// `$ units:` comment with its line (module doc). The first error, the text's or `each`'s,
+/// stops the reading.
+pub fn for_each_card(
+    path: &Path,
+    text: &str,
+    mut each: impl FnMut(Card) -> Result<(), InputError>,
+) -> Result<UnitsComment, InputError> {
     let err = |line: usize, r: String| InputError::new(path, r).at_line(line);
     let upper_start = |l: &str| l.trim_start().to_ascii_uppercase();
     let has_begin_bulk = text.lines().any(|l| {
@@ -88,7 +105,7 @@ pub fn cards(path: &Path, text: &str) -> Result<(Vec<Card>, UnitsComment), Input
         u.starts_with("BEGIN") && u.split_whitespace().any(|w| w == "BULK")
     });
     let mut in_bulk = !has_begin_bulk;
-    let mut out: Vec<Card> = Vec::new();
+    let mut open: Option<Card> = None;
     let mut units = None;
     for (i, raw) in text.lines().enumerate() {
         let no = i + 1;
@@ -126,7 +143,7 @@ pub fn cards(path: &Path, text: &str) -> Result<(Vec<Card>, UnitsComment), Input
         }
         let first = line.as_bytes()[0];
         let continuation = matches!(first, b'+' | b'*' | b',' | b' ');
-        if continuation && out.is_empty() {
+        if continuation && open.is_none() {
             return Err(err(
                 no,
                 format!("a continuation line with no card before it: `{line}`"),
@@ -196,17 +213,23 @@ pub fn cards(path: &Path, text: &str) -> Result<(Vec<Card>, UnitsComment), Input
             (name_field.trim().to_ascii_uppercase(), large, fields)
         };
         if continuation {
-            out.last_mut().expect("checked").fields.extend(fields);
+            open.as_mut().expect("checked").fields.extend(fields);
         } else {
-            out.push(Card {
+            let card = Card {
                 name: name.trim_end_matches('*').to_string(),
                 line: no,
                 large,
                 fields,
-            });
+            };
+            if let Some(done) = open.replace(card) {
+                each(done)?;
+            }
         }
     }
-    Ok((out, units))
+    if let Some(done) = open {
+        each(done)?;
+    }
+    Ok(units)
 }
 
 /// A Nastran real number (module doc), finite; `None` if the text is none.

@@ -17,7 +17,10 @@
 //! in a real matrix or a field that does not parse (a value wider than its field), an entry
 //! given twice, an entry with no value (a truncated file), a symmetric matrix whose two
 //! triangles both give an entry and disagree, a square matrix that is not symmetric.
-//! Method: MSC Nastran Quick Reference Guide, DMIG: a symmetric matrix (IFO 6) gives each
+//! Method: the cards are read one at a time ([`bulk::for_each_card`]) and each column card's
+//! entries kept as numbers, so the cards' text fields are never all held at once (only column
+//! cards that come before their header card wait). MSC Nastran Quick Reference Guide, DMIG: a
+//! symmetric matrix (IFO 6) gives each
 //! off-diagonal entry in either triangle, mirrored here; both given must agree (to 1e-10 of
 //! the largest entry; Nastran refuses both, rotorsweep accepts agreeing ones); a square one
 //! (IFO 1) gives both, which must agree likewise. Other cards of a deck are skipped.
@@ -69,42 +72,44 @@ fn read_file(
 ) -> Result<(BTreeMap<String, Dmig>, UnitsComment), InputError> {
     let text = read_text_up_to(path, bulk::MAX_BYTES)
         .map_err(|e| InputError::new(path, format!("cannot read the DMIG file: {e}")))?;
-    let (cards, units) = bulk::cards(path, &text)?;
     let ids: std::collections::HashSet<i64> = nodes.iter().map(|n| n.id).collect();
-    let mut headers: BTreeMap<String, (i64, usize)> = BTreeMap::new();
-    let mut columns: Vec<&Card> = Vec::new();
-    for c in cards.iter().filter(|c| c.name == "DMIG") {
+    let mut out: BTreeMap<String, Dmig> = BTreeMap::new();
+    // Column cards that come before their matrix's header card (read once the file is).
+    let mut early: Vec<Card> = Vec::new();
+    let units = bulk::for_each_card(path, &text, |c| {
+        if c.name != "DMIG" {
+            return Ok(());
+        }
         let name = c.fields[0].text.to_ascii_uppercase();
         if name.is_empty() {
             return Err(InputError::new(path, "a DMIG card without a matrix name").at_line(c.line));
         }
         if integer(path, &c.fields[1], 3)? == Some(0) {
-            let form = header(path, c)?;
-            if let Some((_, first)) = headers.insert(name.clone(), (form, c.line)) {
+            let form = header(path, &c)?;
+            if let Some(first) = out.get(&name) {
                 return Err(InputError::new(
                     path,
-                    format!("DMIG {name}: a second header card (the first on line {first})"),
+                    format!(
+                        "DMIG {name}: a second header card (the first on line {})",
+                        first.line
+                    ),
                 )
                 .at_line(c.line));
             }
+            let m = Dmig {
+                form,
+                line: c.line,
+                entries: Vec::new(),
+            };
+            out.insert(name, m);
+        } else if let Some(m) = out.get_mut(&name) {
+            column(path, &c, &ids, nodes_file, &mut m.entries)?;
         } else {
-            columns.push(c);
+            early.push(c);
         }
-    }
-    let mut out: BTreeMap<String, Dmig> = headers
-        .iter()
-        .map(|(n, &(form, line))| {
-            (
-                n.clone(),
-                Dmig {
-                    form,
-                    line,
-                    entries: Vec::new(),
-                },
-            )
-        })
-        .collect();
-    for c in columns {
+        Ok(())
+    })?;
+    for c in early {
         let name = c.fields[0].text.to_ascii_uppercase();
         let m = out.get_mut(&name).ok_or_else(|| {
             InputError::new(
@@ -115,7 +120,7 @@ fn read_file(
             )
             .at_line(c.line)
         })?;
-        column(path, c, &ids, nodes_file, &mut m.entries)?;
+        column(path, &c, &ids, nodes_file, &mut m.entries)?;
     }
     for (name, m) in &mut out {
         check(path, name, m)?;
