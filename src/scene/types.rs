@@ -331,6 +331,10 @@ pub struct Nip {
     /// The outer surfaces' roundness of roll_a and roll_b at the nip over their body angles
     /// [m]: the roll's own, and on the covered roll its cover's after it (empty: round).
     pub surfaces: (Vec<Harmonic>, Vec<Harmonic>),
+    /// The rolls' crown at each segment centre [m]: how far their outer surfaces together stand
+    /// proud of the straight rolls there, narrowing the gap (`crown_um`, a parabola over the
+    /// contact range, zero at its ends; empty: straight rolls).
+    pub crown: Vec<f64>,
 }
 
 /// A nip's contact law per segment (`machine.rs` gives the relations).
