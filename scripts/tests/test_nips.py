@@ -35,6 +35,21 @@ def binary() -> Path:
     return b
 
 
+def run_study(tmp_path: Path, name: str, key: str, values: list[float]) -> Path:
+    """The results of a study of the shipped nip over one axis ``key`` = ``values``."""
+    study = tmp_path / "study.toml"
+    study.write_text(
+        f'name = "{name}"\nscene = "{SCENE.as_posix()}"\n'
+        f'[[axes]]\nkey = "{key}"\nvalues = {values!r}\n'
+    )
+    out = tmp_path / "study.h5"
+    p = subprocess.run(
+        [str(binary()), "run", str(study), "-o", str(out)], capture_output=True, text=True, timeout=600
+    )
+    assert p.returncode == 0, p.stderr
+    return out
+
+
 @pytest.fixture(scope="module")
 def nip_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("nips") / "nip.h5"
@@ -96,16 +111,7 @@ def test_band_width_is_the_winkler_layers(nip_file: Path) -> None:
 
 
 def test_a_study_sweeps_the_line_load(tmp_path: Path) -> None:
-    study = tmp_path / "study.toml"
-    study.write_text(
-        f'name = "nip-load"\nscene = "{SCENE.as_posix()}"\n'
-        '[[axes]]\nkey = "nips[0].line_load_kn_per_m"\nvalues = [5.0, 10.0]\n'
-    )
-    out = tmp_path / "study.h5"
-    p = subprocess.run(
-        [str(binary()), "run", str(study), "-o", str(out)], capture_output=True, text=True, timeout=600
-    )
-    assert p.returncode == 0, p.stderr
+    out = run_study(tmp_path, "nip-load", "nips[0].line_load_kn_per_m", [5.0, 10.0])
     df = rp.summary(out)
     totals = {
         float(row["nips[0].line_load_kn_per_m"]): float(rp.nip_forces(out, row["job_id"], nip="press").sum("z_mm").mean())
@@ -184,3 +190,70 @@ def test_nip_orders_draws_each_rolls_own_orders() -> None:
     assert list(lines["2× of covered"].get_ydata()) == [7.0, 9.0]
     assert lines["2× of covered"].get_linestyle() == "--"
     assert list(lines["2×"].get_ydata()) == [20.0, 30.0]
+
+
+def test_barring_map_figures_of_a_barring_file(tmp_path: Path) -> None:
+    """`rotorsweep barring -o` on the shipped barring nip at two speeds: the figures read it as
+    a barring file and draw its map and frequencies; the growth they draw is the file's."""
+    import h5py
+
+    from rotorsweep.figures._common import file_kind
+    from rotorsweep.figures.run import render
+
+    scene = ROOT / "studies" / "scenes" / "two-roll-nip-barring.toml"
+    out = tmp_path / "map.h5"
+    p = subprocess.run(
+        [str(binary()), "barring", str(scene), "--speeds", "9:13:2", "--loads-kn-per-m", "10", "-o", str(out)],
+        capture_output=True, text=True, timeout=600,
+    )
+    assert p.returncode == 0, p.stderr
+    assert file_kind(out) == "barring"
+    with h5py.File(out, "r") as f:
+        g = f["barring/press"]
+        assert g["growth_per_s"].shape == (1, 2)
+        assert list(g["speeds_hz"][()]) == [9.0, 13.0]
+        # 9 Hz stable, 13 Hz bars (docs/machines.md): the onset is 13 Hz on this grid.
+        assert list(g["stable"][0]) == [1.0, 0.0]
+        assert g["onset_speed_hz"][0] == 13.0
+    written = [q.name for q in render(out, tmp_path / "plots")]
+    assert written == ["barring_map.png", "barring_frequency.png"]
+
+
+def test_nip_spectrum_of_a_speed_sweep(tmp_path: Path) -> None:
+    """A two-speed study of the shipped nip gets the spectrum map over speed; each job's column
+    spans 0 to the Nyquist frequency in steps of 1/(record length), and a sine injected into
+    the force reads back its amplitude (the Hann window's scaling)."""
+    import numpy as np
+
+    from rotorsweep.figures.nips import _nip_spectra
+    from rotorsweep.figures.run import render
+
+    out = run_study(tmp_path, "nip-speeds", "speed.hz", [5.0, 6.0])
+    jobs = list(rp.summary(out)["job_id"])
+    spectra = _nip_spectra(out, jobs)["press"]
+    for job in jobs:
+        freq, amp = spectra[job]
+        t = rp.nip_forces(out, job, nip="press")["time"].to_numpy()
+        n, dt = len(t), float(np.median(np.diff(t)))
+        assert len(freq) == n // 2 + 1
+        assert freq[1] == pytest.approx(1.0 / (n * dt), rel=1e-9)
+    # A 7 N sine on a bin of a job's force (the file copied and edited): +7 N at that bin.
+    import shutil
+
+    import h5py
+
+    edited = tmp_path / "edited.h5"
+    shutil.copy(out, edited)
+    job = jobs[0]
+    freq, before = spectra[job]
+    k = int(np.argmin(np.abs(freq - 300.0)))
+    with h5py.File(edited, "r+") as f:
+        ds = f[f"jobs/{job}/nips/press/force"]
+        t = f[f"jobs/{job}/nips/press/time"][()]
+        force = ds[()]
+        force[0] += 7.0 * np.sin(2 * np.pi * freq[k] * (t - t[0]))
+        ds[...] = force
+    _, after = _nip_spectra(edited, [job])["press"][job]
+    assert after[k] - before[k] == pytest.approx(7.0, rel=2e-2)
+    written = [q.name for q in render(out, tmp_path / "plots")]
+    assert "nip_spectrum.png" in written

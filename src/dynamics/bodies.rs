@@ -546,8 +546,8 @@ pub fn run(machine: &Machine, first: &Model) -> JobResult {
         let v = b.sys.quiescent_velocity(&sys.part(i, &q0), st0[i].1);
         v0.rows_mut(b.offset, b.sys.n).copy_from(&v);
     }
-    let mut recs: Vec<Recorder> = (sys.bodies.iter().zip(&machine.rolls))
-        .map(|(b, r)| Recorder::new(&b.sys, &r.scene).with_surface(&r.roundness))
+    let mut recs: Vec<Recorder> = (sys.bodies.iter().zip(&machine.rolls).enumerate())
+        .map(|(i, (b, r))| Recorder::new(&b.sys, &r.scene).with_surface(&machine.outer_surface(i)))
         .collect();
     let (settle, dt, t_end) = (recs[0].next, recs[0].dt, recs[0].t_end);
     let mut next = settle;

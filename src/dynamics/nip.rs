@@ -10,7 +10,8 @@
 //! Method: a segment's centre on each roll moves u = R(θ) Φ(z) p in the inertial frame, with
 //! Φ(z) the lateral rows of the mode shapes interpolated linearly between the two nodes around
 //! z; its inertial velocity is R(θ)(Φ ṗ + Ω S Φ p), S = [[0, −1], [1, 0]]. The penetration is
-//! δ = n·(u_a − u_b) − gap, so δ = J q − gap with the row J = [nᵀR_aΦ_a, −nᵀR_bΦ_b] and
+//! δ = n·(u_a − u_b) − gap + c(z) (c the rolls' crown at the segment, scene `machine.rs`),
+//! so δ = J q − gap + c with the row J = [nᵀR_aΦ_a, −nᵀR_bΦ_b] and
 //! δ̇ = J q̇ + J̃ q, J̃ = [Ω_a nᵀR_aSΦ_a, −Ω_b nᵀR_bSΦ_b]. The generalized force is −Jᵀ F.
 //! Laws per segment of length L (scene `machine.rs`): linear k L δ (tension too); Hertz
 //! k δ^e; a Winkler cover L (4√2/3) k_f √R δ^1.5; the damping c L δ̇ while in contact, the
@@ -121,13 +122,22 @@ pub struct RollView<'a> {
     pub pd: &'a [f64],
 }
 
+/// rows · p over the first `rows.ncols()` entries of p (the column-major storage read in pairs:
+/// the same sums, in the same order, as indexing, without the bounds checks).
 fn times(rows: &DMatrix<f64>, p: &[f64]) -> Vector2<f64> {
     let mut out = Vector2::zeros();
-    for (j, x) in p.iter().enumerate().take(rows.ncols()) {
-        out.x += rows[(0, j)] * x;
-        out.y += rows[(1, j)] * x;
+    for (c, x) in rows.as_slice().chunks_exact(2).zip(p) {
+        out.x += c[0] * x;
+        out.y += c[1] * x;
     }
     out
+}
+
+/// f += rowsᵀ g (rows 2 × n column-major, f of length n at least).
+fn add_transposed(f: &mut [f64], rows: &DMatrix<f64>, g: &Vector2<f64>) {
+    for (o, c) in f.iter_mut().zip(rows.as_slice().chunks_exact(2)) {
+        *o += c[0] * g.x + c[1] * g.y;
+    }
 }
 
 impl NipSys {
@@ -179,11 +189,15 @@ impl NipSys {
         let surface = if runout { self.runout(a, b) } else { None };
         self.rows
             .iter()
-            .map(|(ra, rb)| {
+            .enumerate()
+            .map(|(j, (ra, rb))| {
                 let (ua, ub) = (times(ra, a.p), times(rb, b.p));
                 let va = a.rot * (times(ra, a.pd) + a.omega * s * ua);
                 let vb = b.rot * (times(rb, b.pd) + b.omega * s * ub);
-                let delta = n.dot(&(a.rot * ua - b.rot * ub)) - self.nip.gap;
+                let mut delta = n.dot(&(a.rot * ua - b.rot * ub)) - self.nip.gap;
+                if let Some(c) = self.nip.crown.get(j) {
+                    delta += c;
+                }
                 let rate = n.dot(&(va - vb));
                 match surface {
                     Some((h, dh)) => (delta + h, rate + dh),
@@ -287,19 +301,20 @@ impl NipSys {
         out_b: &mut [f64],
     ) {
         let n = Vector2::new(self.nip.normal[0], self.nip.normal[1]);
-        let mut fa = DVector::zeros(out_a.len());
-        let mut fb = DVector::zeros(out_b.len());
+        // Summed over the segments first, then added (the order of the sums kept).
+        let mut fa = vec![0.0; out_a.len()];
+        let mut fb = vec![0.0; out_b.len()];
         for ((ra, rb), s) in self.rows.iter().zip(seg) {
             // On roll_a −F n, on roll_b +F n (inertial), into the body frame by Rᵀ.
             let ga = a.transpose() * (-s.force * n);
             let gb = b.transpose() * (s.force * n);
-            fa.gemv_tr(1.0, ra, &DVector::from_column_slice(ga.as_slice()), 1.0);
-            fb.gemv_tr(1.0, rb, &DVector::from_column_slice(gb.as_slice()), 1.0);
+            add_transposed(&mut fa, ra, &ga);
+            add_transposed(&mut fb, rb, &gb);
         }
-        for (o, f) in out_a.iter_mut().zip(fa.iter()) {
+        for (o, f) in out_a.iter_mut().zip(&fa) {
             *o += f;
         }
-        for (o, f) in out_b.iter_mut().zip(fb.iter()) {
+        for (o, f) in out_b.iter_mut().zip(&fb) {
             *o += f;
         }
     }

@@ -293,6 +293,13 @@ pub const MACHINE_DOCS: &[KeyDoc] = &[
         meaning: "Nip loading: q (to − from) pressing roll_b toward roll_a, split evenly over roll_b's support nodes.",
     },
     KeyDoc {
+        key: "nips[].crown_um",
+        units: "µm",
+        default: "none (straight rolls)",
+        range: "finite, |C| below the smaller radius",
+        meaning: "The rolls' crown C (both outer surfaces together, at the middle of the contact range against its ends; negative: concave): narrows the gap at z by C (1 − ((z − z_m)/(½(to − from)))²), a parabola over [from_mm, to_mm].",
+    },
+    KeyDoc {
         key: "webs",
         units: "",
         default: "none",

@@ -32,6 +32,11 @@
 //! µm → m) give each roll's outer surface at the nip (`Nip::surfaces`, the cover's after the
 //! roll's own); `cover_roundness` only on a `cover` nip.
 //!
+//! Crown: `crown_um` C (the rolls' outer surfaces together, at the middle of the contact range
+//! against its ends; negative: concave) narrows the gap at a segment centre z by
+//! C (1 − ((z − z_m)/(½(to − from)))²), z_m the range's middle (a parabolic crown, the usual
+//! grinding form); |C| below the smaller radius.
+//!
 //! `--set` on a machine: its own keys (`rolls[i].…`, `nips[i].…`); `simulation.*`, `solver.*`,
 //! `outputs.*` and `speed.*` go to the first roll's scene (after its `set`); any other key is an
 //! error saying so.
@@ -377,12 +382,33 @@ fn nip(
     if d == 0.0 {
         return Err(c.err(&format!("rolls[{b}].position_mm"), "on the axis of roll_a"));
     }
+    let z: Vec<f64> = (0..n.segments)
+        .map(|j| z0 + (j as f64 + 0.5) * segment_length)
+        .collect();
+    let crown = match n.crown_um {
+        None => Vec::new(),
+        Some(v) => {
+            let c_m = 1e-6 * c.finite(&key("crown_um"), v)?;
+            if c_m.abs() >= ra.min(rb) {
+                return Err(c.err(
+                    &key("crown_um"),
+                    format!(
+                        "must be smaller than the rolls' radii ({} mm), got {} mm",
+                        1e3 * ra.min(rb),
+                        1e3 * c_m
+                    ),
+                ));
+            }
+            let (mid, half) = (0.5 * (z0 + z1), 0.5 * (z1 - z0));
+            (z.iter())
+                .map(|zj| c_m * (1.0 - ((zj - mid) / half).powi(2)))
+                .collect()
+        }
+    };
     Ok(Nip {
         name: n.name.clone(),
         rolls: (a, b),
-        z: (0..n.segments)
-            .map(|j| z0 + (j as f64 + 0.5) * segment_length)
-            .collect(),
+        z,
         segment_length,
         normal: [(pb[0] - pa[0]) / d, (pb[1] - pa[1]) / d],
         gap: d - ra - rb,
@@ -394,6 +420,7 @@ fn nip(
         )?,
         line_load,
         surfaces,
+        crown,
     })
 }
 

@@ -61,6 +61,7 @@ pub(crate) struct NipFile {
     pub cover_roundness: Vec<HarmonicFile>,
     pub damping_ns_per_m2: Option<f64>,
     pub line_load_kn_per_m: Option<f64>,
+    pub crown_um: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

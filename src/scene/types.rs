@@ -284,6 +284,27 @@ pub struct Machine {
     pub webs: Vec<Web>,
 }
 
+impl Machine {
+    /// The outer surface of roll `i` as its sensors see it: its `roundness`, then the
+    /// `cover_roundness` of the first nip with a cover on it (`Nip::surfaces` holds the roll's
+    /// own harmonics first and its cover's after them).
+    pub fn outer_surface(&self, i: usize) -> Vec<Harmonic> {
+        let own = &self.rolls[i].roundness;
+        let cover = self.nips.iter().find_map(|n| {
+            let side = match n.rolls {
+                (a, _) if a == i => &n.surfaces.0,
+                (_, b) if b == i => &n.surfaces.1,
+                _ => return None,
+            };
+            (side.len() > own.len()).then(|| &side[own.len()..])
+        });
+        own.iter()
+            .chain(cover.into_iter().flatten())
+            .cloned()
+            .collect()
+    }
+}
+
 /// One roll of a machine.
 #[derive(Debug, Clone)]
 pub struct MachineRoll {
@@ -331,6 +352,10 @@ pub struct Nip {
     /// The outer surfaces' roundness of roll_a and roll_b at the nip over their body angles
     /// [m]: the roll's own, and on the covered roll its cover's after it (empty: round).
     pub surfaces: (Vec<Harmonic>, Vec<Harmonic>),
+    /// The rolls' crown at each segment centre [m]: how far their outer surfaces together stand
+    /// proud of the straight rolls there, narrowing the gap (`crown_um`, a parabola over the
+    /// contact range, zero at its ends; empty: straight rolls).
+    pub crown: Vec<f64>,
 }
 
 /// A nip's contact law per segment (`machine.rs` gives the relations).

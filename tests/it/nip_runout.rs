@@ -150,6 +150,27 @@ fn a_lobed_cover_forces_the_nip_at_its_order_of_the_covered_rolls_speed() {
     );
     let path = support::write_file(&dir, "machine.toml", &text);
     let (m, r, total) = simulate(&path);
+    // The cover's lobes are the covered roll's outer surface, in its sensors as in the nip: the
+    // same harmonic given as roll b's own `roundness` instead runs to the same bytes.
+    let as_roll = text
+        .replace(
+            "surface_speed_of = \"a\"\n",
+            &format!(
+                "surface_speed_of = \"a\"\nroundness = [{{ order = {order}, amplitude_um = {}, \
+                 phase_rad = {phase} }}]\n",
+                1e6 * amplitude
+            ),
+        )
+        .replace(text.lines().last().unwrap(), "");
+    let (_, r_roll, _) = simulate(&support::write_file(&dir, "as-roll.toml", &as_roll));
+    let channels = |r: &JobResult| -> Vec<(String, Vec<f64>)> {
+        (r.channels.iter())
+            .filter(|c| c.name.starts_with("runout/b."))
+            .map(|c| (c.name.clone(), c.data.clone()))
+            .collect()
+    };
+    assert!(!channels(&r).is_empty());
+    assert_eq!(channels(&r), channels(&r_roll));
 
     let (length, load) = (0.4, 1.0e4);
     let foundation = 30.0e6 / ((1.0 - 0.45 * 0.45) * 0.015);

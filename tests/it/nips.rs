@@ -206,35 +206,41 @@ fn last_segments(r: &JobResult, nip: &str) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     (z, force, width)
 }
 
-#[test]
-fn steel_nip_width_is_the_hertz_line_contact_width() {
-    let dir = support::scratch("nips-hertz");
-    // Roll a stiffly held, roll b on soft arms: the line load goes through the nip.
+/// Roll a (the stiff cylinder) held on 1e11 N/m, roll b on 1 N/m touching it above (the line
+/// load goes through the nip), in the nips `nips`; the static run's result.
+fn held_and_free(dir: &Path, nips: &str) -> JobResult {
     support::write_file(
-        &dir,
+        dir,
         "stiff.toml",
         &cylinder("kx_n_per_m = 1.0e11, ky_n_per_m = 1.0e11", STATIC),
     );
     support::write_file(
-        &dir,
+        dir,
         "soft.toml",
         &cylinder("kx_n_per_m = 1.0, ky_n_per_m = 1.0", STATIC),
     );
+    let path = machine(
+        dir,
+        &[
+            ("a", "stiff.toml", [0.0, 0.0], ""),
+            ("b", "soft.toml", [0.0, 200.0], ""),
+        ],
+        nips,
+    );
+    simulate(&path).1
+}
+
+#[test]
+fn steel_nip_width_is_the_hertz_line_contact_width() {
+    let dir = support::scratch("nips-hertz");
+    // Roll a stiffly held, roll b on soft arms: the line load goes through the nip.
     let q = 50.0e3;
     let nips = format!(
         "[[nips]]\nname = \"steel\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 50.0\nto_mm = 350.0\n\
          segments = 6\nlaw = \"hertz\"\nline_load_kn_per_m = {}\n",
         q / 1e3
     );
-    let path = machine(
-        &dir,
-        &[
-            ("a", "stiff.toml", [0.0, 0.0], ""),
-            ("b", "soft.toml", [0.0, 200.0], ""),
-        ],
-        &nips,
-    );
-    let (_, r) = simulate(&path);
+    let r = held_and_free(&dir, &nips);
     let (_, force, width) = last_segments(&r, "steel");
     let seg = 0.3 / 6.0;
     let total: f64 = force.iter().sum();
@@ -329,6 +335,41 @@ fn nip_load_through_a_winkler_layer_follows_hetenyi() {
     assert!(force[0] > 1.5 * force[50], "{} vs {}", force[0], force[50]);
 }
 
+/// A crown C narrows the gap at z by c(z) = C (1 − ((z − z_m)/h)²) (h half the range). Two
+/// cylinders stiff against the nip (bending above 1 kHz; 48EI/L³ = 1.2e10 N/m against the
+/// nip's 4e6 N/m: their bending takes 3e-4 of the crown), held symmetrically, close by one approach d along the whole nip, so a linear
+/// layer of k [N/m²] carries F_j = k L (d + c_j) per segment of length L and Σ F_j = P gives
+/// F_j = P/n + k L (c_j − c̄): the static nip profile follows the crown's parabola.
+#[test]
+fn a_crown_shapes_the_static_nip_profile_as_its_parabola() {
+    let dir = support::scratch("nips-crown");
+    let (q, k, crown, n) = (10.0e3, 1.0e7, 1000e-6, 10usize);
+    let nips = format!(
+        "[[nips]]\nname = \"crowned\"\nroll_a = \"a\"\nroll_b = \"b\"\nfrom_mm = 0.0\nto_mm = 400.0\n\
+         segments = {n}\nlaw = \"linear\"\nstiffness_n_per_m2 = {k:e}\ncrown_um = {}\n\
+         line_load_kn_per_m = {}\n",
+        crown * 1e6,
+        q / 1e3
+    );
+    let r = held_and_free(&dir, &nips);
+    let (z_mm, force, _) = last_segments(&r, "crowned");
+    let (len, p) = (0.4 / n as f64, q * 0.4);
+    let c: Vec<f64> = (z_mm.iter())
+        .map(|z| crown * (1.0 - ((z / 1e3 - 0.2) / 0.2).powi(2)))
+        .collect();
+    let mean = c.iter().sum::<f64>() / n as f64;
+    let spread = k * len * (c.iter().fold(0.0f64, |a, b| a.max(*b)) - c[0]);
+    for ((f, cj), z) in force.iter().zip(&c).zip(&z_mm) {
+        let expected = p / n as f64 + k * len * (cj - mean);
+        assert!(
+            (f - expected).abs() < 1e-3 * spread,
+            "z = {z} mm: {f} N vs {expected} N"
+        );
+    }
+    // The middle carries more than the ends: 400 N each straight, 208–528 N crowned.
+    assert!(force[n / 2] > 1.5 * force[0], "{force:?}");
+}
+
 #[test]
 fn bad_machines_are_clear_errors_at_their_key_and_line() {
     let dir = support::scratch("nips-errors");
@@ -373,6 +414,13 @@ fn bad_machines_are_clear_errors_at_their_key_and_line() {
             "nips[0].segments",
             "segments = 0",
             "must lie in [1, 10000]",
+        ),
+        (
+            nip("segments = 10\nlaw = \"linear\"\nstiffness_n_per_m2 = 1e5\ncrown_um = 2.0e5"),
+            200.0,
+            "nips[0].crown_um",
+            "crown_um = 2.0e5",
+            "smaller than the rolls' radii",
         ),
     ];
     for (nips, y, key, line, reason) in cases {

@@ -2,7 +2,8 @@
 
 In: an HDF5 results file of ``rotorsweep run`` or ``merge`` (a study), of ``rotorsweep
 simulate -o`` (laid out as a study of one job), of ``rotorsweep linear -o`` (linearised
-systems) or of ``rotorsweep calibrate -o`` (a calibration); optionally the JSON of ``rotorsweep balance FILE --json [--check]`` (``--balance``), a
+systems), of ``rotorsweep calibrate -o`` (a calibration) or of ``rotorsweep barring -o`` (a
+barring map: ``barring_map.png`` and ``barring_frequency.png`` only, :mod:`.barring`); optionally the JSON of ``rotorsweep balance FILE --json [--check]`` (``--balance``), a
 simulated results file to compare a measured record with (``--compare``), and the JSON of
 ``rotorsweep report FILE --format json`` (``--tables``: the error classes and the text of the
 numbers the labels write, below).

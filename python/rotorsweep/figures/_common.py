@@ -67,7 +67,8 @@ def file_kind(path: PathLike) -> str:
     """What the results file ``path`` is, read once: ``"calibration"`` (root attribute ``kind =
     "calibration"`` and a ``/calibration`` group, ``rotorsweep calibrate -o``), ``"study"``
     (tool attribute "rotorsweep" and a ``/summary`` table, ``rotorsweep run`` or ``merge``) or
-    ``"linear"`` (a ``/linear`` group, ``rotorsweep linear -o``); :class:`PlotError` naming
+    ``"linear"`` (a ``/linear`` group, ``rotorsweep linear -o``) or ``"barring"`` (a ``/barring``
+    group, ``rotorsweep barring -o``); :class:`PlotError` naming
     ``path`` when it is missing, not HDF5 or none of these."""
     if not Path(path).is_file():
         raise PlotError(f"{path}: no such file")
@@ -77,10 +78,13 @@ def file_kind(path: PathLike) -> str:
             tool = f.attrs.get("tool")
             has_summary = "summary" in f
             has_linear = "linear" in f
+            has_barring = "barring" in f
     except OSError as e:
         raise PlotError(f"{path}: not an HDF5 file ({e})") from None
     if calibration:
         return "calibration"
+    if tool == "rotorsweep" and has_barring and not (has_summary or has_linear):
+        return "barring"
     if tool != "rotorsweep" or not (has_summary or has_linear):
         raise _not_results(path)
     return "study" if has_summary else "linear"
@@ -90,7 +94,8 @@ def _not_results(path: PathLike) -> PlotError:
     return PlotError(
         f"{path}: not a rotorsweep study results file (no /summary table; "
         "`rotorsweep run STUDY -o OUT.h5` writes one), a `rotorsweep linear -o` file "
-        "(no /linear group) nor a `rotorsweep calibrate -o` file (no kind = calibration)"
+        "(no /linear group), a `rotorsweep barring -o` file (no /barring group) nor a "
+        "`rotorsweep calibrate -o` file (no kind = calibration)"
     )
 
 

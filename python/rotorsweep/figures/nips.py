@@ -15,6 +15,12 @@ Out:
   segments) at each order over the first roll's speed, log scale; dashed, the orders of each
   roll of the nip at its own speed (a covered roll's runout orders), unless they are the first
   roll's (the same numbers);
+* :func:`nip_spectrum` (``nip_spectrum.png``), the nip-force spectrum map over speed, read from
+  each job's ``nips/<nip>/force`` [segments × time] itself: per nip and setting a panel, the
+  first roll's speed across, the frequency up, the colour the Hann-windowed amplitude of the
+  whole nip's force (summed over the segments, its mean removed) [N], log scale over
+  ``MAP_DECADES`` decades; dotted, the first roll's orders 1–4 (k × speed). Forced lines lie on
+  the orders, a barring or other self-excited vibration across them at its own frequency;
 * :func:`nip_profile` (``nip_profile.png``), the cross-machine nip profile: per nip and setting
   a column, on top the static line load per segment [kN/m] over the axial position [mm] (every
   speed of the setting, one grey line each, and the drawn job's in colour), below each order's
@@ -33,12 +39,14 @@ from matplotlib.figure import Figure
 
 from rotorsweep import PathLike
 
-from ._common import figure
+from ._common import MAP_DECADES, figure
 
 #: Prefix and suffix of the order amplitude columns of the ``nips`` table.
 AMP_PREFIX, AMP_SUFFIX = "amplitude_", "x_n"
 #: Most panels (settings × nips) drawn; further ones are left out, the title says how many.
 MAX_PANELS = 6
+#: The first roll's orders drawn over the spectrum map.
+MAP_ORDERS = (1, 2, 3, 4)
 
 
 def has_nips(path: PathLike) -> bool:
@@ -192,4 +200,80 @@ def nip_profile(doc: dict, speeds: pd.Series, settings: pd.Series, study: str) -
     more = f" ({len(groups) - len(shown)} more not shown)" if len(groups) > len(shown) else ""
     fig.suptitle(f"{study}: cross-machine nip profile; the amplitudes at the speed of the largest "
                  f"line{more}", fontsize=11)
+    return fig
+
+
+def _nip_spectra(path: PathLike, jobs: list[str]) -> dict[str, dict[str, tuple]]:
+    """Per nip and job, (frequencies [Hz], amplitudes [N]) of the nip's summed force: mean
+    removed, Hann window, amplitudes scaled so that a sine of amplitude A reads A."""
+    from rotorsweep import nip_forces
+
+    out: dict[str, dict[str, tuple]] = {}
+    with h5py.File(path, "r") as f:
+        names = {j: list(f["jobs"][j]["nips"]) for j in jobs
+                 if j in f["jobs"] and "nips" in f["jobs"][j]}
+    for job, nips in names.items():
+        for nip in nips:
+            da = nip_forces(path, job, nip=nip)
+            t = da["time"].to_numpy()
+            if len(t) < 8:
+                continue
+            x = da.sum("z_mm").to_numpy()
+            x = x - x.mean()
+            w = np.hanning(len(x))
+            amp = 2.0 * np.abs(np.fft.rfft(x * w)) / w.sum()
+            freq = np.fft.rfftfreq(len(x), d=float(np.median(np.diff(t))))
+            out.setdefault(nip, {})[job] = (freq, amp)
+    return out
+
+
+def nip_spectrum(path: PathLike, speeds: pd.Series, settings: pd.Series,
+                 study: str) -> Figure | None:
+    """The nip-force spectrum map over speed (module doc) of the results file ``path``;
+    ``speeds`` and ``settings`` as :func:`nip_orders`. None without nips or with fewer than two
+    speeds in every panel."""
+    jobs = [str(j) for j in speeds.index if np.isfinite(speeds[j])]
+    spectra = _nip_spectra(path, jobs)
+    panels = []
+    for nip, per_job in spectra.items():
+        by_setting: dict[str, list[str]] = {}
+        for job in per_job:
+            by_setting.setdefault(str(settings.get(job, "")), []).append(job)
+        for setting, group in by_setting.items():
+            group = sorted(group, key=lambda j: float(speeds[j]))
+            if len({float(speeds[j]) for j in group}) >= 2:
+                title = f"nip {nip}" + (f", {setting}" if setting else "")
+                panels.append((title, [(float(speeds[j]), *per_job[j]) for j in group]))
+    if not panels:
+        return None
+    shown = panels[:MAX_PANELS]
+    fig = figure(figsize=(4.4 * len(shown) + 1.2, 4.6))
+    axes = fig.subplots(1, len(shown), sharey=True, squeeze=False)[0]
+    top = max(float(a.max()) for _, rows in shown for _, _, a in rows)
+    low = top * 10.0 ** (-MAP_DECADES)
+    from matplotlib.colors import LogNorm
+
+    norm = LogNorm(vmin=low, vmax=top)
+    mesh = None
+    for ax, (title, rows) in zip(axes, shown):
+        s = np.array([r[0] for r in rows])
+        mid = 0.5 * (s[1:] + s[:-1])
+        edges = np.concatenate([[s[0] - (mid[0] - s[0])], mid, [s[-1] + (s[-1] - mid[-1])]])
+        for k, (_, freq, amp) in enumerate(rows):
+            df = freq[1] - freq[0]
+            fe = np.concatenate([freq - 0.5 * df, [freq[-1] + 0.5 * df]])
+            mesh = ax.pcolormesh([edges[k], edges[k + 1]], fe, np.clip(amp, low, None)[:, None],
+                                 norm=norm, cmap="magma", shading="flat")
+        fmax = max(float(r[1][-1]) for r in rows)
+        for n in MAP_ORDERS:
+            ax.plot(edges, n * edges, ":", color="w", lw=0.8)
+        ax.set_ylim(0.0, fmax)
+        ax.set_xlim(edges[0], edges[-1])
+        ax.set_title(title, fontsize=10)
+        ax.set_xlabel("first roll's speed [Hz]")
+    axes[0].set_ylabel("frequency [Hz]")
+    fig.colorbar(mesh, ax=list(axes), label="amplitude of the nip force [N]")
+    more = f" ({len(panels) - len(shown)} more panels not shown)" if len(panels) > len(shown) else ""
+    fig.suptitle(f"{study}: nip force spectrum (summed over the segments, Hann window; dotted: "
+                 f"the first roll's orders {', '.join(f'{n}×' for n in MAP_ORDERS)}){more}", fontsize=11)
     return fig

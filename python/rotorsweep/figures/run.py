@@ -30,7 +30,8 @@ from .calibration import calibration_figures
 from .compare import compare_figures
 from .jobs import stability, timing, work_precision_pages
 from .linear import campbell, linear_figures, linear_groups, study_systems
-from .nips import has_nips, nip_orders, nip_profile
+from .barring import barring_frequency, barring_map
+from .nips import has_nips, nip_orders, nip_profile, nip_spectrum
 from .ramps import ramp_figures
 from .sampled import sampled_figures
 from .sweeps import harmonics, mean_runout, roller_ratios, spectral_map, sweep_means, trial_mass
@@ -71,6 +72,13 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
                                   else channel.partition("/")[0], report.numbers)
         return _write(figures, outdir)
     kind = file_kind(path)
+    if kind == "barring":
+        if balance is not None:
+            raise PlotError(f"{balance}: balancing needs a study results file, not the "
+                            f"barring map {path}")
+        title = Path(path).stem
+        return _write([("barring_map.png", barring_map(path, title)),
+                       ("barring_frequency.png", barring_frequency(path, title))], outdir)
     if kind == "calibration":
         if balance is not None:
             raise PlotError(f"{balance}: balancing needs a study results file, not the "
@@ -132,6 +140,7 @@ def render(path: PathLike, outdir: PathLike, channel: str | None = None,
         speeds = attrs["speed_hz"] if "speed_hz" in attrs else pd.Series(dtype=float)
         nip_settings = names([k for k in varying if k != "speed.hz"])
         figures.append(("nip_orders.png", nip_orders(doc, speeds, nip_settings, study)))
+        figures.append(("nip_spectrum.png", nip_spectrum(path, speeds, nip_settings, study)))
         figures.append(("nip_profile.png", nip_profile(doc, speeds, nip_settings, study)))
     if not trial.empty:
         figures.append(("trial_mass.png", trial_mass(
