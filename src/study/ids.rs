@@ -16,7 +16,7 @@ use super::values::value_text;
 use crate::scene::source::Source;
 
 /// Scene tables that make the reduced model (a pruning pilot runs on its jobs' model).
-pub(super) const MODEL_TABLES: [&str; 4] = ["materials", "roll", "rotor", "reduction"];
+pub(super) const MODEL_TABLES: [&str; 5] = ["materials", "roll", "rotor", "reduction", "fe"];
 
 /// The pilot overrides as one canonical text (for ids).
 pub(crate) fn pilot_text(pilot: &[(String, toml::Value)]) -> String {
@@ -112,11 +112,12 @@ pub(super) fn model_id(inputs: Inputs, merged: &JobTable) -> String {
 
 /// The tables of a job's linearised system: its model with its modal damping, on its supports
 /// and drive.
-const LINEAR_TABLES: [&str; 7] = [
+const LINEAR_TABLES: [&str; 8] = [
     "materials",
     "roll",
     "rotor",
     "reduction",
+    "fe",
     "damping",
     "supports",
     "drive",

@@ -5,8 +5,8 @@
 //! (`/linear/<linear_id>`, the job's `linear_id`) must be the one `linear::response` gives on
 //! the scene loaded with that job's overrides (within 1e-9 relative: the same computation
 //! through the study's override and storage path), and each swept key must change the system.
-//! (An attachment swept through `fe.named` is not here: the study's model and linear ids do not
-//! hash the `[fe]` table, so jobs that differ only there share one stored linear system.)
+//! And a sensor attachment swept through `fe.named`: the study's model and linear ids hash the
+//! `[fe]` table, so each such job gets its own stored system.
 
 use rotorsweep::dynamics::model::Model;
 use rotorsweep::dynamics::LinearSystem;
@@ -93,4 +93,73 @@ unbalance_response = true
             }
         }
     }
+}
+
+/// Jobs that differ only in a key of `[fe]` (the sensor `mid` moved one node along the shaft
+/// through `fe.named.mid`) get their own model and linear system: each job's stored unbalance
+/// response is its own scene's (`linear::response`, within 1e-9), and the two differ.
+#[test]
+fn an_attachment_moved_through_fe_named_gets_its_own_linear_system() {
+    let dir = scratch("fe-study-named");
+    let (plain, _) = crate::stress_stiffening::stressed_shaft(&dir);
+    let scene: toml::Table = std::fs::read_to_string(&plain).unwrap().parse().unwrap();
+    let mid = scene["fe"]["named"]["mid"]
+        .as_integer()
+        .expect("fe.named.mid");
+    let study = format!(
+        r#"name = "fe-named-study"
+scene = "body/scene.toml"
+[[axes]]
+key = "fe.named.mid"
+values = [{mid}, {}]
+[set]
+"simulation.t_end_s" = 0.1
+[linear]
+speeds = "100:140:2"
+unbalance_response = true
+"#,
+        mid + 1
+    );
+    let st = Study::load(&write_file(&dir, "study.toml", &study)).expect("study");
+    let out = dir.join("out.h5");
+    let outcome = campaign::run(&st, &run_options(&out)).expect("campaign");
+    assert_eq!(outcome.ok, 2);
+    let f = hdf5::File::open(&out).unwrap();
+    let jobs = f.group("jobs").unwrap();
+    let mut stored = Vec::new();
+    for j in jobs.member_names().unwrap() {
+        let g = jobs.group(&j).unwrap();
+        let node = g
+            .attr("fe.named.mid")
+            .unwrap()
+            .read_scalar::<f64>()
+            .unwrap();
+        let lin = g
+            .attr("linear_id")
+            .unwrap()
+            .read_scalar::<hdf5::types::VarLenUnicode>()
+            .unwrap()
+            .to_string();
+        let amp = f64s(
+            &f,
+            &format!("linear/{lin}/unbalance_response/mid/vertical/amplitude_um"),
+        );
+        let overrides = vec![format!("fe.named.mid={}", node as i64)];
+        let (scene, model) = Model::load(&plain, &overrides, None).unwrap();
+        let sys = LinearSystem::of_scene(&scene, &model).unwrap();
+        let w = std::f64::consts::TAU * 100.0;
+        let want = 1e6
+            * sensor_response(&sys, w, &sys.unbalance).unwrap()[0]
+                .vertical
+                .norm();
+        println!("mid = node {node}: {:.6} µm stored vs {want:.6} µm", amp[0]);
+        assert!(
+            (amp[0] / want - 1.0).abs() < 1e-9,
+            "{} vs {want} µm",
+            amp[0]
+        );
+        stored.push((lin, amp[0]));
+    }
+    assert_ne!(stored[0].0, stored[1].0, "one linear system for both jobs");
+    assert!((stored[0].1 / stored[1].1 - 1.0).abs() > 1e-3, "{stored:?}");
 }
