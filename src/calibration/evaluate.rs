@@ -9,7 +9,9 @@
 //!
 //! Method: the points of a batch not evaluated before (a point is known by the text of its
 //! values) become one more `[[axes]]` of the base study — every parameter's keys zipped, one
-//! row per point, labelled `eval <n>` — so each point runs every job of the study. The study is
+//! row per point, labelled `eval <n>` — so each point runs every job of the study; the base
+//! study's explicit `[[jobs]]` are written once per point, with the point's values added,
+//! after the axes' jobs (with no axes, the explicit jobs alone and no axis). The study is
 //! written as `batch-NNN.toml` beside its results `batch-NNN.h5` (its scene named by absolute
 //! path) and run with `study::run` (resume on): the jobs run in parallel, are saved as they
 //! finish, and a calibration run again replays its batches from the saved files — the fit is a
@@ -177,14 +179,33 @@ impl<'a> Evaluator<'a> {
             "name".into(),
             toml::Value::String(format!("{} {name}", self.cal.name)),
         );
+        let explicit = explicit_jobs(&mut t);
         match t.get_mut("axes") {
             Some(toml::Value::Array(a)) => a.push(toml::Value::Table(axis)),
+            // Explicit jobs alone: no axis, or the axis's points would run the base scene too.
+            _ if !explicit.is_empty() => {}
             _ => {
                 t.insert(
                     "axes".into(),
                     toml::Value::Array(vec![toml::Value::Table(axis)]),
                 );
             }
+        }
+        if !explicit.is_empty() {
+            // Each point runs every explicit job once, after the axes' jobs, point by point.
+            let mut jobs = Vec::with_capacity(explicit.len() * new.len());
+            for (v, _) in &new {
+                for job in &explicit {
+                    let mut job = job.clone();
+                    for (p, x) in self.cal.parameters.iter().zip(v) {
+                        for k in &p.keys {
+                            job.insert(k.clone(), toml::Value::Float(*x));
+                        }
+                    }
+                    jobs.push(toml::Value::Table(job));
+                }
+            }
+            t.insert("jobs".into(), toml::Value::Array(jobs));
         }
         let study_path = self.dir.join(format!("{name}.toml"));
         let out = self.dir.join(format!("{name}.h5"));
@@ -213,14 +234,25 @@ impl<'a> Evaluator<'a> {
         )?;
         let per_point = self.cal.study.jobs.len();
         let mut jobs_of: Vec<Vec<String>> = vec![Vec::new(); new.len()];
+        let mut explicit_seen = 0;
         for j in &study.jobs {
             let i = j
                 .labels
                 .iter()
-                .find_map(|(_, l)| l.strip_prefix("eval ")?.parse::<usize>().ok())
-                .filter(|i| (first..first + new.len()).contains(i));
-            if let Some(i) = i {
-                jobs_of[i - first].push(j.id.clone());
+                .find_map(|(_, l)| l.strip_prefix("eval ")?.parse::<usize>().ok());
+            match i {
+                Some(i) if (first..first + new.len()).contains(&i) => {
+                    jobs_of[i - first].push(j.id.clone())
+                }
+                Some(_) => {}
+                // An explicit job: the point's copies follow each other (above).
+                None if !explicit.is_empty() => {
+                    if let Some(js) = jobs_of.get_mut(explicit_seen / explicit.len()) {
+                        js.push(j.id.clone());
+                    }
+                    explicit_seen += 1;
+                }
+                None => {}
             }
         }
         if jobs_of.iter().any(|j| j.len() != per_point) {
@@ -298,6 +330,20 @@ impl Evaluate for Evaluator<'_> {
                 self.residuals(&self.evaluations[i])
             })
             .collect())
+    }
+}
+
+/// Takes the base study's explicit `[[jobs]]` tables out of `t` (none: empty).
+fn explicit_jobs(t: &mut toml::Table) -> Vec<toml::Table> {
+    match t.remove("jobs") {
+        Some(toml::Value::Array(a)) => a
+            .into_iter()
+            .filter_map(|v| match v {
+                toml::Value::Table(job) => Some(job),
+                _ => None,
+            })
+            .collect(),
+        _ => Vec::new(),
     }
 }
 

@@ -11,8 +11,9 @@
 //! `amplitude_std_um`, `std_hz`) in its own unit and an optional `weight` (default 1).
 //! Out: a [`Calibration`]: the loaded base [`Study`], the [`Parameter`]s and the [`Row`]s, each
 //! with the line it was written on. Errors name the file, the key and the line: unknown keys,
-//! a base study with `[sample]` or `[[jobs]]`, bounds not ordered or excluding the initial
-//! value, a log scale with a bound ≤ 0, a key freed twice, a parameter key the study's scene
+//! a base study with `[sample]`, bounds not ordered or excluding the initial
+//! value, a log scale with a bound ≤ 0, a key freed twice, a key (or a table holding it) the
+//! study sets per job on an axis or in `[[jobs]]`, a parameter key the study's scene
 //! refuses, a job index beyond the study's jobs, a sensor or direction the job's scene does not
 //! have, an unknown output, a standard deviation that is not positive, a negative weight,
 //! fewer target rows than parameters.
@@ -234,21 +235,20 @@ impl Calibration {
             .ok()
             .and_then(|t| toml::from_str(&t).ok())
             .unwrap_or_default();
-        for table in ["sample", "jobs"] {
-            if study_raw.contains_key(table) {
-                return Err(c.err(
-                    "study",
-                    format!(
-                        "{}: a calibrated study may not have [{table}] (its jobs are the \
-                         experiment: a scene and `[[axes]]`)",
-                        study_path.display()
-                    ),
-                ));
-            }
+        if study_raw.contains_key("sample") {
+            return Err(c.err(
+                "study",
+                format!(
+                    "{}: a calibrated study may not have [sample] (its jobs are the experiment, \
+                     the same at every parameter point: a scene with `[[axes]]` and \
+                     `[[jobs]]`, not random draws)",
+                    study_path.display()
+                ),
+            ));
         }
         let study = Study::load(&study_path)?;
         let fit = fit_settings(&c, &raw.fit)?;
-        let parameters = parameters(&c, &raw.parameters, &study)?;
+        let parameters = parameters(&c, &raw.parameters, &study, &study_raw)?;
         let mut rows = Vec::new();
         for (i, t) in raw.targets.iter().enumerate() {
             rows.push(row(
@@ -361,7 +361,12 @@ fn fit_settings(c: &Ctx, f: &FitFile) -> Result<FitSettings, InputError> {
     })
 }
 
-fn parameters(c: &Ctx, raw: &[ParameterFile], study: &Study) -> Result<Vec<Parameter>, InputError> {
+fn parameters(
+    c: &Ctx,
+    raw: &[ParameterFile],
+    study: &Study,
+    study_raw: &toml::Table,
+) -> Result<Vec<Parameter>, InputError> {
     if raw.is_empty() {
         return Err(c.err(
             "parameters",
@@ -381,11 +386,21 @@ fn parameters(c: &Ctx, raw: &[ParameterFile], study: &Study) -> Result<Vec<Param
                 ))
             }
         };
+        let keys_at = format!("{at}.key{}", if p.keys.is_some() { "s" } else { "" });
         for k in &keys {
             if let Some(q) = out.iter().find(|q| q.keys.contains(k)) {
+                return Err(c.err(&keys_at, format!("`{k}` is already freed by {}", q.at.0)));
+            }
+            if let Some(v) = study.varying.iter().find(|v| overlaps(k, v)) {
                 return Err(c.err(
-                    &format!("{at}.key{}", if p.keys.is_some() { "s" } else { "" }),
-                    format!("`{k}` is already freed by {}", q.at.0),
+                    &keys_at,
+                    format!(
+                        "`{k}`: the study {} sets `{v}` per job ({}); a freed key takes the \
+                         fit's one value in every job, so leave it out of the study's axes and \
+                         jobs",
+                        study.path.display(),
+                        setter(study_raw, v)
+                    ),
                 ));
             }
         }
@@ -456,6 +471,34 @@ fn parameters(c: &Ctx, raw: &[ParameterFile], study: &Study) -> Result<Vec<Param
         });
     }
     Ok(out)
+}
+
+/// Whether two dotted keys name the same value or one holds the other (`damping.bands` holds
+/// `damping.bands[0].ratio`).
+fn overlaps(a: &str, b: &str) -> bool {
+    let within = |inner: &str, outer: &str| {
+        inner
+            .strip_prefix(outer)
+            .is_some_and(|rest| rest.is_empty() || rest.starts_with(['.', '[']))
+    };
+    within(a, b) || within(b, a)
+}
+
+/// Which table of the study sets a varying key: `axes[i]`, else `[[jobs]]` (the keys of
+/// explicit jobs are all that is left).
+fn setter(study_raw: &toml::Table, key: &str) -> String {
+    let axes = study_raw.get("axes").and_then(|a| a.as_array());
+    for (i, a) in axes.into_iter().flatten().enumerate() {
+        let named = |v: &toml::Value| v.as_str() == Some(key);
+        let hit = a.get("key").is_some_and(named)
+            || a.get("keys")
+                .and_then(|k| k.as_array())
+                .is_some_and(|ks| ks.iter().any(named));
+        if hit {
+            return format!("axes[{i}]");
+        }
+    }
+    "its [[jobs]]".into()
 }
 
 /// Largest |value|/σ (√weight times) of a target row: a residual of this size squares to

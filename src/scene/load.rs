@@ -85,8 +85,8 @@ impl Scene {
                     let table = toml::Value::Table(source.table.clone());
                     table.clone().try_into().map_err(|e: toml::de::Error| {
                         not_study(match override_error_key(&table) {
-                            Some(k) => source.err(&k, e.message().to_string()),
-                            None => InputError::new(path, e.message().to_string()),
+                            Some(k) => source.err(&k, locate::plain_type_error(e.message())),
+                            None => InputError::new(path, locate::plain_type_error(e.message())),
                         })
                     })
                 }
@@ -100,7 +100,10 @@ impl Scene {
             // Read from the table itself (no copy); on an error the table is made again to
             // find the key the error is about.
             let raw = SceneFile::deserialize(table).map_err(|e: toml::de::Error| {
-                let err = InputError::new(Path::new(COMMAND_LINE), e.message());
+                let err = InputError::new(
+                    Path::new(COMMAND_LINE),
+                    locate::plain_type_error(e.message()),
+                );
                 match overridden_table()
                     .ok()
                     .and_then(|(t, _)| override_error_key(&t))

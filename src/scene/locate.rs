@@ -106,7 +106,7 @@ fn step_into<'a>(
 /// document to look keys up in: the key is then the one written at the span, under the nearest
 /// table header above it (`set.speed.hz`).
 pub fn toml_error(file: &Path, text: &str, e: &toml::de::Error) -> InputError {
-    let mut err = InputError::new(file, e.message().to_string());
+    let mut err = InputError::new(file, plain_type_error(e.message()));
     if let Some(span) = e.span() {
         let start = span.start.min(text.len());
         err = err.at_line(line_of_offset(text, start));
@@ -119,6 +119,30 @@ pub fn toml_error(file: &Path, text: &str, e: &toml::de::Error) -> InputError {
         }
     }
     err
+}
+
+/// serde's "invalid type: string \"one\", expected u32" with what the key takes in words
+/// ("a whole number ≥ 0, written without quotes"); any other message as it is.
+pub(crate) fn plain_type_error(message: &str) -> String {
+    let Some((found, expected)) = message
+        .strip_prefix("invalid type: ")
+        .and_then(|m| m.split_once(", expected "))
+    else {
+        return message.to_string();
+    };
+    let (what, quoted) = match expected.trim() {
+        "f32" | "f64" => ("a number", true),
+        "u8" | "u16" | "u32" | "u64" | "usize" => ("a whole number ≥ 0", true),
+        "i8" | "i16" | "i32" | "i64" | "isize" => ("a whole number", true),
+        "a boolean" => ("true or false", true),
+        _ => return message.to_string(),
+    };
+    let hint = if quoted && found.starts_with("string ") {
+        ", written without quotes"
+    } else {
+        ""
+    };
+    format!("{message}: the key takes {what}{hint}")
 }
 
 /// The key written at `span` of a text that may not parse, prefixed with the table header above
@@ -255,6 +279,24 @@ fn walk_value(v: &Value, path: &str, offset: usize, best: &mut Option<String>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn type_errors_say_what_the_key_takes() {
+        assert_eq!(
+            plain_type_error("invalid type: string \"one\", expected u32"),
+            "invalid type: string \"one\", expected u32: the key takes a whole number ≥ 0, \
+             written without quotes"
+        );
+        assert_eq!(
+            plain_type_error("invalid type: boolean `true`, expected f64"),
+            "invalid type: boolean `true`, expected f64: the key takes a number"
+        );
+        assert_eq!(
+            plain_type_error("invalid type: integer `3`, expected a string"),
+            "invalid type: integer `3`, expected a string"
+        );
+        assert_eq!(plain_type_error("missing field `x`"), "missing field `x`");
+    }
 
     #[test]
     fn finds_lines_of_nested_keys() {

@@ -70,7 +70,7 @@ pub(super) fn load(source: &Source, overrides: &[String]) -> Result<Scene, Input
             toml::from_str(&only.text).map_err(|e| locate::toml_error(path, &only.text, &e))?
         }
         _ => table.clone().try_into().map_err(|e: toml::de::Error| {
-            let err = InputError::new(path, e.message().to_string());
+            let err = InputError::new(path, locate::plain_type_error(e.message()));
             match override_error_key(&table) {
                 Some(k) => err.with_key(k),
                 None => err,

@@ -137,6 +137,130 @@ fn bad_calibrations_name_file_key_and_line() {
     assert!(msg.contains("overflow"), "{msg}");
 }
 
+/// A study that sets a freed key per job (on an axis, in `[[jobs]]`, or a table holding it) and
+/// a sampled study are refused at the parameter's key (or `study`), naming the study's table;
+/// before, the axis case ran and failed in the evaluations' own study file.
+#[test]
+fn a_freed_key_the_study_sets_per_job_and_a_sampled_study_are_refused() {
+    let d = scratch("calibration-freed-per-job");
+    study(&d);
+    let check = |cal: &str, key: &str, needles: &[&str]| {
+        let text = format!("study = \"experiment.toml\"\n{cal}{ROW}");
+        let p = write_file(&d, "c.toml", &text);
+        let e = Calibration::load(&p).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains("c.toml"), "{msg}");
+        assert_eq!(e.key.as_deref(), Some(key), "{msg}");
+        for n in needles {
+            assert!(msg.contains(n), "{n}: {msg}");
+        }
+        e.line
+    };
+    // The experiment sweeps `speed.hz` on axes[0].
+    let cal = "[[parameters]]\nkey = \"speed.hz\"\nlower = 40.0\nupper = 50.0\ninitial = 44.0\n";
+    let at = check(cal, "parameters[0].key", &["`speed.hz`", "axes[0]"]);
+    assert_eq!(at, Some(3));
+    let cal = "[[parameters]]\nkeys = [\"damping.above_ratio\", \"speed\"]\nlower = 0.1\n\
+               upper = 50.0\ninitial = 1.0\n";
+    check(
+        cal,
+        "parameters[0].keys",
+        &["`speed`", "`speed.hz`", "axes[0]"],
+    );
+    // Explicit jobs that set the freed key.
+    let scene = support::repo().join("studies/scenes/jeffcott.toml");
+    write_file(
+        &d,
+        "jobs.toml",
+        &format!(
+            "scene = {:?}\n[[jobs]]\n\"damping.above_ratio\" = 0.02\n[[jobs]]\n\"speed.hz\" = 40.0\n",
+            scene.display().to_string()
+        ),
+    );
+    let text = format!(
+        "study = \"jobs.toml\"\n[[parameters]]\nkey = \"damping.above_ratio\"\nlower = 0.001\n\
+         upper = 0.1\ninitial = 0.01\n{ROW}"
+    );
+    let p = write_file(&d, "c.toml", &text);
+    let e = Calibration::load(&p).unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("parameters[0].key"), "{e}");
+    assert!(e.to_string().contains("its [[jobs]]"), "{e}");
+    // A sampled study: its jobs are random draws, not an experiment.
+    write_file(
+        &d,
+        "sampled.toml",
+        &format!(
+            "scene = {:?}\n[sample]\nmethod = \"monte-carlo\"\nn = 4\n[[sample.parameters]]\n\
+             key = \"speed.hz\"\ndistribution = \"uniform\"\nlower = 40.0\nupper = 45.0\n",
+            scene.display().to_string()
+        ),
+    );
+    let text = format!("study = \"sampled.toml\"\n{PARAM}initial = 0.04\n{ROW}");
+    let p = write_file(&d, "c.toml", &text);
+    let e = Calibration::load(&p).unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("study"), "{e}");
+    assert_eq!(e.line, Some(1), "{e}");
+    assert!(e.to_string().contains("[sample]"), "{e}");
+}
+
+/// A study of an axis and explicit `[[jobs]]` calibrated: every parameter point runs the axis's
+/// job and each explicit job, and each target row reads its own job. The rigid Jeffcott rotor
+/// (studies/scenes/rigid-jeffcott.toml) at three densities ρ, 4ρ and 2.25ρ (job 0 the axis's,
+/// jobs 1 and 2 explicit), its support stiffness k fitted to the first critical speeds made
+/// with k = 2e5 N/m by the closed form f = √(2k/m)/2π of the cylinder's bounce mode (Friswell
+/// et al., *Dynamics of Rotating Machines*, 2010, §3.5; m = ρ π R² L; the cylinder's bending
+/// moves f by less than 2e-5): f, f/2 and f/1.5. Jobs read in the wrong order would leave
+/// residuals of many σ; the fit gives k within 1e-4 and every row within 1e-3 Hz.
+#[test]
+fn explicit_jobs_of_the_calibrated_study_run_at_every_point() {
+    let d = scratch("calibration-explicit-jobs");
+    rigid_study(
+        &d,
+        0.3,
+        "[[jobs]]\n\"materials.steel.density_kg_m3\" = 31400.0\n\
+         [[jobs]]\n\"materials.steel.density_kg_m3\" = 17662.5\n",
+    );
+    let m = 7850.0 * std::f64::consts::PI * 0.1f64.powi(2) * 0.4;
+    let f = (2.0 * 2e5 / m).sqrt() / (2.0 * std::f64::consts::PI);
+    let keys = "[\"supports[0].spring.kx_n_per_m\", \"supports[0].spring.ky_n_per_m\", \
+                \"supports[1].spring.kx_n_per_m\", \"supports[1].spring.ky_n_per_m\"]";
+    let rows: String = [(0, f), (1, f / 2.0), (2, f / 1.5)]
+        .iter()
+        .map(|(j, hz)| {
+            format!("[[frequencies]]\njob = {j}\ncritical = 1\nhz = {hz}\nstd_hz = 0.01\n")
+        })
+        .collect();
+    let p = write_file(
+        &d,
+        "cal.toml",
+        &format!(
+            "study = \"study.toml\"\n[fit]\nstep = 0.001\n[[parameters]]\nname = \"k\"\n\
+             keys = {keys}\ninitial = 1.0e5\nlower = 1.0e4\nupper = 1.0e6\nscale = \"log\"\n{rows}"
+        ),
+    );
+    let cal = Calibration::load(&p).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(cal.study.jobs.len(), 3);
+    let o = calibration::calibrate(&cal, &options(&d.join("c.h5"))).unwrap();
+    let k = o.parameters[0].value;
+    eprintln!(
+        "k fitted {k:.3} against 2e5; rows {:?}",
+        o.rows.iter().map(|r| r.model).collect::<Vec<_>>()
+    );
+    assert!((k / 2e5 - 1.0).abs() < 1e-4, "k = {k}");
+    for (r, want) in o.rows.iter().zip([f, f / 2.0, f / 1.5]) {
+        assert!(
+            (r.model - want).abs() < 1e-3,
+            "{} Hz against {want}",
+            r.model
+        );
+    }
+    // Every evaluation ran the three jobs.
+    assert!(o
+        .evaluation_list
+        .iter()
+        .all(|e| e.job_ids.len() == 3 && e.ok));
+}
+
 /// A calibration killed (SIGKILL) part-way, again and again (each time it saves a batch), and
 /// run again, ends with the fit of an uninterrupted run: every value, standard error, row and evaluation the same (the JSON
 /// output without its CPU and wall times); a run of a finished calibration replays its saved
@@ -632,6 +756,17 @@ fn the_shipped_calibration_and_monte_carlo_study_load() {
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(cal.parameters.len(), 3);
     assert_eq!(cal.rows.len(), 12);
+    let exc = Calibration::load(&support::repo().join("studies/calibrate-table51-excitation.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(exc.parameters.len(), 4);
+    // The same rows as the first calibration (docs/calibration.md compares the two).
+    let rows = |c: &Calibration| -> Vec<(String, usize, f64, f64)> {
+        c.rows
+            .iter()
+            .map(|r| (r.output.clone(), r.job, r.value, r.std))
+            .collect()
+    };
+    assert_eq!(rows(&exc), rows(&cal));
     let st = rotorsweep::study::Study::load(&support::repo().join("studies/monte-carlo-wall.toml"))
         .unwrap_or_else(|e| panic!("{e}"));
     // The wall's seed, stand ky and stand cy: the 1280 jobs docs/statistics.md reports.

@@ -143,7 +143,7 @@ fn a_bad_spectrum_names_its_file_key_and_line() {
             "order = \"one\"",
             "order = \"one\"",
             "spectrum[0].order",
-            "invalid type",
+            "expected f64: the key takes a number, written without quotes",
         ),
     ];
     for (old, new, at, key, reason) in cases {

@@ -326,7 +326,11 @@ fn wrong_type() {
             file: "scene.toml",
             line: Some(line),
             key: Some("roll.shell.length_mm"),
-            says: &["invalid type", "expected"],
+            says: &[
+                "invalid type",
+                "expected",
+                "the key takes a number, written without quotes",
+            ],
         },
     );
 }

@@ -247,10 +247,9 @@ fn fe_table(c: &Check) -> Result<FeFile, InputError> {
         .table
         .get("fe")
         .ok_or_else(|| InputError::new(c.file, "the scene has no [fe] body"))?;
-    table
-        .clone()
-        .try_into()
-        .map_err(|e: toml::de::Error| c.err("fe", e.message().to_string()))
+    table.clone().try_into().map_err(|e: toml::de::Error| {
+        c.err("fe", crate::scene::locate::plain_type_error(e.message()))
+    })
 }
 
 /// The ring attachments `[fe.rings]` of the scene file `scene` on the body's node table
