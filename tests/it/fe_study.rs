@@ -113,7 +113,7 @@ scene = "body/scene.toml"
 key = "fe.named.mid"
 values = [{mid}, {}]
 [set]
-"simulation.t_end_s" = 0.1
+"simulation.t_end_s" = 0.25
 [linear]
 speeds = "100:140:2"
 unbalance_response = true

@@ -234,21 +234,32 @@ fn same_bytes_at_one_and_two_threads_and_through_shards_and_merge() {
     assert_eq!(linear, group_data(&d.join("two.h5"), "linear"));
     assert_eq!(linear, group_data(&d.join("merged.h5"), "linear"));
     // The analysis: made on the workers from the runs in memory in `one` and `two`, read back
-    // from the shard files by the merge: the sweeps' datasets, and the analysis tables as the
-    // report reads them.
-    let sweeps = |p: &str| group_data(&d.join(p), "analysis/sweeps");
-    assert!(sweeps("one.h5").len() >= 10, "{:?}", sweeps("one.h5"));
-    assert_eq!(sweeps("one.h5"), sweeps("two.h5"));
-    assert_eq!(sweeps("one.h5"), sweeps("merged.h5"));
-    let analysed = ["resonances", "orders"];
-    let tables = |p: &str| {
-        let mut t = rotorsweep::report::read(&d.join(p)).unwrap().tables;
-        t.retain(|t| analysed.contains(&t.name.as_str()));
-        t
+    // from the shard files by the merge: the lines and the order tracking of every job, bit for
+    // bit (two speeds make no sweep).
+    // A swap of two channels' rows (a wrong link order) changes a job's sequence of amplitudes;
+    // the jobs are listed in each file's job order, so they are compared by id.
+    let rows = |p: &str, table: &str| -> Vec<(String, [u64; 3])> {
+        let f = hdf5::File::open(d.join(p)).unwrap();
+        let ds = f.dataset(&format!("analysis/{table}")).unwrap();
+        let rows: Vec<AnalysisRow> = ds.read_raw().unwrap();
+        let mut rows: Vec<(String, [u64; 3])> = (rows.iter())
+            .map(|r| {
+                let bits = [r.order, r.amplitude_um, r.phase_deg].map(f64::to_bits);
+                (r.job_id.to_string(), bits)
+            })
+            .collect();
+        rows.sort_by(|a, b| a.0.cmp(&b.0));
+        rows
     };
-    assert_eq!(tables("one.h5").len(), analysed.len());
-    assert_eq!(tables("one.h5"), tables("two.h5"));
-    assert_eq!(tables("one.h5"), tables("merged.h5"));
+    for table in ["lines", "orders"] {
+        let one = rows("one.h5", table);
+        assert!(
+            one.len() >= 4 * 2 * 3,
+            "{table}: 4 jobs × 2 channels × 3 orders"
+        );
+        assert_eq!(one, rows("two.h5", table), "{table}");
+        assert_eq!(one, rows("merged.h5", table), "{table}");
+    }
     // The merged summary has every job once, in job order.
     let f = hdf5::File::open(d.join("merged.h5")).unwrap();
     let n = f.dataset("summary").unwrap().shape()[0];
@@ -347,4 +358,14 @@ fn shards_sharing_one_references_file_give_the_unsharded_results() {
     let plain = Study::load(&write_file(&d, "p.toml", &study_text(""))).unwrap();
     let e = run_with(&plain, &d.join("p.h5"), None, ReferenceSource::Only).unwrap_err();
     assert!(e.to_string().contains("no [reference] section"), "{e}");
+}
+
+/// Columns that `/analysis/lines` and `/analysis/orders` share.
+#[derive(hdf5::H5Type, Clone)]
+#[repr(C)]
+struct AnalysisRow {
+    job_id: hdf5::types::VarLenUnicode,
+    order: f64,
+    amplitude_um: f64,
+    phase_deg: f64,
 }
