@@ -289,23 +289,28 @@ fn track_constant(rec: &JobRecord, spec: &AnalysisSpec) -> Option<Tracked> {
     })
 }
 
-/// What the analysis writes into a job's group: the spectrum bins [Hz] up to the job's own cap,
-/// each channel's amplitudes there [µm] and its mean [µm].
-pub struct Written {
-    names: Vec<String>,
-    freq_hz: Vec<f64>,
-    spectra: Vec<Vec<f64>>,
-    means: Vec<f64>,
-}
-
 /// One job analysed (module doc): its constant speed when it ended ok (what sets the study's
-/// cap), its [`Entry`], what goes into its group, and its order tracking at a constant speed
-/// (`None` when the speed changes: tracked from the file, `results::orders`).
+/// cap), its [`Entry`] (of an analysable job: its spectra up to the larger of its own cap and
+/// the kept one, until [`Analysed::write_into`]), how many spectrum bins its group gets (its own
+/// cap's), and its order tracking at a constant speed (`None` when the speed changes: tracked
+/// from the file, `results::orders`).
 pub struct Analysed {
     speed: Option<f64>,
     entry: Entry,
-    written: Option<Written>,
+    own_bins: usize,
     tracked: Option<Tracked>,
+}
+
+impl Analysed {
+    /// Writes its spectra and means into its group `g` (module doc) and keeps its spectrum bins
+    /// up to `keep_cap` [Hz].
+    fn write_into(&mut self, g: &hdf5::Group, keep_cap: f64) -> hdf5::Result<()> {
+        if let Entry::Data(d) = &mut self.entry {
+            write_analysed(g, d, self.own_bins)?;
+            d.keep_below(keep_cap);
+        }
+        Ok(())
+    }
 }
 
 /// Analyses one job's record (module doc), keeping its spectrum bins up to `keep_cap` [Hz].
@@ -330,7 +335,7 @@ pub fn analyse_record(rec: &JobRecord, spec: &AnalysisSpec, keep_cap: f64) -> An
                     speed_hz: rec.speed_attr,
                     id: rec.id.to_string(),
                 }),
-                written: None,
+                own_bins: 0,
                 tracked,
             };
         }
@@ -369,13 +374,7 @@ pub fn analyse_record(rec: &JobRecord, spec: &AnalysisSpec, keep_cap: f64) -> An
         .max_freq_hz
         .unwrap_or_else(|| default_cap(orders, speed_hz));
     let own = bins_below(&full[0].freq_hz, cap);
-    let keep = bins_below(&full[0].freq_hz, keep_cap);
-    let written = Written {
-        names: names.clone(),
-        freq_hz: full[0].freq_hz[..own].to_vec(),
-        spectra: full.iter().map(|s| s.amplitude[..own].to_vec()).collect(),
-        means: means.clone(),
-    };
+    let keep = bins_below(&full[0].freq_hz, keep_cap).max(own);
     Analysed {
         speed: rec.speed,
         entry: Entry::Data(JobData {
@@ -392,7 +391,7 @@ pub fn analyse_record(rec: &JobRecord, spec: &AnalysisSpec, keep_cap: f64) -> An
             lines,
             one_x,
         }),
-        written: Some(written),
+        own_bins: own,
         tracked,
     }
 }
@@ -416,17 +415,17 @@ impl JobRecord<'_> {
 }
 
 /// Writes what the analysis puts into a job's group (unless there already, as in a merged
-/// shard's): `spectrum/…` and `runout_mean/…` (module doc).
-fn write_analysed(g: &hdf5::Group, w: &Written) -> hdf5::Result<()> {
+/// shard's): `spectrum/…` up to its first `own` bins and `runout_mean/…` (module doc).
+fn write_analysed(g: &hdf5::Group, d: &JobData, own: usize) -> hdf5::Result<()> {
     if !g.link_exists("spectrum") {
-        store::dataset(g, "spectrum/freq_hz", &w.freq_hz, "Hz")?;
-        for (name, s) in w.names.iter().zip(&w.spectra) {
-            store::dataset(g, &format!("spectrum/{name}"), s, "um")?;
+        store::dataset(g, "spectrum/freq_hz", &d.freq_hz[..own], "Hz")?;
+        for (name, s) in d.names.iter().zip(&d.spectra) {
+            store::dataset(g, &format!("spectrum/{name}"), &s[..own], "um")?;
         }
         store::scales::attach_axis(&g.group("spectrum")?, "freq_hz", &[""], 0)?;
     }
     if !g.link_exists("runout_mean") {
-        for (name, m) in w.names.iter().zip(&w.means) {
+        for (name, m) in d.names.iter().zip(&d.means) {
             scalar_dataset(g, &format!("runout_mean/{name}"), *m, "um")?;
         }
     }
@@ -443,10 +442,8 @@ pub(super) fn analyse_job(
     keep_cap: f64,
 ) -> hdf5::Result<(Option<f64>, Entry)> {
     let rec = JobRecord::read(g, id, (varying, axes));
-    let a = analyse_record(&rec, spec, keep_cap);
-    if let Some(w) = &a.written {
-        write_analysed(g, w)?;
-    }
+    let mut a = analyse_record(&rec, spec, keep_cap);
+    a.write_into(g, keep_cap)?;
     Ok((a.speed, a.entry))
 }
 
@@ -536,10 +533,8 @@ impl Prepared {
 
     /// Keeps the job `id` analysed in memory (`analysed`, by [`Analyser::run`]) and writes its
     /// means and spectra into its group `g`.
-    pub fn add_analysed(&mut self, g: &hdf5::Group, id: &str, a: Analysed) -> hdf5::Result<()> {
-        if let Some(w) = &a.written {
-            write_analysed(g, w)?;
-        }
+    pub fn add_analysed(&mut self, g: &hdf5::Group, id: &str, mut a: Analysed) -> hdf5::Result<()> {
+        a.write_into(g, self.analyser.keep_cap)?;
         if a.speed.is_some() {
             self.tracked.insert(id.to_string(), a.tracked);
         }

@@ -37,44 +37,22 @@ speeds = "100:140:2"
 unbalance_response = true
 "#,
     );
-    let st = Study::load(&write_file(&dir, "study.toml", &study)).expect("study");
-    let out = dir.join("out.h5");
-    let outcome = campaign::run(&st, &run_options(&out)).expect("campaign");
-    assert_eq!(outcome.ok, 4);
-    let f = hdf5::File::open(&out).unwrap();
+    let f = run_study(&dir, &study, 4);
     let jobs = f.group("jobs").unwrap();
     let mut amplitudes = Vec::new();
     for j in jobs.member_names().unwrap() {
         let g = jobs.group(&j).unwrap();
-        let text = |name: &str| {
-            g.attr(name)
-                .unwrap()
-                .read_scalar::<hdf5::types::VarLenUnicode>()
-                .unwrap()
-                .to_string()
-        };
-        let number = |name: &str| g.attr(name).unwrap().read_scalar::<f64>().unwrap();
-        let k = number("supports[0].spring.ky_n_per_m");
-        let zeta = number("damping.bands[0].ratio");
-        let lin = format!("linear/{}", text("linear_id"));
-        let amp = f64s(
-            &f,
-            &format!("{lin}/unbalance_response/mid/vertical/amplitude_um"),
-        );
+        let k = number(&g, "supports[0].spring.ky_n_per_m");
+        let zeta = number(&g, "damping.bands[0].ratio");
+        let (lin, amp) = stored_response(&f, &g);
         let speeds = f64s(&f, &format!("{lin}/campbell/speed_hz"));
         assert_eq!(speeds, [100.0, 140.0]);
         let overrides = vec![
             format!("supports[0].spring.ky_n_per_m={k:?}"),
             format!("damping.bands[0].ratio={zeta:?}"),
         ];
-        let (scene, model) = Model::load(&plain, &overrides, None).unwrap();
-        let sys = LinearSystem::of_scene(&scene, &model).unwrap();
         for (hz, got) in speeds.iter().zip(&amp) {
-            let w = std::f64::consts::TAU * hz;
-            let want = 1e6
-                * sensor_response(&sys, w, &sys.unbalance).unwrap()[0]
-                    .vertical
-                    .norm();
+            let want = own_response(&plain, &overrides, *hz);
             println!("k {k:e}, ζ {zeta}, {hz} Hz: {got:.6} µm vs {want:.6}");
             assert!((got / want - 1.0).abs() < 1e-9, "{got} vs {want} µm");
         }
@@ -120,38 +98,15 @@ unbalance_response = true
 "#,
         mid + 1
     );
-    let st = Study::load(&write_file(&dir, "study.toml", &study)).expect("study");
-    let out = dir.join("out.h5");
-    let outcome = campaign::run(&st, &run_options(&out)).expect("campaign");
-    assert_eq!(outcome.ok, 2);
-    let f = hdf5::File::open(&out).unwrap();
+    let f = run_study(&dir, &study, 2);
     let jobs = f.group("jobs").unwrap();
     let mut stored = Vec::new();
     for j in jobs.member_names().unwrap() {
         let g = jobs.group(&j).unwrap();
-        let node = g
-            .attr("fe.named.mid")
-            .unwrap()
-            .read_scalar::<f64>()
-            .unwrap();
-        let lin = g
-            .attr("linear_id")
-            .unwrap()
-            .read_scalar::<hdf5::types::VarLenUnicode>()
-            .unwrap()
-            .to_string();
-        let amp = f64s(
-            &f,
-            &format!("linear/{lin}/unbalance_response/mid/vertical/amplitude_um"),
-        );
+        let node = number(&g, "fe.named.mid");
+        let (lin, amp) = stored_response(&f, &g);
         let overrides = vec![format!("fe.named.mid={}", node as i64)];
-        let (scene, model) = Model::load(&plain, &overrides, None).unwrap();
-        let sys = LinearSystem::of_scene(&scene, &model).unwrap();
-        let w = std::f64::consts::TAU * 100.0;
-        let want = 1e6
-            * sensor_response(&sys, w, &sys.unbalance).unwrap()[0]
-                .vertical
-                .norm();
+        let want = own_response(&plain, &overrides, 100.0);
         println!("mid = node {node}: {:.6} µm stored vs {want:.6} µm", amp[0]);
         assert!(
             (amp[0] / want - 1.0).abs() < 1e-9,
@@ -162,4 +117,47 @@ unbalance_response = true
     }
     assert_ne!(stored[0].0, stored[1].0, "one linear system for both jobs");
     assert!((stored[0].1 / stored[1].1 - 1.0).abs() > 1e-3, "{stored:?}");
+}
+
+/// Runs the study `text` in `dir` (its scene `body/scene.toml`), expecting `ok` jobs ok; the
+/// results file.
+fn run_study(dir: &std::path::Path, text: &str, ok: usize) -> hdf5::File {
+    let st = Study::load(&write_file(dir, "study.toml", text)).expect("study");
+    let out = dir.join("out.h5");
+    let outcome = campaign::run(&st, &run_options(&out)).expect("campaign");
+    assert_eq!(outcome.ok, ok);
+    hdf5::File::open(&out).unwrap()
+}
+
+/// A job attribute that is a number.
+fn number(g: &hdf5::Group, name: &str) -> f64 {
+    g.attr(name).unwrap().read_scalar::<f64>().unwrap()
+}
+
+/// A job's `/linear/<linear_id>` path and the stored unbalance response at the sensor `mid`,
+/// vertical [µm], one per Campbell speed.
+fn stored_response(f: &hdf5::File, g: &hdf5::Group) -> (String, Vec<f64>) {
+    let id = g
+        .attr("linear_id")
+        .unwrap()
+        .read_scalar::<hdf5::types::VarLenUnicode>()
+        .unwrap()
+        .to_string();
+    let lin = format!("linear/{id}");
+    let amp = f64s(
+        f,
+        &format!("{lin}/unbalance_response/mid/vertical/amplitude_um"),
+    );
+    (lin, amp)
+}
+
+/// The vertical unbalance response [µm] at `mid` and `hz` of the scene `plain` with
+/// `overrides`, by `linear::response`.
+fn own_response(plain: &std::path::Path, overrides: &[String], hz: f64) -> f64 {
+    let (scene, model) = Model::load(plain, overrides, None).unwrap();
+    let sys = LinearSystem::of_scene(&scene, &model).unwrap();
+    let w = std::f64::consts::TAU * hz;
+    1e6 * sensor_response(&sys, w, &sys.unbalance).unwrap()[0]
+        .vertical
+        .norm()
 }
